@@ -1,0 +1,32 @@
+#include "common.h"
+
+#include <cstdio>
+#include <unistd.h>
+
+namespace ink {
+
+static bool g_notes = true;
+
+void note(const std::string& line) {
+    if (g_notes) std::fprintf(stderr, "note: %s\n", line.c_str());
+}
+
+void setNotesEnabled(bool enabled) { g_notes = enabled; }
+
+Progress::Progress(const char* what, size_t total)
+    : what_(what), total_(total), enabled_(isatty(STDERR_FILENO) != 0) {}
+
+Progress::~Progress() {
+    if (enabled_ && lastPercent_ >= 0) std::fprintf(stderr, "\r%s: done%-10s\n", what_, "");
+}
+
+void Progress::update(size_t done) {
+    if (!enabled_ || total_ == 0) return;
+    int percent = int(100.0 * double(done) / double(total_));
+    if (percent == lastPercent_) return;
+    lastPercent_ = percent;
+    std::fprintf(stderr, "\r%s: %3d%%", what_, percent);
+    std::fflush(stderr);
+}
+
+}  // namespace ink

@@ -1,0 +1,54 @@
+#include "model.h"
+
+#include "common.h"
+
+#include <chrono>
+
+namespace ink {
+
+Model fitModel(OrientedPoints points, const ModelOptions& options) {
+    Model model;
+    model.inputPoints = points.positions.size();
+    Frame frame = Frame::unitDiagonal(points.positions);
+
+    // Duplicates make the system singular without a NaN to warn (ALGORITHM.md §2): merge them first.
+    model.mergedDuplicates = mergeDuplicates(points, 1e-9 / frame.scale);
+    if (model.mergedDuplicates)
+        note("merged " + std::to_string(model.mergedDuplicates) + " duplicate point" +
+             (model.mergedDuplicates == 1 ? "" : "s"));
+    const size_t distinct = points.positions.size();
+    if (distinct < 2)
+        throw Error("too few distinct points to fit a surface: " + std::to_string(distinct) + " (need at least 2)");
+
+    size_t wanted = options.controlPoints;
+    if (wanted > kMaxControlPoints)
+        throw Error("--control-points " + std::to_string(wanted) + " is more than the dense fit can hold (at most " +
+                    std::to_string(kMaxControlPoints) + ": the system needs (4m+4)² doubles)");
+    if (wanted == 0) {
+        wanted = std::min(distinct, kDefaultControlPoints);
+        if (wanted < distinct)
+            note("using " + std::to_string(wanted) + " of " + std::to_string(distinct) +
+                 " points as control points (--control-points to change)");
+    }
+    wanted = std::min(wanted, distinct);
+
+    std::vector<Eigen::Vector3d> p, n;
+    for (size_t i : farthestPointSample(points.positions, wanted)) {
+        p.push_back(frame.toNormalized(points.positions[i]));
+        n.push_back(points.normals[i]);
+    }
+    model.hrbf = fitHrbf(p, n, &model.fit);
+    model.hrbf.frame = frame;
+    return model;
+}
+
+Model loadModel(const std::string& path, const ModelOptions& options) {
+    auto start = std::chrono::steady_clock::now();
+    OrientedPoints points = loadPoints(path);
+    double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    Model model = fitModel(std::move(points), options);
+    model.loadSeconds = load;
+    return model;
+}
+
+}  // namespace ink

@@ -1,0 +1,32 @@
+// From a file to a fitted HRBF: load, normalize (unit diagonal), merge duplicates, choose control points by
+// farthest-point sampling, fit (ALGORITHM.md §1–2).
+#pragma once
+
+#include "hrbf.h"
+#include "points.h"
+
+#include <string>
+
+namespace ink {
+
+constexpr size_t kDefaultControlPoints = 1000;  // when the input has more points and none were asked for
+constexpr size_t kMaxControlPoints = 4000;      // the dense (4m+4)² system: 2 GiB and minutes beyond this
+
+struct ModelOptions {
+    size_t controlPoints = 0;  // 0 = all input points up to kDefaultControlPoints
+};
+
+struct Model {
+    Hrbf hrbf;
+    FitStats fit;
+    size_t inputPoints = 0;
+    size_t mergedDuplicates = 0;
+    double loadSeconds = 0;
+};
+
+// Fits points given in the input's units. Throws ink::Error for too few distinct points or absurd requests.
+Model fitModel(OrientedPoints points, const ModelOptions& options);
+// Loads a mesh or point file and fits it.
+Model loadModel(const std::string& path, const ModelOptions& options);
+
+}  // namespace ink

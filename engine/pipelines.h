@@ -1,0 +1,34 @@
+// Shader modules from the SPIR-V embedded at build time, descriptor sets of storage/uniform buffers,
+// and compute pipelines.
+#pragma once
+
+#include "context.h"
+
+#include <initializer_list>
+#include <span>
+
+namespace ink {
+
+VkShaderModule createShaderModule(Context& ctx, std::span<const uint32_t> spirv);
+
+struct DescriptorBinding {
+    uint32_t binding;
+    VkDescriptorType type;
+    VkBuffer buffer;
+};
+
+// One set layout, one pool and one set holding the given buffers (whole range each).
+struct DescriptorSet {
+    VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+};
+DescriptorSet createDescriptorSet(Context& ctx, std::initializer_list<DescriptorBinding> bindings,
+                                  VkShaderStageFlags stages);
+void destroyDescriptorSet(Context& ctx, DescriptorSet& set);
+
+VkPipelineLayout createPipelineLayout(Context& ctx, VkDescriptorSetLayout setLayout, uint32_t pushConstantSize,
+                                      VkShaderStageFlags pushStages);
+VkPipeline createComputePipeline(Context& ctx, VkPipelineLayout layout, std::span<const uint32_t> spirv);
+
+}  // namespace ink

@@ -1,0 +1,286 @@
+#include "refine.h"
+
+#include "common.h"
+#include "random.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "compact.comp.h"
+#include "refine.comp.h"
+#include "scan.comp.h"
+
+namespace ink {
+
+const char* dropReasonName(uint32_t reason) {
+    static const char* names[] = {"gradient", "armijo", "iterations", "jump"};
+    return reason < DropReasonCount ? names[reason] : "?";
+}
+
+// Mean distance from a seed to its nearest other seed; at most 2000 seeds are measured, against all.
+static double meanSpacing(const std::vector<Eigen::Vector3d>& p) {
+    if (p.size() < 2) return 0.1;
+    size_t stride = std::max<size_t>(1, p.size() / 2000);
+    double sum = 0;
+    size_t count = 0;
+    for (size_t i = 0; i < p.size(); i += stride, ++count) {
+        double best = INFINITY;
+        for (size_t j = 0; j < p.size(); ++j)
+            if (j != i) best = std::min(best, (p[i] - p[j]).squaredNorm());
+        sum += std::sqrt(best);
+    }
+    return sum / double(count);
+}
+
+RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& o, uint64_t maxPoints) {
+    if (o.levels + 1 > kMaxLevels)
+        throw Error("--levels " + std::to_string(o.levels) + " is too many: at most " +
+                    std::to_string(kMaxLevels - 1) + " refinement levels");
+    if (o.passes < 1 || o.passes > 64) throw Error("--passes must be between 1 and 64");
+    if (!(o.eps1 > 0) || !(o.delta > 0 && o.delta < 1) || !(o.phi > 0 && o.phi < 0.5))
+        throw Error("projection parameters out of range: need ε₁ > 0, δ in (0,1), φ in (0,½)");
+
+    RefinePlan plan;
+    plan.levelCount = o.levels + 1;
+    std::vector<Eigen::Vector3d> base;
+    if (o.seeds == SeedMode::ControlPoints) {
+        base = hrbf.centers;
+        plan.seedJumpLimit = 1e-3f;  // control points already lie on f = 0
+        for (uint32_t pass = 0; pass < o.passes; ++pass)
+            for (const auto& c : hrbf.centers) plan.seeds.push_back(c.cast<float>());
+    } else {
+        if (o.grid < 2 || o.grid > 512) throw Error("--grid must be between 2 and 512 cells");
+        Eigen::Vector3d lo = hrbf.centers[0], hi = hrbf.centers[0];
+        for (const auto& c : hrbf.centers) {
+            lo = lo.cwiseMin(c);
+            hi = hi.cwiseMax(c);
+        }
+        double cell = (hi - lo).maxCoeff() / o.grid;
+        lo.array() -= cell;
+        Eigen::Vector3i n = ((hi - lo).array() / cell).ceil().cast<int>() + 1;
+        uint64_t cells = uint64_t(n.x()) * uint64_t(n.y()) * uint64_t(n.z());
+        if (cells * o.passes > maxPoints)
+            throw Error("--grid " + std::to_string(o.grid) + " makes " + std::to_string(cells * o.passes) +
+                        " seeds, more than fit (" + std::to_string(maxPoints) + ")");
+        plan.seedJumpLimit = float(std::sqrt(3.0) * cell);  // the cell's neighbourhood
+        for (uint32_t pass = 0; pass < o.passes; ++pass)
+            for (int z = 0; z < n.z(); ++z)
+                for (int y = 0; y < n.y(); ++y)
+                    for (int x = 0; x < n.x(); ++x) {
+                        uint32_t id = uint32_t((z * n.y() + y) * n.x() + x);
+                        auto u = unitFloats(pcg4d({o.seed, 0xFFFF0000u + pass, id, 0u}));
+                        Eigen::Vector3d c = lo + cell * Eigen::Vector3d(x + u[0], y + u[1], z + u[2]);
+                        plan.seeds.push_back(c.cast<float>());
+                    }
+        // ρ₀ follows the grid: projected seeds are about one cell apart.
+        base.clear();
+    }
+    double spacing = base.empty() ? (o.seeds == SeedMode::Grid ? double(plan.seedJumpLimit) / std::sqrt(3.0) : 0.1)
+                                  : meanSpacing(base);
+    plan.rho0 = o.rho0 > 0 ? o.rho0 : 0.5 * spacing;
+
+    uint32_t children = o.style == SampleStyle::Stipple ? 4 : 2;
+    uint64_t candidates = plan.seeds.size();
+    for (uint32_t level = 0; level < plan.levelCount; ++level) {
+        plan.childCount.push_back(level == 0 ? 1 : children);
+        if (level > 0) candidates *= children;
+        plan.maxCandidates.push_back(candidates);
+        plan.maxPoints += candidates;
+    }
+    if (plan.maxPoints > maxPoints)
+        throw Error("the refinement asks for up to " + std::to_string(plan.maxPoints) + " points (" +
+                    std::to_string(plan.seeds.size()) + " seeds, " + std::to_string(o.levels) + " levels of " +
+                    std::to_string(children) + " children), but at most " + std::to_string(maxPoints) +
+                    " fit: use fewer levels, passes or control points");
+    return plan;
+}
+
+LevelParams levelParams(const RefinePlan& plan, const RefineOptions& o, uint32_t level) {
+    LevelParams p{};
+    Eigen::Vector3d axis = o.axis.norm() > 0 ? o.axis.normalized() : Eigen::Vector3d::UnitY();
+    p.axis[0] = float(axis.x());
+    p.axis[1] = float(axis.y());
+    p.axis[2] = float(axis.z());
+    double rho = plan.rho0 / std::pow(3.0, double(level) - 1.0);  // level 1 uses ρ₀, then ρ/3 per level
+    p.rho = level == 0 ? 0.0f : float(rho);
+    p.jumpLimit = level == 0 ? plan.seedJumpLimit : float(o.jumpFactor * rho);
+    p.eps1 = float(o.eps1);
+    p.eps2 = float(o.eps2);
+    p.delta = float(o.delta);
+    p.phi = float(o.phi);
+    p.maxIterations = o.maxIterations;
+    p.mode = level == 0 ? 0u : (o.style == SampleStyle::Stipple ? 1u : 2u);
+    p.direction = uint32_t(o.direction);
+    p.level = level;
+    p.seed = o.seed;
+    p.childCount = plan.childCount[level];
+    p.nextChildCount = level + 1 < plan.levelCount ? plan.childCount[level + 1] : 0u;
+    p.keepAll = o.keepAllLevels ? 1u : 0u;
+    return p;
+}
+
+// Layout of HrbfBuffer in hrbf.glsl (std430, doubles): dvec4 (a, b), uvec4 (m), uvec4 pad, then
+// dvec4 (p_j, α_j), dvec4 (β_j, 0) per centre.
+static std::vector<double> packHrbf(const Hrbf& h) {
+    std::vector<double> data(8 + 8 * h.size(), 0.0);
+    data[0] = h.a.x();
+    data[1] = h.a.y();
+    data[2] = h.a.z();
+    data[3] = h.b;
+    uint32_t m = uint32_t(h.size());
+    std::memcpy(&data[4], &m, 4);
+    for (size_t j = 0; j < h.size(); ++j) {
+        double* c = &data[8 + 8 * j];
+        for (int k = 0; k < 3; ++k) {
+            c[k] = h.centers[j][k];
+            c[4 + k] = h.beta[j][k];
+        }
+        c[3] = h.alpha[j];
+    }
+    return data;
+}
+
+void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const RefineOptions& options) {
+    const uint64_t range = ctx.properties.limits.maxStorageBufferRange;
+    const uint64_t groups = ctx.properties.limits.maxComputeWorkGroupCount[0];
+    uint64_t maxPoints = std::min(range / sizeof(PointRecord), groups * kGroupSize);
+    r.options = options;
+    r.plan = planRefinement(hrbf, options, maxPoints);
+    const RefinePlan& plan = r.plan;
+    uint64_t maxCandidates = *std::max_element(plan.maxCandidates.begin(), plan.maxCandidates.end());
+
+    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                                       VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    std::vector<double> packed = packHrbf(hrbf);
+    r.hrbf = createBuffer(ctx, packed.size() * sizeof(double), storage, MemoryUse::Device);
+    uploadBuffer(ctx, r.hrbf, packed.data(), packed.size() * sizeof(double));
+    r.points = createBuffer(ctx, plan.maxPoints * sizeof(PointRecord), storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+                            MemoryUse::Device);
+    r.candidates = createBuffer(ctx, maxCandidates * sizeof(PointRecord), storage, MemoryUse::Device);
+    r.flags = createBuffer(ctx, maxCandidates * 4, storage, MemoryUse::Device);
+    r.blocks = createBuffer(ctx, (maxCandidates + kGroupSize - 1) / kGroupSize * 4, storage, MemoryUse::Device);
+    r.levels = createBuffer(ctx, kMaxLevels * 32, storage, MemoryUse::Device);
+    r.indirect = createBuffer(ctx, GpuRefinement::kDrawOffset + 16, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                              MemoryUse::Device);
+    std::vector<Eigen::Vector4f> seeds(plan.seeds.size());
+    for (size_t i = 0; i < seeds.size(); ++i) seeds[i] << plan.seeds[i], float(i);
+    r.seeds = createBuffer(ctx, seeds.size() * 16, storage, MemoryUse::Device);
+    uploadBuffer(ctx, r.seeds, seeds.data(), seeds.size() * 16);
+
+    const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    r.descriptors = createDescriptorSet(ctx,
+                                        {{0, sb, r.hrbf.buffer},
+                                         {1, sb, r.points.buffer},
+                                         {2, sb, r.candidates.buffer},
+                                         {3, sb, r.flags.buffer},
+                                         {4, sb, r.blocks.buffer},
+                                         {5, sb, r.levels.buffer},
+                                         {6, sb, r.indirect.buffer},
+                                         {7, sb, r.seeds.buffer}},
+                                        VK_SHADER_STAGE_COMPUTE_BIT);
+    r.layout = createPipelineLayout(ctx, r.descriptors.layout, sizeof(LevelParams), VK_SHADER_STAGE_COMPUTE_BIT);
+    r.refine = createComputePipeline(ctx, r.layout, spv_refine_comp);
+    r.scan = createComputePipeline(ctx, r.layout, spv_scan_comp);
+    r.compact = createComputePipeline(ctx, r.layout, spv_compact_comp);
+
+    VkQueryPoolCreateInfo query{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    query.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    query.queryCount = plan.levelCount + 1;
+    VK_CHECK(vkCreateQueryPool(ctx.device, &query, nullptr, &r.timestamps));
+}
+
+void destroyRefinement(Context& ctx, GpuRefinement& r) {
+    if (!ctx.device) return;
+    vkDestroyQueryPool(ctx.device, r.timestamps, nullptr);
+    for (VkPipeline p : {r.refine, r.scan, r.compact}) vkDestroyPipeline(ctx.device, p, nullptr);
+    vkDestroyPipelineLayout(ctx.device, r.layout, nullptr);
+    if (r.descriptors.pool) destroyDescriptorSet(ctx, r.descriptors);
+    for (Buffer* b : {&r.hrbf, &r.points, &r.candidates, &r.flags, &r.blocks, &r.levels, &r.indirect, &r.seeds})
+        if (b->buffer) destroyBuffer(ctx, *b);
+    r.refine = r.scan = r.compact = VK_NULL_HANDLE;
+    r.layout = VK_NULL_HANDLE;
+    r.timestamps = VK_NULL_HANDLE;
+}
+
+void recordRefinement(Context&, VkCommandBuffer cmd, GpuRefinement& r) {
+    const RefinePlan& plan = r.plan;
+    const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+    const auto rw = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+    const auto indirectStage = VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT;
+
+    // Level 0's counts and dispatch come from the host; later levels' are written by the scan pass.
+    uint32_t levels[kMaxLevels * 8] = {};
+    uint32_t indirect[GpuRefinement::kDrawOffset / 4 + 4] = {};
+    levels[0] = uint32_t(plan.seeds.size());
+    indirect[0] = (levels[0] + kGroupSize - 1) / kGroupSize;
+    indirect[1] = indirect[2] = 1;
+    vkCmdUpdateBuffer(cmd, r.levels.buffer, 0, sizeof(levels), levels);
+    vkCmdUpdateBuffer(cmd, r.indirect.buffer, 0, sizeof(indirect), indirect);
+    stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute | indirectStage,
+                 rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+
+    vkCmdResetQueryPool(cmd, r.timestamps, 0, plan.levelCount + 1);
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, r.timestamps, 0);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r.layout, 0, 1, &r.descriptors.set, 0, nullptr);
+    for (uint32_t level = 0; level < plan.levelCount; ++level) {
+        LevelParams params = levelParams(plan, r.options, level);
+        vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params), &params);
+        VkDeviceSize dispatch = VkDeviceSize(16) * level;
+
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r.refine);
+        vkCmdDispatchIndirect(cmd, r.indirect.buffer, dispatch);
+        stageBarrier(cmd, compute, rw, compute, rw);
+
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r.scan);
+        vkCmdDispatch(cmd, 1, 1, 1);
+        stageBarrier(cmd, compute, rw, compute | indirectStage, rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r.compact);
+        vkCmdDispatchIndirect(cmd, r.indirect.buffer, dispatch);
+        stageBarrier(cmd, compute, rw, compute, rw);
+        vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, r.timestamps, level + 1);
+    }
+    // The renderer reads the points in vertex shaders and the draw arguments as an indirect command.
+    stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | indirectStage | VK_PIPELINE_STAGE_2_COPY_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT |
+                     VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+void runRefinement(Context& ctx, GpuRefinement& r) {
+    submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordRefinement(ctx, cmd, r); });
+}
+
+std::vector<LevelStats> readLevelStats(Context& ctx, GpuRefinement& r) {
+    struct Info {
+        uint32_t candidates, parentOffset, keptOffset, kept, dropped[4];
+    };
+    std::vector<Info> info(kMaxLevels);
+    downloadBuffer(ctx, r.levels, 0, info.data(), kMaxLevels * sizeof(Info));
+    std::vector<uint64_t> ticks(r.plan.levelCount + 1, 0);
+    VkResult q = vkGetQueryPoolResults(ctx.device, r.timestamps, 0, uint32_t(ticks.size()),
+                                       ticks.size() * sizeof(uint64_t), ticks.data(), sizeof(uint64_t),
+                                       VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+    std::vector<LevelStats> stats(r.plan.levelCount);
+    for (uint32_t level = 0; level < r.plan.levelCount; ++level) {
+        stats[level].level = level;
+        stats[level].candidates = info[level].candidates;
+        stats[level].kept = info[level].kept;
+        for (uint32_t k = 0; k < DropReasonCount; ++k) stats[level].dropped[k] = info[level].dropped[k];
+        if (q == VK_SUCCESS)
+            stats[level].gpuMs = double(ticks[level + 1] - ticks[level]) * ctx.properties.limits.timestampPeriod * 1e-6;
+    }
+    return stats;
+}
+
+std::vector<PointRecord> readPoints(Context& ctx, GpuRefinement& r) {
+    uint32_t draw[4];
+    downloadBuffer(ctx, r.indirect, GpuRefinement::kDrawOffset, draw, sizeof(draw));
+    std::vector<PointRecord> points(draw[0]);
+    downloadBuffer(ctx, r.points, VkDeviceSize(draw[2]) * sizeof(PointRecord), points.data(),
+                   points.size() * sizeof(PointRecord));
+    return points;
+}
+
+}  // namespace ink

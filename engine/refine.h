@@ -1,0 +1,114 @@
+// Point sets on the HRBF surface (report §4, §6.2): seeds, then refinement levels of stippling or direction
+// sampling, each child projected onto f = 0. The GPU path records every level into one command buffer with
+// barriers between passes (no CPU round trip); the CPU reference (refine_cpu.cpp) follows the same rules
+// and the same random numbers.
+#pragma once
+
+#include "hrbf.h"
+#include "pipelines.h"
+#include "resources.h"
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace ink {
+
+enum class SampleStyle { Stipple, Direction };
+enum class DirectionField { Axis, CurvatureMin, CurvatureMax };
+enum class SeedMode { ControlPoints, Grid };
+
+struct RefineOptions {
+    SampleStyle style = SampleStyle::Stipple;
+    DirectionField direction = DirectionField::Axis;
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitY();  // for DirectionField::Axis, in model coordinates
+    uint32_t levels = 4;   // refinement levels after the seed level (level 0)
+    uint32_t passes = 1;   // independent passes, each from its own copy of the seeds
+    uint32_t seed = 1;
+    double rho0 = 0;       // ρ₀ in normalized units (diagonal 1); 0 = half the mean seed spacing
+    SeedMode seeds = SeedMode::ControlPoints;
+    uint32_t grid = 32;    // cells along the longest box side for SeedMode::Grid
+    double eps1 = 1e-5;    // ε₁, as a fraction of the diagonal
+    double eps2 = 1e-6;    // ε₂
+    double delta = 0.5;    // δ
+    double phi = 0.25;     // φ
+    uint32_t maxIterations = 32;
+    double jumpFactor = 3.0;  // drop a child that ends farther than jumpFactor·ρ from its parent
+    bool keepAllLevels = true;
+};
+
+constexpr uint32_t kMaxLevels = 16;  // MAX_LEVELS in common.glsl: seeds + 15 refinement levels
+constexpr uint32_t kGroupSize = 256;
+
+// Matches `Point` in common.glsl (std430, 32 bytes).
+struct PointRecord {
+    float position[3];
+    uint32_t level;
+    float normal[3];
+    float tone;
+};
+static_assert(sizeof(PointRecord) == 32);
+
+enum DropReason : uint32_t { DropGradient, DropArmijo, DropIterations, DropJump, DropReasonCount };
+const char* dropReasonName(uint32_t reason);
+
+struct LevelStats {
+    uint32_t level = 0;
+    uint32_t candidates = 0;
+    uint32_t kept = 0;
+    std::array<uint32_t, DropReasonCount> dropped{};
+    double gpuMs = 0;  // from timestamp queries; 0 on the CPU backend
+};
+
+// Seed positions (normalized) and the per-level plan derived from the options.
+struct RefinePlan {
+    std::vector<Eigen::Vector3f> seeds;  // passes × seeds, pass-major
+    float seedJumpLimit = 0;             // level 0: how far a seed may move while projected
+    double rho0 = 0;                     // resolved ρ₀
+    uint32_t levelCount = 0;             // seed level + refinement levels
+    std::vector<uint32_t> childCount;    // per level: 1 for seeds, 4 stippling, 2 direction
+    std::vector<uint64_t> maxCandidates; // per level, worst case
+    uint64_t maxPoints = 0;              // all levels, worst case
+};
+
+// Throws ink::Error when the request is out of bounds (levels, a point count that cannot fit `maxPoints`).
+RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& options, uint64_t maxPoints);
+
+// The push constants of the refinement passes (Params in refine_bindings.glsl), shared with the CPU reference.
+struct LevelParams {
+    float axis[4];
+    float rho, jumpLimit, eps1, eps2, delta, phi;
+    uint32_t maxIterations, mode, direction, level, seed, childCount, nextChildCount, keepAll;
+};
+static_assert(sizeof(LevelParams) == 72);
+LevelParams levelParams(const RefinePlan& plan, const RefineOptions& options, uint32_t level);
+
+// Device resources of one refinement. The point buffer and the draw arguments are what the renderer reads.
+struct GpuRefinement {
+    RefinePlan plan;
+    RefineOptions options;
+    Buffer hrbf, points, candidates, flags, blocks, levels, indirect, seeds;
+    DescriptorSet descriptors;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkPipeline refine = VK_NULL_HANDLE, scan = VK_NULL_HANDLE, compact = VK_NULL_HANDLE;
+    VkQueryPool timestamps = VK_NULL_HANDLE;
+    static constexpr VkDeviceSize kDrawOffset = 16 * kMaxLevels;  // VkDrawIndirectCommand in `indirect`
+};
+
+void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const RefineOptions& options);
+void destroyRefinement(Context& ctx, GpuRefinement& r);
+// Records every level: refine → scan → compact per level, synchronization2 barriers between them; ends with
+// a barrier that makes the points and draw arguments visible to vertex shading and indirect draws.
+void recordRefinement(Context& ctx, VkCommandBuffer cmd, GpuRefinement& r);
+// Records, submits and waits: the whole refinement in one submission.
+void runRefinement(Context& ctx, GpuRefinement& r);
+std::vector<LevelStats> readLevelStats(Context& ctx, GpuRefinement& r);
+// The points the renderer draws (all levels, or the last), in point-buffer order.
+std::vector<PointRecord> readPoints(Context& ctx, GpuRefinement& r);
+
+// The CPU reference backend: the same plan, rules and random numbers, on all hardware threads.
+std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& options, const RefinePlan& plan,
+                                     std::vector<LevelStats>* stats = nullptr, unsigned threads = 0);
+
+}  // namespace ink

@@ -1,0 +1,106 @@
+#include "gpu_fixture.h"
+#include "hrbf.h"
+#include "image.h"
+#include "model.h"
+#include "refine.h"
+#include "renderer.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+using Eigen::Vector3d;
+
+namespace {
+
+ink::Model bunny(size_t controlPoints) {
+    return ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {controlPoints});
+}
+
+}  // namespace
+
+TEST_CASE("gpu: seeds projected on the device match the CPU evaluation, with zero validation errors") {
+    GpuFixture gpu;
+    ink::Model model = bunny(200);
+    ink::RefineOptions options;
+    options.levels = 0;
+    options.seeds = ink::SeedMode::Grid;
+    options.grid = 12;
+    ink::GpuRefinement r;
+    ink::createRefinement(gpu.ctx, r, model.hrbf, options);
+    ink::runRefinement(gpu.ctx, r);
+    std::vector<ink::PointRecord> points = ink::readPoints(gpu.ctx, r);
+    auto stats = ink::readLevelStats(gpu.ctx, r);
+    ink::destroyRefinement(gpu.ctx, r);
+
+    REQUIRE(points.size() > 100);
+    CHECK(stats[0].kept == points.size());
+    for (const auto& p : points) {
+        Vector3d x(p.position[0], p.position[1], p.position[2]), g;
+        double f = model.hrbf.eval(x, g);
+        CHECK(std::abs(f) / g.norm() < 2e-5);  // on the surface, by the CPU's double evaluation
+        Vector3d n(p.normal[0], p.normal[1], p.normal[2]);
+        CHECK(n.norm() == doctest::Approx(1.0).epsilon(1e-5));
+        CHECK(n.dot(g.normalized()) > 0.9999);
+    }
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("gpu: stippling levels on the device match the CPU reference") {
+    GpuFixture gpu;
+    ink::Model model = bunny(150);
+    ink::RefineOptions options;
+    options.levels = 2;
+    options.passes = 2;
+    ink::GpuRefinement r;
+    ink::createRefinement(gpu.ctx, r, model.hrbf, options);
+    ink::runRefinement(gpu.ctx, r);
+    std::vector<ink::PointRecord> gpuPoints = ink::readPoints(gpu.ctx, r);
+    auto gpuStats = ink::readLevelStats(gpu.ctx, r);
+    std::vector<ink::LevelStats> cpuStats;
+    std::vector<ink::PointRecord> cpuPoints = ink::refineOnCpu(model.hrbf, options, r.plan, &cpuStats);
+    ink::destroyRefinement(gpu.ctx, r);
+
+    REQUIRE(gpuStats.size() == 3);
+    CHECK(gpuStats[0].candidates == 300);
+    for (size_t l = 0; l < gpuStats.size(); ++l) {
+        CHECK(gpuStats[l].candidates == cpuStats[l].candidates);
+        CHECK(std::abs(int(gpuStats[l].kept) - int(cpuStats[l].kept)) <= int(gpuStats[l].candidates / 100));
+    }
+    REQUIRE(gpuPoints.size() == cpuPoints.size());
+    size_t close = 0;
+    for (size_t i = 0; i < gpuPoints.size(); ++i) {
+        Eigen::Vector3f a(gpuPoints[i].position), b(cpuPoints[i].position);
+        if ((a - b).norm() < 1e-3f && gpuPoints[i].level == cpuPoints[i].level) ++close;
+    }
+    CHECK(double(close) >= 0.99 * double(gpuPoints.size()));
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("gpu: the bunny renders as dots on white paper") {
+    GpuFixture gpu;
+    ink::Model model = bunny(200);
+    ink::RefineOptions options;
+    options.levels = 2;
+    ink::GpuRefinement r;
+    ink::createRefinement(gpu.ctx, r, model.hrbf, options);
+    ink::runRefinement(gpu.ctx, r);
+    ink::RgbaImage image;
+    {
+        ink::OffscreenRenderer renderer(gpu.ctx, 256, 256, ink::RenderStyle{}, r);
+        image = renderer.render(ink::Camera{});
+    }
+    ink::destroyRefinement(gpu.ctx, r);
+    REQUIRE(image.width == 256);
+    size_t dark = 0, white = 0;
+    for (size_t i = 0; i < image.pixels.size(); i += 4) {
+        if (image.pixels[i] < 128) ++dark;
+        if (image.pixels[i] == 255) ++white;
+    }
+    CHECK(dark > 500);              // there is a drawing
+    CHECK(white > 256 * 256 / 2);   // on mostly white paper
+    // The corners are paper: the camera frames the model.
+    CHECK(image.pixels[0] == 255);
+    CHECK(image.pixels[image.pixels.size() - 4] == 255);
+    gpu.requireNoValidationErrors();
+}

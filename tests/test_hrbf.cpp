@@ -1,0 +1,116 @@
+#include "common.h"
+#include "hrbf.h"
+#include "model.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+using Eigen::Vector3d;
+
+namespace {
+
+// Points and outward normals of the ellipsoid x²/a² + y²/b² + z²/c² = 1 on a Fibonacci spiral.
+void ellipsoid(size_t count, std::vector<Vector3d>& p, std::vector<Vector3d>& n, Vector3d radii = {0.5, 0.35, 0.25}) {
+    for (size_t i = 0; i < count; ++i) {
+        double z = 1.0 - 2.0 * (double(i) + 0.5) / double(count);
+        double r = std::sqrt(1.0 - z * z), phi = double(i) * 2.399963229728653;
+        Vector3d u(r * std::cos(phi), r * std::sin(phi), z);
+        p.push_back(u.cwiseProduct(radii));
+        n.push_back(u.cwiseQuotient(radii).normalized());  // ∇(Σ x_k²/r_k²) ∝ x/r² = u/r
+    }
+}
+
+double angleDeg(const Vector3d& a, const Vector3d& b) {
+    return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+}  // namespace
+
+TEST_CASE("hrbf: the fit interpolates points and normals on a sphere") {
+    std::vector<Vector3d> p, n;
+    ellipsoid(60, p, n, {0.4, 0.4, 0.4});
+    ink::FitStats stats;
+    ink::Hrbf h = ink::fitHrbf(p, n, &stats);
+    CHECK(stats.controlPoints == 60);
+    CHECK(stats.relativeResidual < 1e-10);
+    for (size_t i = 0; i < p.size(); ++i) {
+        Vector3d g;
+        double f = h.eval(p[i], g);
+        CHECK(std::abs(f) < 1e-9);
+        CHECK((g - n[i]).norm() < 1e-8);  // ∇f(p_i) = n_i (eq. 2)
+    }
+    CHECK(stats.maxDistance < 1e-9);
+    CHECK(stats.maxNormalAngleDeg < 1e-6);
+    // Inside negative, outside positive.
+    Vector3d g;
+    CHECK(h.eval(Vector3d::Zero(), g) < 0);
+    CHECK(h.eval(Vector3d(1, 0, 0), g) > 0);
+}
+
+TEST_CASE("hrbf: between control points an ellipsoid fit stays close to the true surface") {
+    std::vector<Vector3d> p, n;
+    ellipsoid(300, p, n);
+    ink::Hrbf h = ink::fitHrbf(p, n);
+    std::vector<Vector3d> q, m;
+    ellipsoid(97, q, m);  // other points of the same ellipsoid
+    for (size_t i = 0; i < q.size(); ++i) {
+        Vector3d g;
+        double f = h.eval(q[i], g);
+        CHECK(std::abs(f) / g.norm() < 1e-3);
+        CHECK(angleDeg(g, m[i]) < 1.0);
+    }
+}
+
+TEST_CASE("hrbf: gradient and Hessian agree with finite differences of f") {
+    std::vector<Vector3d> p, n;
+    ellipsoid(40, p, n);
+    ink::Hrbf h = ink::fitHrbf(p, n);
+    Vector3d x(0.13, -0.21, 0.07), g;
+    Eigen::Matrix3d H;
+    h.eval(x, g, &H);
+    const double e = 1e-5;
+    for (int k = 0; k < 3; ++k) {
+        Vector3d dx = Vector3d::Zero();
+        dx[k] = e;
+        CHECK(g[k] == doctest::Approx((h.f(x + dx) - h.f(x - dx)) / (2 * e)).epsilon(1e-6));
+        Vector3d gp, gm;
+        h.eval(x + dx, gp);
+        h.eval(x - dx, gm);
+        Vector3d column = (gp - gm) / (2 * e);
+        for (int r = 0; r < 3; ++r) CHECK(H(r, k) == doctest::Approx(column[r]).epsilon(1e-5).scale(1.0));
+    }
+}
+
+TEST_CASE("hrbf: principal curvatures of a sphere and a cylinder-like ellipsoid") {
+    std::vector<Vector3d> p, n;
+    ellipsoid(200, p, n, {0.4, 0.4, 0.4});
+    ink::Hrbf h = ink::fitHrbf(p, n);
+    Vector3d g;
+    Eigen::Matrix3d H;
+    Vector3d x(0.0, 0.4, 0.0);
+    h.eval(x, g, &H);
+    ink::Curvature c = ink::principalCurvatures(g, H);
+    CHECK(c.k1 == doctest::Approx(2.5).epsilon(0.02));  // 1 / 0.4
+    CHECK(c.k2 == doctest::Approx(2.5).epsilon(0.02));
+    CHECK(std::abs(c.d1.dot(g.normalized())) < 1e-6);
+}
+
+TEST_CASE("model: fitModel normalizes, reports in normalized units, and refuses too few points") {
+    ink::OrientedPoints pts;
+    std::vector<Vector3d> p, n;
+    ellipsoid(100, p, n);
+    for (size_t i = 0; i < p.size(); ++i) {
+        pts.positions.push_back(p[i] * 1000.0 + Vector3d(5e4, -3e3, 7.0));  // far from the origin, large
+        pts.normals.push_back(n[i]);
+    }
+    ink::Model m = ink::fitModel(pts, {});
+    CHECK(m.fit.controlPoints == 100);
+    CHECK(m.fit.maxDistance < 1e-8);
+    CHECK(m.hrbf.frame.toInput(m.hrbf.frame.toNormalized(pts.positions[3])).isApprox(pts.positions[3]));
+
+    ink::OrientedPoints one;
+    one.positions = {Vector3d(1, 2, 3), Vector3d(1, 2, 3)};
+    one.normals = {Vector3d(0, 0, 1), Vector3d(0, 0, 1)};
+    CHECK_THROWS_AS(ink::fitModel(one, {}), ink::Error);
+}
