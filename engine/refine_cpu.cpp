@@ -78,12 +78,20 @@ Vector3f tangentDirection(const Hrbf& hrbf, const LevelParams& pc, const Vector3
         Vector3f d = axis - axis.dot(n) * n;
         return d.dot(d) > 1e-8f ? d.normalized() : fallback;
     }
-    Eigen::Vector3d g;
-    Eigen::Matrix3d H;
-    hrbf.eval(position.cast<double>(), g, &H);
-    Curvature c = principalCurvatures(g, H);
-    if (std::abs(c.k2 - c.k1) < 2e-6 * (std::abs(0.5 * (c.k1 + c.k2)) + 1e-6)) return fallback;
-    return (pc.direction == 1 ? c.d1 : c.d2).cast<float>();
+    // The same 2×2 shape operator in the same tangent basis as refine.comp, so both pick the same vector.
+    Eigen::Vector3d gd;
+    Eigen::Matrix3d Hd;
+    hrbf.eval(position.cast<double>(), gd, &Hd);
+    Eigen::Matrix3f H = Hd.cast<float>();
+    float gn = float(gd.norm());
+    Vector3f t1 = perpendicular(n), t2 = n.cross(t1);
+    float a = t1.dot(H * t1) / gn, b = t1.dot(H * t2) / gn, c = t2.dot(H * t2) / gn;
+    float mean = 0.5f * (a + c), radius = std::sqrt(0.25f * (a - c) * (a - c) + b * b);
+    if (radius < 1e-6f * (std::abs(mean) + 1e-6f)) return fallback;
+    float k = pc.direction == 1 ? mean - radius : mean + radius;
+    Eigen::Vector2f e = std::abs(k - a) + std::abs(b) > std::abs(k - c) + std::abs(b) ? Eigen::Vector2f(b, k - a)
+                                                                                      : Eigen::Vector2f(k - c, b);
+    return (e.x() * t1 + e.y() * t2).normalized();
 }
 
 }  // namespace

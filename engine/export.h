@@ -1,0 +1,15 @@
+// Writing refined points: binary little-endian PLY with float x y z nx ny nz in the input's units.
+#pragma once
+
+#include "hrbf.h"
+#include "refine.h"
+
+#include <string>
+#include <vector>
+
+namespace ink {
+
+// Positions go through frame.toInput(); normals are unchanged (the frame is a uniform scale + translation).
+void writePointsPly(const std::string& path, const std::vector<PointRecord>& points, const Frame& frame);
+
+}  // namespace ink

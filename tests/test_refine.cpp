@@ -1,0 +1,180 @@
+// Refinement on the device, read back level by level and checked against the CPU evaluation and reference.
+#include "common.h"
+#include "gpu_fixture.h"
+#include "model.h"
+#include "refine.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+
+using Eigen::Vector3d;
+
+namespace {
+
+// A torus (R = 0.3, r = 0.1 around the z axis) as oriented points: analytic surface and normals.
+ink::OrientedPoints torus(int nu, int nv) {
+    ink::OrientedPoints pts;
+    const double R = 0.3, r = 0.1;
+    for (int i = 0; i < nu; ++i)
+        for (int j = 0; j < nv; ++j) {
+            double u = 2 * M_PI * (i + 0.5 * (j % 2)) / nu, v = 2 * M_PI * j / nv;
+            Vector3d c(std::cos(u), std::sin(u), 0);
+            Vector3d n = std::cos(v) * c + std::sin(v) * Vector3d::UnitZ();
+            pts.positions.push_back(R * c + r * n);
+            pts.normals.push_back(n);
+        }
+    return pts;
+}
+
+// Distance from x to the torus above, and its outward normal there.
+double torusDistance(const Vector3d& x, Vector3d* normal) {
+    Vector3d c(x.x(), x.y(), 0);
+    c = 0.3 * c.normalized();
+    Vector3d d = x - c;
+    if (normal) *normal = d.normalized();
+    return d.norm() - 0.1;
+}
+
+struct Refined {
+    std::vector<ink::PointRecord> points;
+    std::vector<ink::LevelStats> levels;
+    ink::RefinePlan plan;
+};
+
+Refined refineOnGpu(GpuFixture& gpu, const ink::Hrbf& hrbf, const ink::RefineOptions& options) {
+    ink::GpuRefinement r;
+    ink::createRefinement(gpu.ctx, r, hrbf, options);
+    ink::runRefinement(gpu.ctx, r);
+    Refined out{ink::readPoints(gpu.ctx, r), ink::readLevelStats(gpu.ctx, r), r.plan};
+    ink::destroyRefinement(gpu.ctx, r);
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("refine: every kept point of every level is on the surface with a unit normal along grad f") {
+    GpuFixture gpu;
+    ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {120});
+    for (auto style : {ink::SampleStyle::Stipple, ink::SampleStyle::Direction}) {
+        ink::RefineOptions options;
+        options.style = style;
+        options.levels = 3;
+        Refined out = refineOnGpu(gpu, model.hrbf, options);
+        REQUIRE(out.levels.size() == 4);
+        size_t total = 0;
+        for (const auto& l : out.levels) {
+            CHECK(l.kept + l.dropped[0] + l.dropped[1] + l.dropped[2] + l.dropped[3] == l.candidates);
+            total += l.kept;
+        }
+        CHECK(out.points.size() == total);
+        std::vector<size_t> perLevel(4, 0);
+        for (const auto& p : out.points) {
+            REQUIRE(p.level < 4);
+            perLevel[p.level]++;
+            Vector3d x(p.position[0], p.position[1], p.position[2]), g;
+            double f = model.hrbf.eval(x, g);
+            CHECK(std::abs(f) / g.norm() < 2e-5);  // ε₁ = 1e-5, plus float storage of the position
+            Vector3d n(p.normal[0], p.normal[1], p.normal[2]);
+            CHECK(std::abs(n.norm() - 1.0) < 1e-5);
+            CHECK(n.dot(g.normalized()) > 0.99999);
+            CHECK(p.tone >= 0.0f);
+            CHECK(p.tone < 1.0f);
+        }
+        for (size_t l = 0; l < 4; ++l) CHECK(perLevel[l] == out.levels[l].kept);
+    }
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("refine: identical runs give identical bytes, and the seed changes them") {
+    GpuFixture gpu;
+    ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {80});
+    ink::RefineOptions options;
+    options.levels = 3;
+    options.passes = 2;
+    Refined a = refineOnGpu(gpu, model.hrbf, options);
+    Refined b = refineOnGpu(gpu, model.hrbf, options);
+    REQUIRE(a.points.size() == b.points.size());
+    CHECK(std::memcmp(a.points.data(), b.points.data(), a.points.size() * sizeof(ink::PointRecord)) == 0);
+    options.seed = 2;
+    Refined c = refineOnGpu(gpu, model.hrbf, options);
+    CHECK(std::memcmp(a.points.data(), c.points.data(), std::min(a.points.size(), c.points.size()) * 32) != 0);
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("refine: counts per level match the CPU reference and points agree") {
+    GpuFixture gpu;
+    ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {100});
+    for (auto direction : {ink::DirectionField::Axis, ink::DirectionField::CurvatureMax}) {
+        ink::RefineOptions options;
+        options.levels = 3;
+        options.style = direction == ink::DirectionField::Axis ? ink::SampleStyle::Stipple : ink::SampleStyle::Direction;
+        options.direction = direction;
+        Refined gpuOut = refineOnGpu(gpu, model.hrbf, options);
+        std::vector<ink::LevelStats> cpuLevels;
+        auto cpuPoints = ink::refineOnCpu(model.hrbf, options, gpuOut.plan, &cpuLevels, 2);
+        REQUIRE(cpuLevels.size() == gpuOut.levels.size());
+        for (size_t l = 0; l < cpuLevels.size(); ++l) {
+            CHECK(cpuLevels[l].candidates == gpuOut.levels[l].candidates);
+            CHECK(cpuLevels[l].kept == gpuOut.levels[l].kept);
+        }
+        REQUIRE(cpuPoints.size() == gpuOut.points.size());
+        size_t close = 0;
+        for (size_t i = 0; i < cpuPoints.size(); ++i) {
+            Eigen::Vector3f a(cpuPoints[i].position), b(gpuOut.points[i].position);
+            close += (a - b).norm() < 1e-3f;
+        }
+        CHECK(double(close) >= 0.99 * double(cpuPoints.size()));
+    }
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("refine: stippling a torus puts points within 1% of its size of the true surface") {
+    GpuFixture gpu;
+    ink::Model model = ink::fitModel(torus(24, 12), {});
+    ink::RefineOptions options;
+    options.levels = 3;
+    Refined out = refineOnGpu(gpu, model.hrbf, options);
+    REQUIRE(out.points.size() > 5000);
+    double worstDistance = 0, worstAngle = 0;
+    for (const auto& p : out.points) {
+        Vector3d x = model.hrbf.frame.toInput(Vector3d(p.position[0], p.position[1], p.position[2])), n;
+        worstDistance = std::max(worstDistance, std::abs(torusDistance(x, &n)));
+        double c = std::clamp(n.dot(Vector3d(p.normal[0], p.normal[1], p.normal[2])), -1.0, 1.0);
+        worstAngle = std::max(worstAngle, std::acos(c) * 180 / M_PI);
+    }
+    CHECK(worstDistance < 0.01 * 0.8);  // the torus is 0.8 across
+    CHECK(worstAngle < 5.0);
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("refine: grid seeds project onto the surface") {
+    GpuFixture gpu;
+    ink::Model model = ink::fitModel(torus(24, 12), {});
+    ink::RefineOptions options;
+    options.seeds = ink::SeedMode::Grid;
+    options.grid = 16;
+    options.levels = 1;
+    Refined out = refineOnGpu(gpu, model.hrbf, options);
+    CHECK(out.levels[0].kept > 100);
+    CHECK(out.levels[0].kept < out.levels[0].candidates);  // cells far from the surface are dropped
+    for (const auto& p : out.points) {
+        Vector3d x = model.hrbf.frame.toInput(Vector3d(p.position[0], p.position[1], p.position[2]));
+        CHECK(std::abs(torusDistance(x, nullptr)) < 0.008);
+    }
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("refine: requests that cannot fit are refused with the numbers") {
+    ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {50});
+    ink::RefineOptions options;
+    options.levels = 16;
+    CHECK_THROWS_WITH_AS(ink::planRefinement(model.hrbf, options, 1u << 22), doctest::Contains("--levels 16"),
+                         ink::Error);
+    options.levels = 14;
+    CHECK_THROWS_WITH_AS(ink::planRefinement(model.hrbf, options, 1u << 22),
+                         doctest::Contains("asks for up to 17895697050 points (50 seeds, 14 levels of 4 children), "
+                                           "but at most 4194304 fit"),
+                         ink::Error);
+}
