@@ -19,8 +19,8 @@ DescriptorSet createDescriptorSet(Context& ctx, std::initializer_list<Descriptor
     std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
     std::vector<VkDescriptorPoolSize> sizes;
     for (const DescriptorBinding& b : bindings) {
-        layoutBindings.push_back({b.binding, b.type, 1, stages, nullptr});
-        sizes.push_back({b.type, 1});
+        layoutBindings.push_back({b.binding, b.type, b.count, stages, nullptr});
+        sizes.push_back({b.type, b.count});
     }
     VkDescriptorSetLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     layoutInfo.bindingCount = uint32_t(layoutBindings.size());
@@ -39,17 +39,20 @@ DescriptorSet createDescriptorSet(Context& ctx, std::initializer_list<Descriptor
     alloc.pSetLayouts = &ds.layout;
     VK_CHECK(vkAllocateDescriptorSets(ctx.device, &alloc, &ds.set));
 
-    std::vector<VkDescriptorBufferInfo> infos;
-    infos.reserve(bindings.size());
+    std::vector<std::vector<VkDescriptorBufferInfo>> infos;
     std::vector<VkWriteDescriptorSet> writes;
     for (const DescriptorBinding& b : bindings) {
-        infos.push_back({b.buffer, 0, VK_WHOLE_SIZE});
+        auto& elements = infos.emplace_back();
+        for (uint32_t k = 0; k < b.count; ++k) {
+            VkDeviceSize offset = (b.filled == 0 || k < b.filled) ? k * b.stride : 0;
+            elements.push_back({b.buffer, offset, b.stride ? b.stride : VK_WHOLE_SIZE});
+        }
         VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         w.dstSet = ds.set;
         w.dstBinding = b.binding;
-        w.descriptorCount = 1;
+        w.descriptorCount = b.count;
         w.descriptorType = b.type;
-        w.pBufferInfo = &infos.back();
+        w.pBufferInfo = elements.data();
         writes.push_back(w);
     }
     vkUpdateDescriptorSets(ctx.device, uint32_t(writes.size()), writes.data(), 0, nullptr);

@@ -120,18 +120,28 @@ LevelParams levelParams(const RefinePlan& plan, const RefineOptions& o, uint32_t
     return p;
 }
 
-// Layout of HrbfBuffer in hrbf.glsl (std430, doubles): dvec4 (a, b), uvec4 (m), uvec4 pad, then
-// dvec4 (p_j, α_j), dvec4 (β_j, 0) per centre.
-static std::vector<double> packHrbf(const Hrbf& h) {
-    std::vector<double> data(8 + 8 * h.size(), 0.0);
+// hrbf.glsl's uniform blocks (std140, doubles): the header dvec4 (a, b), uvec4 (m); then the centres,
+// dvec4 (p_j, α_j), dvec4 (β_j, 0) each, kHrbfBlockSize to a 64 KiB block, kHrbfBlocks blocks.
+constexpr uint32_t kHrbfBlockSize = 1024, kHrbfBlocks = 4;
+constexpr VkDeviceSize kHrbfBlockBytes = kHrbfBlockSize * 64;
+static_assert(kHrbfBlockSize * kHrbfBlocks >= 4000, "room for kMaxControlPoints (model.h)");
+
+static std::vector<double> packHrbfHeader(const Hrbf& h) {
+    std::vector<double> data(6, 0.0);
     data[0] = h.a.x();
     data[1] = h.a.y();
     data[2] = h.a.z();
     data[3] = h.b;
     uint32_t m = uint32_t(h.size());
     std::memcpy(&data[4], &m, 4);
+    return data;
+}
+
+static std::vector<double> packHrbfCenters(const Hrbf& h) {
+    size_t blocks = std::max<size_t>(1, (h.size() + kHrbfBlockSize - 1) / kHrbfBlockSize);
+    std::vector<double> data(blocks * kHrbfBlockSize * 8, 0.0);
     for (size_t j = 0; j < h.size(); ++j) {
-        double* c = &data[8 + 8 * j];
+        double* c = &data[8 * j];
         for (int k = 0; k < 3; ++k) {
             c[k] = h.centers[j][k];
             c[4 + k] = h.beta[j][k];
@@ -152,9 +162,18 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const Re
 
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-    std::vector<double> packed = packHrbf(hrbf);
-    r.hrbf = createBuffer(ctx, packed.size() * sizeof(double), storage, MemoryUse::Device);
-    uploadBuffer(ctx, r.hrbf, packed.data(), packed.size() * sizeof(double));
+    if (hrbf.size() > kHrbfBlockSize * kHrbfBlocks)
+        throw Error("the refinement holds at most " + std::to_string(kHrbfBlockSize * kHrbfBlocks) + " centres");
+    if (ctx.properties.limits.maxUniformBufferRange < kHrbfBlockBytes)
+        throw Error(std::string(ctx.properties.deviceName) + " has uniform buffers under 64 KiB, which the HRBF needs");
+    const VkBufferUsageFlags uniform = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    std::vector<double> header = packHrbfHeader(hrbf), centers = packHrbfCenters(hrbf);
+    r.hrbfHeader = createBuffer(ctx, header.size() * sizeof(double), uniform, MemoryUse::Device);
+    uploadBuffer(ctx, r.hrbfHeader, header.data(), header.size() * sizeof(double));
+    r.hrbf = createBuffer(ctx, centers.size() * sizeof(double), uniform, MemoryUse::Device);
+    uploadBuffer(ctx, r.hrbf, centers.data(), centers.size() * sizeof(double));
+    // Blocks past the last real one point at block 0: they are declared by the shader but never read.
+    const uint32_t realBlocks = uint32_t(centers.size() * sizeof(double) / kHrbfBlockBytes);
     r.points = createBuffer(ctx, plan.maxPoints * sizeof(PointRecord), storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
                             MemoryUse::Device);
     r.candidates = createBuffer(ctx, maxCandidates * sizeof(PointRecord), storage, MemoryUse::Device);
@@ -170,14 +189,16 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const Re
 
     const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     r.descriptors = createDescriptorSet(ctx,
-                                        {{0, sb, r.hrbf.buffer},
+                                        {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, r.hrbfHeader.buffer},
                                          {1, sb, r.points.buffer},
                                          {2, sb, r.candidates.buffer},
                                          {3, sb, r.flags.buffer},
                                          {4, sb, r.blocks.buffer},
                                          {5, sb, r.levels.buffer},
                                          {6, sb, r.indirect.buffer},
-                                         {7, sb, r.seeds.buffer}},
+                                         {7, sb, r.seeds.buffer},
+                                         {8, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, r.hrbf.buffer, kHrbfBlocks,
+                                          kHrbfBlockBytes, realBlocks}},
                                         VK_SHADER_STAGE_COMPUTE_BIT);
     r.layout = createPipelineLayout(ctx, r.descriptors.layout, sizeof(LevelParams), VK_SHADER_STAGE_COMPUTE_BIT);
     r.refine = createComputePipeline(ctx, r.layout, spv_refine_comp);
@@ -196,7 +217,7 @@ void destroyRefinement(Context& ctx, GpuRefinement& r) {
     for (VkPipeline p : {r.refine, r.scan, r.compact}) vkDestroyPipeline(ctx.device, p, nullptr);
     vkDestroyPipelineLayout(ctx.device, r.layout, nullptr);
     if (r.descriptors.pool) destroyDescriptorSet(ctx, r.descriptors);
-    for (Buffer* b : {&r.hrbf, &r.points, &r.candidates, &r.flags, &r.blocks, &r.levels, &r.indirect, &r.seeds})
+    for (Buffer* b : {&r.hrbfHeader, &r.hrbf, &r.points, &r.candidates, &r.flags, &r.blocks, &r.levels, &r.indirect, &r.seeds})
         if (b->buffer) destroyBuffer(ctx, *b);
     r.refine = r.scan = r.compact = VK_NULL_HANDLE;
     r.layout = VK_NULL_HANDLE;

@@ -88,7 +88,7 @@ LevelParams levelParams(const RefinePlan& plan, const RefineOptions& options, ui
 struct GpuRefinement {
     RefinePlan plan;
     RefineOptions options;
-    Buffer hrbf, points, candidates, flags, blocks, levels, indirect, seeds;
+    Buffer hrbfHeader, hrbf, points, candidates, flags, blocks, levels, indirect, seeds;
     DescriptorSet descriptors;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline refine = VK_NULL_HANDLE, scan = VK_NULL_HANDLE, compact = VK_NULL_HANDLE;
