@@ -172,7 +172,7 @@ int runRender(Options& o, const std::string& output, std::vector<uint32_t> size)
     ink::runRefinement(session.ctx, g.r);
     ink::RgbaImage image;
     {
-        ink::OffscreenRenderer renderer(session.ctx, size[0], size[1], ink::RenderStyle{}, g.r);
+        ink::OffscreenRenderer renderer(session.ctx, size[0], size[1], ink::RenderStyle{}, {&g.r});
         image = renderer.render(ink::Camera{});
     }
     session.checkValidation();

@@ -117,6 +117,17 @@ LevelParams levelParams(const RefinePlan& plan, const RefineOptions& o, uint32_t
     p.childCount = plan.childCount[level];
     p.nextChildCount = level + 1 < plan.levelCount ? plan.childCount[level + 1] : 0u;
     p.keepAll = o.keepAllLevels ? 1u : 0u;
+    // Levels share [0,1) in proportion to their (worst-case) point counts, coarse first: tone thresholds then
+    // draw whole coarse levels (spread out by construction) before the finer, clumpier ones.
+    uint64_t before = 0, total = 0;
+    for (uint32_t l = 0; l < plan.levelCount; ++l) {
+        if (!o.keepAllLevels && l + 1 < plan.levelCount) continue;
+        if (l < level) before += plan.maxCandidates[l];
+        total += plan.maxCandidates[l];
+    }
+    bool drawn = o.keepAllLevels || level + 1 == plan.levelCount;
+    p.toneOffset = drawn ? float(double(before) / double(total)) : 0.0f;
+    p.toneScale = drawn ? float(double(plan.maxCandidates[level]) / double(total)) : 1.0f;
     return p;
 }
 

@@ -46,7 +46,7 @@ struct PointRecord {
     float position[3];
     uint32_t level;
     float normal[3];
-    float tone;
+    float tone;  // fixed per point in [0,1); coarser levels get smaller values (see refine_bindings.glsl)
 };
 static_assert(sizeof(PointRecord) == 32);
 
@@ -80,8 +80,9 @@ struct LevelParams {
     float axis[4];
     float rho, jumpLimit, eps1, eps2, delta, phi;
     uint32_t maxIterations, mode, direction, level, seed, childCount, nextChildCount, keepAll;
+    float toneOffset, toneScale;  // this level's share of [0,1) for the tone value, coarse levels first
 };
-static_assert(sizeof(LevelParams) == 72);
+static_assert(sizeof(LevelParams) == 80);
 LevelParams levelParams(const RefinePlan& plan, const RefineOptions& options, uint32_t level);
 
 // Device resources of one refinement. The point buffer and the draw arguments are what the renderer reads.

@@ -141,7 +141,7 @@ std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& opti
                 result[i] = res;
                 if (res == kKept) {
                     Vector3f n = g.normalized().cast<float>();
-                    candidates[i] = {{float(p.x()), float(p.y()), float(p.z())}, level, {n.x(), n.y(), n.z()}, rnd[2]};
+                    candidates[i] = {{float(p.x()), float(p.y()), float(p.z())}, level, {n.x(), n.y(), n.z()}, pc.toneOffset + pc.toneScale * rnd[2]};
                 }
             }
         };

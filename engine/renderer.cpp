@@ -3,43 +3,42 @@
 #include "common.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
-#include "points.frag.h"
-#include "points.vert.h"
+#include "ink.frag.h"
+#include "ink.vert.h"
+#include "splat.frag.h"
+#include "splat.vert.h"
 
 namespace ink {
 
-StyleBlock makeStyleBlock(const RenderStyle& s, float pointSizeMin, float pointSizeMax) {
-    float k = float(std::max(1u, s.supersample));
-    StyleBlock b{};
-    b.color[0] = s.ink;
-    b.color[1] = s.ink;
-    b.color[2] = s.backInk;
-    b.size = glm::vec4(s.silhouetteSize * k, s.frontSize * k, s.backSize * k, s.tau);
-    glm::vec3 l = glm::length(s.light) > 0 ? glm::normalize(s.light) : glm::vec3(0, 1, 0);
-    b.light = glm::vec4(l, s.toneGamma);
-    b.misc = glm::vec4(s.drawBack ? 1.0f : 0.0f, pointSizeMin, pointSizeMax, 0.0f);
-    return b;
-}
+namespace {
 
-PointPipeline createPointPipeline(Context& ctx, const Buffer& points, VkFormat colorFormat, VkFormat depthFormat) {
-    PointPipeline p;
-    p.style = createBuffer(ctx, sizeof(StyleBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                           MemoryUse::Device);
-    p.descriptors = createDescriptorSet(
-        ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, points.buffer}, {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, p.style.buffer}},
-        VK_SHADER_STAGE_VERTEX_BIT);
-    p.layout = createPipelineLayout(ctx, p.descriptors.layout, sizeof(glm::mat4) + sizeof(glm::vec4),
-                                    VK_SHADER_STAGE_VERTEX_BIT);
+// Matches `Camera` in render_common.glsl.
+struct CameraPush {
+    glm::mat4 view;
+    glm::vec4 projection;
+    glm::vec4 viewport;
+    glm::vec4 splat;
+};
+static_assert(sizeof(CameraPush) == 112);
 
-    VkShaderModule vert = createShaderModule(ctx, spv_points_vert);
-    VkShaderModule frag = createShaderModule(ctx, spv_points_frag);
+enum class Pass { Splat, Ink, Hidden };
+
+VkPipeline createPass(Context& ctx, VkPipelineLayout layout, Pass pass, VkFormat colorFormat, VkFormat depthFormat) {
+    bool splat = pass == Pass::Splat;
+    VkShaderModule vert = createShaderModule(ctx, splat ? std::span<const uint32_t>(spv_splat_vert) : spv_ink_vert);
+    VkShaderModule frag = createShaderModule(ctx, splat ? std::span<const uint32_t>(spv_splat_frag) : spv_ink_frag);
+    VkBool32 hidden = pass == Pass::Hidden;
+    VkSpecializationMapEntry entry{0, 0, sizeof(VkBool32)};
+    VkSpecializationInfo specialization{1, &entry, sizeof(hidden), &hidden};
     VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
                                                  {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
     stages[0].module = vert;
     stages[0].pName = "main";
+    stages[0].pSpecializationInfo = splat ? nullptr : &specialization;
     stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
     stages[1].module = frag;
     stages[1].pName = "main";
@@ -58,11 +57,19 @@ PointPipeline createPointPipeline(Context& ctx, const Buffer& points, VkFormat c
     multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
     VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     depth.depthTestEnable = VK_TRUE;
-    depth.depthWriteEnable = VK_TRUE;
-    depth.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
+    depth.depthWriteEnable = splat;  // the ink tests against the splats and leaves the depth alone
+    depth.depthCompareOp = pass == Pass::Hidden ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS_OR_EQUAL;
     VkPipelineColorBlendAttachmentState blendAttachment{};
-    blendAttachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                                     VK_COLOR_COMPONENT_A_BIT;
+    blendAttachment.colorWriteMask = splat ? 0u
+                                           : VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                                 VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    blendAttachment.blendEnable = !splat;
+    blendAttachment.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+    blendAttachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    blendAttachment.colorBlendOp = VK_BLEND_OP_ADD;
+    blendAttachment.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+    blendAttachment.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    blendAttachment.alphaBlendOp = VK_BLEND_OP_ADD;
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     blend.attachmentCount = 1;
     blend.pAttachments = &blendAttachment;
@@ -86,100 +93,149 @@ PointPipeline createPointPipeline(Context& ctx, const Buffer& points, VkFormat c
     info.pDepthStencilState = &depth;
     info.pColorBlendState = &blend;
     info.pDynamicState = &dynamic;
-    info.layout = p.layout;
-    VK_CHECK(vkCreateGraphicsPipelines(ctx.device, VK_NULL_HANDLE, 1, &info, nullptr, &p.pipeline));
+    info.layout = layout;
+    VkPipeline pipeline;
+    VK_CHECK(vkCreateGraphicsPipelines(ctx.device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
     vkDestroyShaderModule(ctx.device, vert, nullptr);
     vkDestroyShaderModule(ctx.device, frag, nullptr);
-    return p;
+    return pipeline;
 }
 
-void destroyPointPipeline(Context& ctx, PointPipeline& p) {
-    vkDestroyPipeline(ctx.device, p.pipeline, nullptr);
-    vkDestroyPipelineLayout(ctx.device, p.layout, nullptr);
-    destroyDescriptorSet(ctx, p.descriptors);
-    destroyBuffer(ctx, p.style);
-    p = PointPipeline{};
+// ρ of the finest level: the local spacing of the densest points, which the splats must cover.
+float finestRho(const GpuRefinement& r) {
+    uint32_t last = r.plan.levelCount - 1;
+    return float(last == 0 ? r.plan.rho0 : r.plan.rho0 / std::pow(3.0, double(last) - 1.0));
 }
 
-void drawPoints(VkCommandBuffer cmd, const PointPipeline& p, const GpuRefinement& r, const Camera& camera,
-                VkExtent2D extent) {
+}  // namespace
+
+PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat,
+                             VkFormat depthFormat)
+    : ctx_(ctx) {
+    styleBuffer_ = createBuffer(ctx, sizeof(StyleBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+                                                             VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
+    for (const GpuRefinement* r : sets) {
+        DescriptorSet ds = createDescriptorSet(ctx,
+                                               {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, r->points.buffer},
+                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer}},
+                                               VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+        uint32_t draw[4];
+        downloadBuffer(ctx, r->indirect, GpuRefinement::kDrawOffset, draw, sizeof(draw));
+        sets_.push_back({r, ds, finestRho(*r), draw[0]});
+    }
+    layout_ = createPipelineLayout(ctx, sets_.front().descriptors.layout, sizeof(CameraPush),
+                                   VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
+    splat_ = createPass(ctx, layout_, Pass::Splat, colorFormat, depthFormat);
+    ink_ = createPass(ctx, layout_, Pass::Ink, colorFormat, depthFormat);
+    hidden_ = createPass(ctx, layout_, Pass::Hidden, colorFormat, depthFormat);
+}
+
+PointRenderer::~PointRenderer() {
+    for (VkPipeline p : {splat_, ink_, hidden_}) vkDestroyPipeline(ctx_.device, p, nullptr);
+    vkDestroyPipelineLayout(ctx_.device, layout_, nullptr);
+    for (Set& s : sets_) destroyDescriptorSet(ctx_, s.descriptors);
+    destroyBuffer(ctx_, styleBuffer_);
+}
+
+void PointRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pixelScale) {
+    style_ = s;
+    const float* range = ctx_.properties.limits.pointSizeRange;
+    StyleBlock b{};
+    b.color[0] = s.ink;
+    b.color[1] = s.ink;
+    b.color[2] = s.hiddenInk;
+    b.size = glm::vec4(s.silhouetteSize * pixelScale, s.frontSize * pixelScale, s.hiddenSize * pixelScale, s.tau);
+    glm::vec3 l = glm::length(s.light) > 0 ? glm::normalize(s.light) : glm::vec3(0, 0, 1);
+    b.light = glm::vec4(l, s.toneGamma);
+    b.tone = glm::vec4(s.inkDensity, s.ambient, std::max(1.0f, range[0]), range[1]);
+    pixelScale_ = pixelScale;
+    vkCmdUpdateBuffer(cmd, styleBuffer_.buffer, 0, sizeof(b), &b);
+    stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                 VK_ACCESS_2_UNIFORM_READ_BIT);
+}
+
+void PointRenderer::draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) const {
     VkViewport viewport{0, 0, float(extent.width), float(extent.height), 0.0f, 1.0f};
     VkRect2D scissor{{0, 0}, extent};
     vkCmdSetViewport(cmd, 0, 1, &viewport);
     vkCmdSetScissor(cmd, 0, 1, &scissor);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.pipeline);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.layout, 0, 1, &p.descriptors.set, 0, nullptr);
-    struct {
-        glm::mat4 viewProj;
-        glm::vec4 eye;
-    } push{camera.projection(float(extent.width) / float(extent.height)) * camera.view(), glm::vec4(camera.eye(), 1)};
-    vkCmdPushConstants(cmd, p.layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);
-    vkCmdDrawIndirect(cmd, r.indirect.buffer, GpuRefinement::kDrawOffset, 1, 0);
-}
+    glm::mat4 p = camera.projection(float(extent.width) / float(extent.height));
+    CameraPush push{camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]),
+                    glm::vec4(extent.width, extent.height, 1.0f / float(extent.width), 1.0f / float(extent.height)),
+                    glm::vec4(0.0f)};
 
-OffscreenTarget createOffscreenTarget(Context& ctx, uint32_t width, uint32_t height) {
-    OffscreenTarget t;
-    t.color = createImage(ctx, width, height, kColorFormat,
-                          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
-    t.depth = createImage(ctx, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                          VK_IMAGE_ASPECT_DEPTH_BIT);
-    t.readback = createBuffer(ctx, VkDeviceSize(width) * height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                              MemoryUse::Readback);
-    return t;
-}
-
-void destroyOffscreenTarget(Context& ctx, OffscreenTarget& t) {
-    destroyImage(ctx, t.color);
-    destroyImage(ctx, t.depth);
-    destroyBuffer(ctx, t.readback);
+    // Expected dots per pixel where the model faces the camera: half the points are on the visible side, spread
+    // over about the projected bounding sphere (radius ½ in normalized units). k keeps λ·(dot area) ≈ 0.9.
+    float pixelsPerUnit = std::abs(p[1][1]) * 0.5f * float(extent.height) / camera.distance;
+    float modelPixels = float(M_PI) * 0.25f * pixelsPerUnit * pixelsPerUnit;
+    float dotPixels = float(M_PI) * 0.25f * std::pow(style_.frontSize * pixelScale_, 2.0f);
+    auto drawSets = [&](VkPipeline pipeline) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+        for (const Set& s : sets_) {
+            float lambda = 0.5f * float(std::max(1u, s.points)) / modelPixels;
+            float k = std::min(1.0f, 0.9f / (lambda * dotPixels));
+            push.splat = glm::vec4(style_.splatScale * s.splatRadius, style_.splatScale * s.splatRadius, k, 0);
+            vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                               sizeof(push), &push);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &s.descriptors.set, 0,
+                                    nullptr);
+            vkCmdDrawIndirect(cmd, s.refinement->indirect.buffer, GpuRefinement::kDrawOffset, 1, 0);
+        }
+    };
+    if (style_.occlusion) drawSets(splat_);
+    drawSets(ink_);
+    if (style_.occlusion && style_.hiddenLines) drawSets(hidden_);
 }
 
 OffscreenRenderer::OffscreenRenderer(Context& ctx, uint32_t width, uint32_t height, const RenderStyle& style,
-                                     const GpuRefinement& refinement)
-    : ctx_(ctx), refinement_(refinement), style_(style), width_(width), height_(height),
-      factor_(std::max(1u, style.supersample)) {
-    uint32_t maxSide = ctx.properties.limits.maxImageDimension2D;
+                                     std::vector<const GpuRefinement*> sets)
+    : ctx_(ctx), width_(width), height_(height), factor_(std::max(1u, style.supersample)),
+      renderer_(ctx, std::move(sets), kColorFormat, kDepthFormat) {
+    uint32_t maxSide = std::min(ctx.properties.limits.maxImageDimension2D, 16384u);
     if (width == 0 || height == 0 || width * factor_ > maxSide || height * factor_ > maxSide)
-        throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) + " (x" +
-                    std::to_string(factor_) + " supersampling) is outside 1.." + std::to_string(maxSide / factor_) +
-                    " on this device");
-    target_ = createOffscreenTarget(ctx, width * factor_, height * factor_);
-    pipeline_ = createPointPipeline(ctx, refinement.points, kColorFormat, kDepthFormat);
+        throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) + " with " +
+                    std::to_string(factor_) + "x supersampling is outside 1.." + std::to_string(maxSide / factor_) +
+                    " pixels a side");
+    uint32_t w = width * factor_, h = height * factor_;
+    color_ = createImage(ctx, w, h, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                         VK_IMAGE_ASPECT_COLOR_BIT);
+    depth_ = createImage(ctx, w, h, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+    readback_ = createBuffer(ctx, VkDeviceSize(w) * h * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback);
     setStyle(style);
 }
 
 OffscreenRenderer::~OffscreenRenderer() {
-    destroyPointPipeline(ctx_, pipeline_);
-    destroyOffscreenTarget(ctx_, target_);
+    destroyImage(ctx_, color_);
+    destroyImage(ctx_, depth_);
+    destroyBuffer(ctx_, readback_);
 }
 
 void OffscreenRenderer::setStyle(const RenderStyle& style) {
-    style_ = style;
-    style_.supersample = factor_;
-    const float* range = ctx_.properties.limits.pointSizeRange;
-    StyleBlock block = makeStyleBlock(style_, range[0], range[1]);
-    uploadBuffer(ctx_, pipeline_.style, &block, sizeof(block));
+    submitAndWait(ctx_, [&](VkCommandBuffer cmd) { renderer_.setStyle(cmd, style, float(factor_)); });
 }
 
 RgbaImage OffscreenRenderer::render(const Camera& camera) {
-    VkExtent2D extent = target_.color.extent;
+    VkExtent2D extent = color_.extent;
+    const RenderStyle& style = renderer_.style();
     submitAndWait(ctx_, [&](VkCommandBuffer cmd) {
-        imageBarrier(cmd, target_.color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+        imageBarrier(cmd, color_.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                      VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, 0,
-                     VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-        imageBarrier(cmd, target_.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                     VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                     VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT);
+        imageBarrier(cmd, depth_.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                      VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, 0,
                      VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
                      VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
 
         VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-        color.imageView = target_.color.view;
+        color.imageView = color_.view;
         color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
         color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
         color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-        color.clearValue.color = {{style_.paper.r, style_.paper.g, style_.paper.b, style_.paper.a}};
+        color.clearValue.color = {{style.paper.r, style.paper.g, style.paper.b, style.paper.a}};
         VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-        depth.imageView = target_.depth.view;
+        depth.imageView = depth_.view;
         depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
         depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
         depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
@@ -191,23 +247,22 @@ RgbaImage OffscreenRenderer::render(const Camera& camera) {
         rendering.pColorAttachments = &color;
         rendering.pDepthAttachment = &depth;
         vkCmdBeginRendering(cmd, &rendering);
-        drawPoints(cmd, pipeline_, refinement_, camera, extent);
+        renderer_.draw(cmd, camera, extent);
         vkCmdEndRendering(cmd);
 
-        imageBarrier(cmd, target_.color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+        imageBarrier(cmd, color_.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                      VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
         VkBufferImageCopy region{};
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         region.imageExtent = {extent.width, extent.height, 1};
-        vkCmdCopyImageToBuffer(cmd, target_.color.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target_.readback.buffer, 1,
-                               &region);
+        vkCmdCopyImageToBuffer(cmd, color_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer, 1, &region);
         stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
                      VK_ACCESS_2_HOST_READ_BIT);
     });
     RgbaImage full{extent.width, extent.height, {}};
     full.pixels.resize(size_t(extent.width) * extent.height * 4);
-    std::memcpy(full.pixels.data(), target_.readback.mapped, full.pixels.size());
+    std::memcpy(full.pixels.data(), readback_.mapped, full.pixels.size());
     return downsample(full, factor_);
 }
 

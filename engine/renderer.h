@@ -1,5 +1,6 @@
-// Draws refined points as ink dots with a graphics pipeline, straight from the refinement's device buffers
-// (indirect draw, no readback). The offscreen target is what `render`, `capture` and the tests read back.
+// Draws refined points as ink with graphics pipelines, straight from the refinement's device buffers
+// (indirect draws, no readback): a depth pre-pass of oriented splats (visibility splatting), then the ink
+// dots classified by the report's §5 rule and thinned by tone, then optionally the hidden silhouettes, faint.
 #pragma once
 
 #include "camera.h"
@@ -15,44 +16,61 @@ namespace ink {
 struct RenderStyle {
     glm::vec4 ink{0.0f, 0.0f, 0.0f, 1.0f};
     glm::vec4 paper{1.0f, 1.0f, 1.0f, 1.0f};
-    glm::vec4 backInk{0.6f, 0.6f, 0.6f, 1.0f};
-    float frontSize = 2.0f;       // dot diameter in output pixels
-    float silhouetteSize = 3.0f;
-    float backSize = 1.0f;
-    float tau = 0.1f;             // τ of the silhouette test
-    bool drawBack = false;
-    glm::vec3 light{-0.4f, 0.8f, 0.6f};  // towards the light, model coordinates
-    float toneGamma = 0.0f;       // 0: every front point is drawn
-    uint32_t supersample = 2;     // render at this factor and filter down
+    glm::vec4 hiddenInk{0.0f, 0.0f, 0.0f, 0.18f};  // blended over the paper: faint
+    float frontSize = 1.6f;       // dot diameter in output pixels
+    float silhouetteSize = 2.4f;
+    float hiddenSize = 1.4f;
+    float tau = 0.1f;             // τ of the silhouette test (report §5)
+    bool hiddenLines = false;     // draw occluded silhouettes faint
+    bool occlusion = true;        // the splat depth pre-pass; off: every front-facing dot shows
+    glm::vec3 light{-0.5f, 0.6f, 0.65f};  // towards the light, in view space (x right, y up, z to the viewer)
+    // Tone: a front dot is drawn when its fixed random value is below
+    //   (ambient + (1 − max(0, n·l))^γ) · inkDensity · k,
+    // k scaling the expected ink coverage of fully dark regions to about 60% at any zoom and point count.
+    float toneGamma = 1.5f;       // 0: no tone, every front dot is drawn
+    float inkDensity = 1.0f;
+    float ambient = 0.04f;
+    float splatScale = 2.0f;      // splat radius in units of the finest level's ρ
+    uint32_t supersample = 2;     // offscreen: render this many times larger and filter down
 };
 
-// Matches `Style` in points.vert (std140).
+// Matches `Style` in render_common.glsl (std140).
 struct StyleBlock {
     glm::vec4 color[3];
     glm::vec4 size;
     glm::vec4 light;
-    glm::vec4 misc;
+    glm::vec4 tone;
 };
-StyleBlock makeStyleBlock(const RenderStyle& style, float pointSizeMin, float pointSizeMax);
 
-struct PointPipeline {
-    DescriptorSet descriptors;
-    Buffer style;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-};
-PointPipeline createPointPipeline(Context& ctx, const Buffer& points, VkFormat colorFormat, VkFormat depthFormat);
-void destroyPointPipeline(Context& ctx, PointPipeline& p);
-// Inside dynamic rendering: binds, sets viewport/scissor and draws the points with the refinement's arguments.
-void drawPoints(VkCommandBuffer cmd, const PointPipeline& p, const GpuRefinement& r, const Camera& camera,
-                VkExtent2D extent);
+// Draws one or more refinements (e.g. stippling and direction sampling together) into a colour + depth target.
+class PointRenderer {
+public:
+    PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat, VkFormat depthFormat);
+    ~PointRenderer();
+    PointRenderer(const PointRenderer&) = delete;
+    PointRenderer& operator=(const PointRenderer&) = delete;
 
-struct OffscreenTarget {
-    Image color, depth;
-    Buffer readback;
+    // Records the style upload (outside rendering). `pixelScale` multiplies dot sizes (supersampling).
+    void setStyle(VkCommandBuffer cmd, const RenderStyle& style, float pixelScale);
+    // Records the draws; call between vkCmdBeginRendering (depth cleared to 1) and vkCmdEndRendering.
+    void draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) const;
+    const RenderStyle& style() const { return style_; }
+
+private:
+    struct Set {
+        const GpuRefinement* refinement;
+        DescriptorSet descriptors;
+        float splatRadius;
+        uint32_t points;  // drawn by the indirect draw, read once at setup
+    };
+    Context& ctx_;
+    RenderStyle style_;
+    float pixelScale_ = 1.0f;
+    Buffer styleBuffer_;
+    std::vector<Set> sets_;
+    VkPipelineLayout layout_ = VK_NULL_HANDLE;
+    VkPipeline splat_ = VK_NULL_HANDLE, ink_ = VK_NULL_HANDLE, hidden_ = VK_NULL_HANDLE;
 };
-OffscreenTarget createOffscreenTarget(Context& ctx, uint32_t width, uint32_t height);
-void destroyOffscreenTarget(Context& ctx, OffscreenTarget& t);
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
@@ -62,11 +80,11 @@ struct RgbaImage {
     std::vector<uint8_t> pixels;  // RGBA8, rows top to bottom
 };
 
-// Renders one frame of the refinement's points and returns it at width × height (supersampled inside).
+// Renders frames of the refinements at width × height (supersampled inside) and reads them back.
 class OffscreenRenderer {
 public:
     OffscreenRenderer(Context& ctx, uint32_t width, uint32_t height, const RenderStyle& style,
-                      const GpuRefinement& refinement);
+                      std::vector<const GpuRefinement*> sets);
     ~OffscreenRenderer();
     OffscreenRenderer(const OffscreenRenderer&) = delete;
     OffscreenRenderer& operator=(const OffscreenRenderer&) = delete;
@@ -76,11 +94,10 @@ public:
 
 private:
     Context& ctx_;
-    const GpuRefinement& refinement_;
-    RenderStyle style_;
     uint32_t width_, height_, factor_;
-    OffscreenTarget target_;
-    PointPipeline pipeline_;
+    Image color_, depth_;
+    Buffer readback_;
+    PointRenderer renderer_;
 };
 
 // Box-filters an image whose sides are `factor` times larger.

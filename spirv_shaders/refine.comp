@@ -117,7 +117,7 @@ void main() {
         if (result == KEPT && distance(vec3(p), origin) > pc.jumpLimit) result = DROP_JUMP;
         bool kept = result == KEPT;
         if (kept) {
-            candidates[i] = Point(vec3(p), L, vec3(normalize(g)), rnd.z);
+            candidates[i] = Point(vec3(p), L, vec3(normalize(g)), pc.toneOffset + pc.toneScale * rnd.z);
             atomicAdd(groupKept, 1u);
         } else {
             atomicAdd(levels[L].dropped[result], 1u);

@@ -32,6 +32,8 @@ layout(push_constant) uniform Params {
     uint childCount;     // children per parent at this level (1 for seeds)
     uint nextChildCount; // children per point at the next level (0 when this is the last)
     uint keepAll;        // 1: draw every level; 0: only the last
+    float toneOffset;    // the tone value is toneOffset + toneScale·u, u uniform in [0,1): levels take
+    float toneScale;     // consecutive shares of [0,1), coarse first, so that tone thins fine levels first
 } pc;
 
 const uint GROUP_SIZE = 256u;

@@ -87,7 +87,7 @@ TEST_CASE("gpu: the bunny renders as dots on white paper") {
     ink::runRefinement(gpu.ctx, r);
     ink::RgbaImage image;
     {
-        ink::OffscreenRenderer renderer(gpu.ctx, 256, 256, ink::RenderStyle{}, r);
+        ink::OffscreenRenderer renderer(gpu.ctx, 256, 256, ink::RenderStyle{}, {&r});
         image = renderer.render(ink::Camera{});
     }
     ink::destroyRefinement(gpu.ctx, r);
