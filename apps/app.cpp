@@ -1,0 +1,259 @@
+#include "app.h"
+
+#include "image.h"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace app {
+
+void addModelOptions(CLI::App* cmd, Options& o) {
+    o.command = cmd;
+    cmd->add_option("model", o.model, "Mesh, oriented points or fitted model (.obj, .ply, .pts/.xyzn/.txt, .hrbf)")
+        ->required();
+    cmd->add_option("--control-points", o.controlPoints,
+                    "Control points chosen by farthest-point sampling (default: all, at most 1000)");
+    cmd->add_option("--stats", o.statsPath, "Write statistics as JSON to this file");
+}
+
+void addDeviceOptions(CLI::App* cmd, Options& o) {
+    cmd->add_option("--device", o.device, "Vulkan device: an index or part of its name (default: a GPU, else lavapipe)");
+    cmd->add_flag("--validation", o.validation, "Enable Vulkan validation and synchronization validation");
+}
+
+void addRefineOptions(CLI::App* cmd, Options& o) {
+    ink::RefineOptions& r = o.refine;
+    cmd->add_option("--levels", r.levels, "Refinement levels after the seeds")->capture_default_str();
+    cmd->add_option("--passes", r.passes, "Independent refinement passes")->capture_default_str();
+    cmd->add_option("--direction", r.direction, "Direction field: axis, curvature-min or curvature-max")
+        ->transform(CLI::CheckedTransformer(std::map<std::string, ink::DirectionField>{
+            {"axis", ink::DirectionField::Axis},
+            {"curvature-min", ink::DirectionField::CurvatureMin},
+            {"curvature-max", ink::DirectionField::CurvatureMax}}));
+    cmd->add_option("--axis", o.axis, "Axis for --direction axis, as X Y Z (default: 0 1 0)")->expected(3);
+    cmd->add_option("--seeds", r.seeds, "Seeds: control (the control points) or grid (a jittered grid)")
+        ->transform(CLI::CheckedTransformer(std::map<std::string, ink::SeedMode>{
+            {"control", ink::SeedMode::ControlPoints}, {"grid", ink::SeedMode::Grid}}));
+    cmd->add_option("--grid", r.grid, "Grid cells along the longest side for --seeds grid")->capture_default_str();
+    cmd->add_option("--rho", r.rho0, "ρ₀ as a fraction of the bounding-box diagonal (default: half the seed spacing)");
+    cmd->add_option("--seed", r.seed, "Random seed")->capture_default_str();
+    cmd->add_option("--keep-levels", o.keepLevels, "Keep all levels or only the last")
+        ->check(CLI::IsMember({"all", "last"}))
+        ->capture_default_str();
+}
+
+void addRenderOptions(CLI::App* cmd, Options& o) {
+    ink::RenderStyle& s = o.render;
+    cmd->add_option("--style", o.style, "stipple, direction (hatch-like lines of dots) or both")
+        ->transform(CLI::CheckedTransformer(std::map<std::string, DrawStyle>{
+            {"stipple", DrawStyle::Stipple}, {"direction", DrawStyle::Direction}, {"both", DrawStyle::Both}}));
+    cmd->add_option("--size", o.size, "Image width and height in pixels")->expected(2)->capture_default_str();
+    cmd->add_option("--camera", o.camera, "Camera azimuth and elevation in degrees and distance in diagonals")
+        ->expected(3)
+        ->delimiter(',');
+    cmd->add_option("--ink", o.ink, "Ink colour, #rrggbb")->capture_default_str();
+    cmd->add_option("--paper", o.paper, "Paper colour, #rrggbb")->capture_default_str();
+    cmd->add_option("--dot-size", s.frontSize, "Dot diameter in pixels")->capture_default_str();
+    cmd->add_option("--silhouette-size", s.silhouetteSize, "Silhouette dot diameter in pixels")->capture_default_str();
+    cmd->add_option("--tau", s.tau, "Silhouette threshold τ on |n·v|")->capture_default_str();
+    cmd->add_option("--tone", s.toneGamma, "Tone curve exponent γ; 0 draws every front dot")->capture_default_str();
+    cmd->add_option("--ink-density", s.inkDensity, "Scales how many dots the tone draws")->capture_default_str();
+    cmd->add_option("--light", o.light, "Direction towards the light in view space, X Y Z (x right, y up, z out)")
+        ->expected(3);
+    cmd->add_flag("--hidden-lines", s.hiddenLines, "Draw occluded silhouettes faint");
+    cmd->add_flag("!--no-occlusion", s.occlusion, "Skip the splat depth pre-pass (dots behind the surface show)");
+    cmd->add_option("--supersample", s.supersample, "Render this many times larger and filter down (1-4)")
+        ->check(CLI::Range(1u, 4u))
+        ->capture_default_str();
+    cmd->add_option("--preset", o.preset, "Style preset, a JSON file (docs/presets.md); options given win");
+}
+
+static glm::vec4 parseColour(const std::string& text, const char* what) {
+    std::string hex = text.rfind('#', 0) == 0 ? text.substr(1) : text;
+    if (hex.size() != 6 || hex.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos)
+        throw ink::Error(std::string(what) + " colour '" + text + "' is not of the form #rrggbb");
+    unsigned value = unsigned(std::stoul(hex, nullptr, 16));
+    return {float((value >> 16) & 255) / 255.0f, float((value >> 8) & 255) / 255.0f, float(value & 255) / 255.0f, 1.0f};
+}
+
+// A preset sets what the command line did not: {"style": "both", "ink": "#202040", "dot_size": 1.4, ...}.
+static void applyPreset(Options& o) {
+    std::ifstream in(o.preset);
+    if (!in) throw ink::Error("cannot open preset '" + o.preset + "'");
+    json j;
+    try {
+        j = json::parse(in);
+    } catch (const json::exception& e) {
+        throw ink::Error("preset '" + o.preset + "' is not valid JSON: " + e.what());
+    }
+    if (!j.is_object()) throw ink::Error("preset '" + o.preset + "' must be a JSON object");
+    auto given = [&](const char* option) { return o.command && o.command->count(option) > 0; };
+    try {
+        for (auto& [key, value] : j.items()) {
+            if (key == "style" && !given("--style")) {
+                std::string v = value.get<std::string>();
+                if (v == "stipple") o.style = DrawStyle::Stipple;
+                else if (v == "direction") o.style = DrawStyle::Direction;
+                else if (v == "both") o.style = DrawStyle::Both;
+                else throw ink::Error("preset '" + o.preset + "': style must be stipple, direction or both");
+            } else if (key == "ink" && !given("--ink")) o.ink = value.get<std::string>();
+            else if (key == "paper" && !given("--paper")) o.paper = value.get<std::string>();
+            else if (key == "dot_size" && !given("--dot-size")) o.render.frontSize = value.get<float>();
+            else if (key == "silhouette_size" && !given("--silhouette-size")) o.render.silhouetteSize = value.get<float>();
+            else if (key == "tau" && !given("--tau")) o.render.tau = value.get<float>();
+            else if (key == "tone" && !given("--tone")) o.render.toneGamma = value.get<float>();
+            else if (key == "ink_density" && !given("--ink-density")) o.render.inkDensity = value.get<float>();
+            else if (key == "hidden_lines" && !given("--hidden-lines")) o.render.hiddenLines = value.get<bool>();
+            else if (key == "light" && !given("--light")) o.light = value.get<std::vector<float>>();
+            else if (key == "levels" && !given("--levels")) o.refine.levels = value.get<uint32_t>();
+            else if (key == "passes" && !given("--passes")) o.refine.passes = value.get<uint32_t>();
+            else if (key == "direction" && !given("--direction")) {
+                std::string v = value.get<std::string>();
+                if (v == "axis") o.refine.direction = ink::DirectionField::Axis;
+                else if (v == "curvature-min") o.refine.direction = ink::DirectionField::CurvatureMin;
+                else if (v == "curvature-max") o.refine.direction = ink::DirectionField::CurvatureMax;
+                else throw ink::Error("preset '" + o.preset + "': direction must be axis, curvature-min or curvature-max");
+            } else if (key != "style" && key != "ink" && key != "paper" && key != "dot_size" && key != "silhouette_size" &&
+                       key != "tau" && key != "tone" && key != "ink_density" && key != "hidden_lines" &&
+                       key != "light" && key != "levels" && key != "passes" && key != "direction")
+                throw ink::Error("preset '" + o.preset + "': unknown key '" + key + "'");
+        }
+    } catch (const json::exception& e) {
+        throw ink::Error("preset '" + o.preset + "': a value has the wrong type: " + e.what());
+    }
+}
+
+void finishOptions(Options& o) {
+    if (!o.preset.empty()) applyPreset(o);
+    if (!o.axis.empty()) o.refine.axis = Eigen::Vector3d(o.axis[0], o.axis[1], o.axis[2]);
+    if (!(o.refine.axis.norm() > 0) || !o.refine.axis.allFinite()) throw ink::Error("--axis must be a non-zero vector");
+    o.refine.keepAllLevels = o.keepLevels == "all";
+    o.render.ink = parseColour(o.ink, "ink");
+    o.render.paper = parseColour(o.paper, "paper");
+    o.render.hiddenInk = glm::vec4(glm::vec3(o.render.ink), 0.18f);
+    if (!o.light.empty()) {
+        glm::vec3 l(o.light[0], o.light[1], o.light[2]);
+        if (!(glm::length(l) > 0) || !std::isfinite(glm::length(l))) throw ink::Error("--light must be a non-zero vector");
+        o.render.light = l;
+    }
+    for (float v : {o.render.frontSize, o.render.silhouetteSize})
+        if (!(v > 0 && v <= 64)) throw ink::Error("dot sizes must be in (0, 64] pixels");
+    if (!(o.render.tau >= 0 && o.render.tau < 1)) throw ink::Error("--tau must be in [0, 1)");
+    if (!(o.render.toneGamma >= 0 && o.render.toneGamma <= 16)) throw ink::Error("--tone must be in [0, 16]");
+    if (!(o.render.inkDensity >= 0 && o.render.inkDensity <= 100)) throw ink::Error("--ink-density must be in [0, 100]");
+    if (o.size.size() == 2 && (o.size[0] < 1 || o.size[1] < 1 || o.size[0] > 8192 || o.size[1] > 8192))
+        throw ink::Error("--size " + std::to_string(o.size[0]) + " " + std::to_string(o.size[1]) +
+                         " is outside 1..8192 pixels a side");
+    if (!o.camera.empty()) {
+        if (!std::isfinite(o.camera[0]) || !std::isfinite(o.camera[1]) || !(o.camera[2] > 0.05f && o.camera[2] < 100))
+            throw ink::Error("--camera needs finite angles and a distance in (0.05, 100) diagonals");
+    }
+}
+
+ink::Camera cameraFrom(const Options& o) {
+    ink::Camera c;
+    if (o.camera.size() == 3) {
+        c.azimuthDeg = o.camera[0];
+        c.elevationDeg = std::clamp(o.camera[1], -89.0f, 89.0f);
+        c.distance = o.camera[2];
+    }
+    return c;
+}
+
+Session::Session(const Options& o, std::vector<const char*> instanceExtensions, bool presentation) {
+    ink::ContextOptions options;
+    options.validation = o.validation;
+    options.device = o.device;
+    options.instanceExtensions = std::move(instanceExtensions);
+    options.presentation = presentation;
+    try {
+        ink::createContext(ctx, options);
+    } catch (...) {
+        ink::destroyContext(ctx);
+        throw;
+    }
+}
+
+Session::~Session() { ink::destroyContext(ctx); }
+
+void Session::checkValidation() const {
+    if (ctx.validationErrors)
+        throw ink::Error(std::to_string(ctx.validationErrors.load()) + " Vulkan validation error(s); first: " +
+                         ctx.firstValidationMessage);
+}
+
+Scene::Scene(ink::Context& c, const Options& o) : ctx(c) {
+    model = ink::loadModel(o.model, {o.controlPoints});
+    refine(o);
+}
+
+Scene::~Scene() {
+    for (auto& s : sets) ink::destroyRefinement(ctx, *s);
+}
+
+void Scene::refine(const Options& o) {
+    vkDeviceWaitIdle(ctx.device);
+    for (auto& s : sets) ink::destroyRefinement(ctx, *s);
+    sets.clear();
+    std::vector<ink::SampleStyle> styles;
+    if (o.style != DrawStyle::Direction) styles.push_back(ink::SampleStyle::Stipple);
+    if (o.style != DrawStyle::Stipple) styles.push_back(ink::SampleStyle::Direction);
+    auto start = Clock::now();
+    for (ink::SampleStyle style : styles) {
+        ink::RefineOptions r = o.refine;
+        r.style = style;
+        sets.push_back(std::make_unique<ink::GpuRefinement>());
+        ink::createRefinement(ctx, *sets.back(), model.hrbf, r);
+        ink::runRefinement(ctx, *sets.back());
+    }
+    refineSeconds = secondsSince(start);
+}
+
+std::vector<const ink::GpuRefinement*> Scene::pointers() const {
+    std::vector<const ink::GpuRefinement*> p;
+    for (auto& s : sets) p.push_back(s.get());
+    return p;
+}
+
+uint64_t Scene::points() {
+    uint64_t total = 0;
+    for (auto& s : sets)
+        for (auto& l : ink::readLevelStats(ctx, *s)) total += l.kept;
+    return total;
+}
+
+json fitJson(const ink::Model& m) {
+    return {{"seconds", m.fit.seconds},
+            {"relative_residual", m.fit.relativeResidual},
+            {"max_distance", m.fit.maxDistance},
+            {"max_normal_angle_deg", m.fit.maxNormalAngleDeg}};
+}
+
+json levelsJson(const std::vector<ink::LevelStats>& levels) {
+    json list = json::array();
+    for (const auto& s : levels) {
+        json dropped;
+        for (uint32_t k = 0; k < ink::DropReasonCount; ++k) dropped[ink::dropReasonName(k)] = s.dropped[k];
+        list.push_back({{"level", s.level}, {"candidates", s.candidates}, {"kept", s.kept}, {"dropped", dropped},
+                        {"gpu_ms", s.gpuMs}});
+    }
+    return list;
+}
+
+json deviceJson(const ink::Context& ctx) {
+    return {{"device", ctx.properties.deviceName}, {"driver", ctx.driverInfo}};
+}
+
+void writeJson(const std::string& path, const json& j) {
+    if (path.empty()) return;
+    ink::writeAtomically(path, [&](const std::string& tmp) {
+        std::ofstream out(tmp);
+        out << j.dump(2) << "\n";
+        out.close();
+        if (!out) throw ink::Error("cannot write '" + path + "'");
+    });
+}
+
+}  // namespace app

@@ -1,0 +1,86 @@
+// What the inkwell commands share: options, the Vulkan session, the scene (model + refinements), JSON stats.
+#pragma once
+
+#include "camera.h"
+#include "common.h"
+#include "context.h"
+#include "model.h"
+#include "refine.h"
+#include "renderer.h"
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace app {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+inline double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+enum class DrawStyle { Stipple, Direction, Both };
+
+struct Options {
+    Options() { refine.passes = 2; }  // the report's two stippling passes
+    std::string model;
+    size_t controlPoints = 0;
+    std::string device;
+    bool validation = false;
+    std::string statsPath;
+    ink::RefineOptions refine;
+    std::string backend = "gpu";
+    std::string keepLevels = "all";
+    std::vector<double> axis;
+    // Rendering
+    DrawStyle style = DrawStyle::Stipple;
+    ink::RenderStyle render;
+    std::vector<float> camera;  // azimuth, elevation, distance
+    std::vector<uint32_t> size{1024, 1024};
+    std::string ink = "#000000", paper = "#ffffff", preset;
+    std::vector<float> light;
+    CLI::App* command = nullptr;  // set by add*Options: tells a preset which options the user gave
+};
+
+void addModelOptions(CLI::App* cmd, Options& o);
+void addDeviceOptions(CLI::App* cmd, Options& o);
+void addRefineOptions(CLI::App* cmd, Options& o);
+void addRenderOptions(CLI::App* cmd, Options& o);  // style, colours, dots, tone, camera, size, --preset
+// Validates and resolves what the parser cannot (axis, colours, preset file); throws ink::Error.
+void finishOptions(Options& o);
+ink::Camera cameraFrom(const Options& o);
+
+// Owns the Vulkan context of one command; validation errors count as a failure.
+struct Session {
+    ink::Context ctx;
+    explicit Session(const Options& o, std::vector<const char*> instanceExtensions = {}, bool presentation = false);
+    ~Session();
+    void checkValidation() const;
+};
+
+// The model and its refinements on the device: one for stipple or direction, two for both.
+struct Scene {
+    ink::Context& ctx;
+    ink::Model model;
+    std::vector<std::unique_ptr<ink::GpuRefinement>> sets;
+    double refineSeconds = 0;
+
+    Scene(ink::Context& ctx, const Options& o);  // loads, fits, refines (one submission per set)
+    ~Scene();
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
+    // Re-runs the refinement with new options (the viewer's keys); waits for the device to be idle first.
+    void refine(const Options& o);
+    std::vector<const ink::GpuRefinement*> pointers() const;
+    uint64_t points();  // kept points over all sets (reads the level counts back)
+};
+
+json fitJson(const ink::Model& m);
+json levelsJson(const std::vector<ink::LevelStats>& levels);
+json deviceJson(const ink::Context& ctx);
+// Writes JSON atomically; does nothing for an empty path.
+void writeJson(const std::string& path, const json& j);
+
+}  // namespace app

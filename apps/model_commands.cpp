@@ -1,0 +1,127 @@
+// fit, sample, render, devices.
+#include "commands.h"
+#include "export.h"
+#include "hrbf_io.h"
+#include "image.h"
+
+#include <cstdio>
+
+namespace app {
+
+static int runFit(Options& o, const std::string& output) {
+    ink::Model model = ink::loadModel(o.model, {o.controlPoints});
+    ink::saveHrbf(output, model.hrbf);
+    writeJson(o.statsPath, {{"control_points", model.fit.controlPoints},
+                            {"input_points", model.inputPoints},
+                            {"merged_duplicates", model.mergedDuplicates},
+                            {"load_seconds", model.loadSeconds},
+                            {"fit", fitJson(model)}});
+    std::printf("%s: %zu control points, fitted in %.3f s, max distance %.2g, max angle %.2g deg -> %s\n",
+                o.model.c_str(), model.fit.controlPoints, model.fit.seconds, model.fit.maxDistance,
+                model.fit.maxNormalAngleDeg, output.c_str());
+    return 0;
+}
+
+static int runSample(Options& o, const std::string& pointsPath) {
+    finishOptions(o);
+    ink::Model model = ink::loadModel(o.model, {o.controlPoints});
+    json stats = {{"control_points", model.fit.controlPoints}, {"fit", fitJson(model)}};
+    std::vector<ink::PointRecord> points;
+    std::vector<ink::LevelStats> levels;
+    if (o.backend == "cpu") {
+        auto start = Clock::now();
+        ink::RefinePlan plan = ink::planRefinement(model.hrbf, o.refine, UINT32_MAX);
+        points = ink::refineOnCpu(model.hrbf, o.refine, plan, &levels);
+        stats["refine"]["seconds"] = secondsSince(start);
+        stats["device"] = "cpu";
+    } else {
+        Session session(o);
+        ink::GpuRefinement r;
+        try {
+            ink::createRefinement(session.ctx, r, model.hrbf, o.refine);
+            auto start = Clock::now();
+            ink::runRefinement(session.ctx, r);
+            stats["refine"]["seconds"] = secondsSince(start);
+            points = ink::readPoints(session.ctx, r);
+            levels = ink::readLevelStats(session.ctx, r);
+        } catch (...) {
+            ink::destroyRefinement(session.ctx, r);
+            throw;
+        }
+        ink::destroyRefinement(session.ctx, r);
+        session.checkValidation();
+        stats.update(deviceJson(session.ctx));
+    }
+    stats["refine"]["points"] = points.size();
+    stats["refine"]["levels"] = levelsJson(levels);
+    ink::writePointsPly(pointsPath, points, model.hrbf.frame);
+    writeJson(o.statsPath, stats);
+    std::printf("%s: %zu control points, %zu points -> %s\n", o.model.c_str(), model.fit.controlPoints, points.size(),
+                pointsPath.c_str());
+    return 0;
+}
+
+static int runRender(Options& o, const std::string& output) {
+    finishOptions(o);
+    auto start = Clock::now();
+    Session session(o);
+    Scene scene(session.ctx, o);
+    ink::RgbaImage image;
+    {
+        ink::OffscreenRenderer renderer(session.ctx, o.size[0], o.size[1], o.render, scene.pointers());
+        image = renderer.render(cameraFrom(o));
+    }
+    session.checkValidation();
+    ink::writePng(output, image);
+    uint64_t points = scene.points();
+    json levels = json::array();
+    for (auto& s : scene.sets) levels.push_back(levelsJson(ink::readLevelStats(session.ctx, *s)));
+    json stats = {{"control_points", scene.model.fit.controlPoints},
+                  {"fit", fitJson(scene.model)},
+                  {"refine", {{"seconds", scene.refineSeconds}, {"points", points}, {"sets", levels}}},
+                  {"seconds", secondsSince(start)}};
+    stats.update(deviceJson(session.ctx));
+    writeJson(o.statsPath, stats);
+    std::printf("%s: %zu control points, %llu points, %.2f s -> %s\n", o.model.c_str(), scene.model.fit.controlPoints,
+                (unsigned long long)points, secondsSince(start), output.c_str());
+    return 0;
+}
+
+void addModelCommands(CLI::App& cli, Options& o, Commands& commands) {
+    auto output = std::make_shared<std::string>();
+
+    CLI::App* fit = cli.add_subcommand("fit", "Fit the HRBF to a model and save it as .hrbf");
+    addModelOptions(fit, o);
+    fit->add_option("-o,--output", *output, "Output .hrbf file")->required();
+    commands.emplace_back(fit, [&o, output] { return runFit(o, *output); });
+
+    CLI::App* sample = cli.add_subcommand("sample", "Refine points on the surface and write them as PLY");
+    addModelOptions(sample, o);
+    addRefineOptions(sample, o);
+    addDeviceOptions(sample, o);
+    sample->add_option("--style", o.refine.style, "Sampling: stipple (4 children) or direction (2, along a field)")
+        ->transform(CLI::CheckedTransformer(std::map<std::string, ink::SampleStyle>{
+            {"stipple", ink::SampleStyle::Stipple}, {"direction", ink::SampleStyle::Direction}}));
+    sample->add_option("--points", *output, "Output PLY (binary little endian, float x y z nx ny nz)")->required();
+    sample->add_option("--backend", o.backend, "gpu (Vulkan) or cpu (the multi-threaded reference)")
+        ->check(CLI::IsMember({"gpu", "cpu"}))
+        ->capture_default_str();
+    commands.emplace_back(sample, [&o, output] { return runSample(o, *output); });
+
+    CLI::App* render = cli.add_subcommand("render", "Render a model headless to a PNG");
+    addModelOptions(render, o);
+    addRefineOptions(render, o);
+    addRenderOptions(render, o);
+    addDeviceOptions(render, o);
+    render->add_option("-o,--output", *output, "Output PNG")->required();
+    commands.emplace_back(render, [&o, output] { return runRender(o, *output); });
+
+    CLI::App* devices = cli.add_subcommand("devices", "List the Vulkan devices");
+    commands.emplace_back(devices, [] {
+        auto names = ink::listDevices();
+        for (size_t i = 0; i < names.size(); ++i) std::printf("%zu: %s\n", i, names[i].c_str());
+        return 0;
+    });
+}
+
+}  // namespace app
