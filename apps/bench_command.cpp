@@ -1,7 +1,188 @@
+// bench: the report's workloads (ALGORITHM.md §7) timed end to end, side by side with the CPU reference.
 #include "commands.h"
+#include "image.h"
+#include "shapes.h"
+
+#include <algorithm>
+#include <climits>
+#include <cstdio>
+#include <filesystem>
+#include <sys/resource.h>
+#include <unistd.h>
 
 namespace app {
 
-void addBenchCommand(CLI::App&, Options&, Commands&) {}
+namespace {
+
+struct Workload {
+    std::string name;
+    std::string model;  // a path, or "" for the sphere of six axis points
+    size_t controlPoints;
+    uint32_t levels;
+};
+
+const std::vector<Workload>& builtinWorkloads() {
+    static const std::vector<Workload> w = {{"sphere", "", 6, 6},
+                                            {"bunny-312", "bunny", 312, 4},
+                                            {"bunny-684", "bunny", 684, 4}};
+    return w;
+}
+
+// The bundled bunny, found beside the executable's source tree (build/inkwell → assets/bunny.obj) or from
+// the working directory.
+std::string bunnyPath() {
+    std::error_code ec;
+    std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    for (std::filesystem::path p : {exe.parent_path().parent_path() / "assets/bunny.obj",
+                                    std::filesystem::path("assets/bunny.obj")})
+        if (!ec && std::filesystem::exists(p)) return p.string();
+    throw ink::Error("cannot find assets/bunny.obj: run bench from the repository root");
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
+}
+
+double peakMemoryMb() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_maxrss) / 1024.0;
+}
+
+json runWorkload(Session& session, const Workload& w, uint32_t frames) {
+    auto start = Clock::now();
+    ink::Model model = w.model.empty() ? ink::fitModel(ink::sphereAxisPoints(), {})
+                                       : ink::loadModel(w.model == "bunny" ? bunnyPath() : w.model, {w.controlPoints});
+    ink::RefineOptions options;
+    options.levels = w.levels;
+    options.passes = 2;
+    ink::GpuRefinement r;
+    json out;
+    try {
+        ink::createRefinement(session.ctx, r, model.hrbf, options);
+        auto refineStart = Clock::now();
+        ink::runRefinement(session.ctx, r);
+        double refineSeconds = secondsSince(refineStart);
+        auto levels = ink::readLevelStats(session.ctx, r);
+
+        ink::RenderStyle style;
+        style.supersample = 1;
+        ink::OffscreenRenderer renderer(session.ctx, 1024, 1024, style, {&r});
+        double preprocess = secondsSince(start);
+
+        // Frames with the camera moving every frame; the first few warm caches and pipelines up.
+        std::vector<double> frameMs;
+        ink::Camera camera;
+        for (uint32_t i = 0; i < frames + 3; ++i) {
+            camera.azimuthDeg = 30.0f + 360.0f * float(i) / float(frames + 3);
+            auto t = Clock::now();
+            renderer.draw(camera);
+            if (i >= 3) frameMs.push_back(1000.0 * secondsSince(t));
+        }
+
+        auto cpuStart = Clock::now();
+        ink::refineOnCpu(model.hrbf, options, r.plan);
+        double cpuRefine = secondsSince(cpuStart);
+
+        uint64_t candidates = 0, points = 0;
+        json levelMs = json::array();
+        for (const auto& l : levels) {
+            candidates += l.candidates;
+            points += l.kept;
+            levelMs.push_back(l.gpuMs);
+        }
+        out = {{"workload", w.name},
+               {"control_points", model.fit.controlPoints},
+               {"levels", w.levels},
+               {"candidates", candidates},
+               {"points", points},
+               {"fit_seconds", model.fit.seconds},
+               {"refine_seconds", refineSeconds},
+               {"preprocess_seconds", preprocess},
+               {"frame_ms_median", median(frameMs)},
+               {"fps", 1000.0 / median(frameMs)},
+               {"cpu_refine_seconds", cpuRefine},
+               {"gpu_over_cpu_refine", cpuRefine / refineSeconds},
+               {"level_gpu_ms", levelMs},
+               {"peak_memory_mb", peakMemoryMb()}};
+        out.update(deviceJson(session.ctx));
+    } catch (...) {
+        ink::destroyRefinement(session.ctx, r);
+        throw;
+    }
+    ink::destroyRefinement(session.ctx, r);
+    return out;
+}
+
+// The median of each number over the repeats; strings and lists from the first run.
+json medianOf(const std::vector<json>& runs) {
+    json m = runs.front();
+    for (auto& [key, value] : m.items())
+        if (value.is_number_float()) {
+            std::vector<double> v;
+            for (const auto& r : runs) v.push_back(r[key].get<double>());
+            value = median(v);
+        }
+    m["repeats"] = runs.size();
+    return m;
+}
+
+int runBench(Options& o, const std::vector<std::string>& names, const std::string& jsonPath, uint32_t repeat,
+             uint32_t frames) {
+    std::vector<Workload> workloads;
+    for (const std::string& name : names) {
+        auto it = std::find_if(builtinWorkloads().begin(), builtinWorkloads().end(),
+                               [&](const Workload& w) { return w.name == name; });
+        if (it == builtinWorkloads().end())
+            throw ink::Error("unknown workload '" + name + "': use sphere, bunny-312 or bunny-684");
+        workloads.push_back(*it);
+    }
+    if (!o.model.empty())
+        workloads.push_back({std::filesystem::path(o.model).filename().string(), o.model,
+                             o.controlPoints ? o.controlPoints : 684, o.refine.levels});
+    if (workloads.empty()) workloads = builtinWorkloads();
+    if (repeat < 1 || repeat > 100) throw ink::Error("--repeat must be between 1 and 100");
+    if (frames < 1 || frames > 10000) throw ink::Error("--frames must be between 1 and 10000");
+
+    Session session(o);
+    json results = json::array();
+    for (const Workload& w : workloads) {
+        std::vector<json> runs;
+        for (uint32_t i = 0; i < repeat; ++i) runs.push_back(runWorkload(session, w, frames));
+        json m = medianOf(runs);
+        std::printf("%-10s %8llu points  fit %6.3f s  refine %6.3f s (cpu %6.3f s, %.2fx)  preprocess %6.3f s  "
+                    "frame %7.2f ms (%5.1f fps)\n",
+                    w.name.c_str(), (unsigned long long)m["points"].get<uint64_t>(), m["fit_seconds"].get<double>(),
+                    m["refine_seconds"].get<double>(), m["cpu_refine_seconds"].get<double>(),
+                    m["gpu_over_cpu_refine"].get<double>(), m["preprocess_seconds"].get<double>(),
+                    m["frame_ms_median"].get<double>(), m["fps"].get<double>());
+        results.push_back(m);
+    }
+    session.checkValidation();
+    writeJson(jsonPath, results.size() == 1 ? results[0] : results);
+    return 0;
+}
+
+}  // namespace
+
+void addBenchCommand(CLI::App& cli, Options& o, Commands& commands) {
+    auto names = std::make_shared<std::vector<std::string>>();
+    auto jsonPath = std::make_shared<std::string>();
+    auto repeat = std::make_shared<uint32_t>(3);
+    auto frames = std::make_shared<uint32_t>(30);
+    CLI::App* bench = cli.add_subcommand("bench", "Time the report's workloads (preprocessing, frames, CPU reference)");
+    bench->add_option("--workload", *names, "sphere, bunny-312, bunny-684 (default: all)");
+    bench->add_option("--model", o.model, "Also time this model (with --control-points and --levels)");
+    bench->add_option("--control-points", o.controlPoints, "Control points for --model (default 684)");
+    bench->add_option("--levels", o.refine.levels, "Levels for --model")->capture_default_str();
+    bench->add_option("--json", *jsonPath, "Write the results as JSON");
+    bench->add_option("--repeat", *repeat, "Runs per workload; numbers are medians")->capture_default_str();
+    bench->add_option("--frames", *frames, "Frames timed per run")->capture_default_str();
+    addDeviceOptions(bench, o);
+    commands.emplace_back(bench, [&o, names, jsonPath, repeat, frames] {
+        return runBench(o, *names, *jsonPath, *repeat, *frames);
+    });
+}
 
 }  // namespace app

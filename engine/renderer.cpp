@@ -216,9 +216,22 @@ void OffscreenRenderer::setStyle(const RenderStyle& style) {
 }
 
 RgbaImage OffscreenRenderer::render(const Camera& camera) {
+    submitAndWait(ctx_, [&](VkCommandBuffer cmd) { record(cmd, camera, true); });
+    VkExtent2D extent = color_.extent;
+    RgbaImage full{extent.width, extent.height, {}};
+    full.pixels.resize(size_t(extent.width) * extent.height * 4);
+    std::memcpy(full.pixels.data(), readback_.mapped, full.pixels.size());
+    return downsample(full, factor_);
+}
+
+void OffscreenRenderer::draw(const Camera& camera) {
+    submitAndWait(ctx_, [&](VkCommandBuffer cmd) { record(cmd, camera, false); });
+}
+
+void OffscreenRenderer::record(VkCommandBuffer cmd, const Camera& camera, bool readback) {
     VkExtent2D extent = color_.extent;
     const RenderStyle& style = renderer_.style();
-    submitAndWait(ctx_, [&](VkCommandBuffer cmd) {
+    {
         imageBarrier(cmd, color_.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                      VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, 0,
                      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
@@ -249,6 +262,7 @@ RgbaImage OffscreenRenderer::render(const Camera& camera) {
         vkCmdBeginRendering(cmd, &rendering);
         renderer_.draw(cmd, camera, extent);
         vkCmdEndRendering(cmd);
+        if (!readback) return;
 
         imageBarrier(cmd, color_.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                      VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
@@ -259,11 +273,7 @@ RgbaImage OffscreenRenderer::render(const Camera& camera) {
         vkCmdCopyImageToBuffer(cmd, color_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer, 1, &region);
         stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
                      VK_ACCESS_2_HOST_READ_BIT);
-    });
-    RgbaImage full{extent.width, extent.height, {}};
-    full.pixels.resize(size_t(extent.width) * extent.height * 4);
-    std::memcpy(full.pixels.data(), readback_.mapped, full.pixels.size());
-    return downsample(full, factor_);
+    }
 }
 
 RgbaImage downsample(const RgbaImage& image, uint32_t factor) {

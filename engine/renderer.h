@@ -91,8 +91,12 @@ public:
 
     void setStyle(const RenderStyle& style);
     RgbaImage render(const Camera& camera);
+    // Draws a frame and waits for it, without reading it back (benchmarks).
+    void draw(const Camera& camera);
 
 private:
+    void record(VkCommandBuffer cmd, const Camera& camera, bool readback);
+
     Context& ctx_;
     uint32_t width_, height_, factor_;
     Image color_, depth_;
