@@ -27,15 +27,13 @@ void addRefineOptions(CLI::App* cmd, Options& o) {
     ink::RefineOptions& r = o.refine;
     cmd->add_option("--levels", r.levels, "Refinement levels after the seeds")->capture_default_str();
     cmd->add_option("--passes", r.passes, "Independent refinement passes")->capture_default_str();
-    cmd->add_option("--direction", r.direction, "Direction field: axis, curvature-min or curvature-max")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, ink::DirectionField>{
-            {"axis", ink::DirectionField::Axis},
-            {"curvature-min", ink::DirectionField::CurvatureMin},
-            {"curvature-max", ink::DirectionField::CurvatureMax}}));
+    cmd->add_option("--direction", o.direction, "Direction field of direction sampling")
+        ->check(CLI::IsMember({"axis", "curvature-min", "curvature-max"}))
+        ->capture_default_str();
     cmd->add_option("--axis", o.axis, "Axis for --direction axis, as X Y Z (default: 0 1 0)")->expected(3);
-    cmd->add_option("--seeds", r.seeds, "Seeds: control (the control points) or grid (a jittered grid)")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, ink::SeedMode>{
-            {"control", ink::SeedMode::ControlPoints}, {"grid", ink::SeedMode::Grid}}));
+    cmd->add_option("--seeds", o.seeds, "Seeds: the control points, or a jittered grid projected onto the surface")
+        ->check(CLI::IsMember({"control", "grid"}))
+        ->capture_default_str();
     cmd->add_option("--grid", r.grid, "Grid cells along the longest side for --seeds grid")->capture_default_str();
     cmd->add_option("--rho", r.rho0, "ρ₀ as a fraction of the bounding-box diagonal (default: half the seed spacing)");
     cmd->add_option("--seed", r.seed, "Random seed")->capture_default_str();
@@ -46,9 +44,9 @@ void addRefineOptions(CLI::App* cmd, Options& o) {
 
 void addRenderOptions(CLI::App* cmd, Options& o) {
     ink::RenderStyle& s = o.render;
-    cmd->add_option("--style", o.style, "stipple, direction (hatch-like lines of dots) or both")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, DrawStyle>{
-            {"stipple", DrawStyle::Stipple}, {"direction", DrawStyle::Direction}, {"both", DrawStyle::Both}}));
+    cmd->add_option("--style", o.styleName, "Stipples, hatch-like lines of dots (direction sampling), or both")
+        ->check(CLI::IsMember({"stipple", "direction", "both"}))
+        ->capture_default_str();
     cmd->add_option("--size", o.size, "Image width and height in pixels")->expected(2)->capture_default_str();
     cmd->add_option("--camera", o.camera, "Camera azimuth and elevation in degrees and distance in diagonals")
         ->expected(3)
@@ -92,13 +90,8 @@ static void applyPreset(Options& o) {
     auto given = [&](const char* option) { return o.command && o.command->count(option) > 0; };
     try {
         for (auto& [key, value] : j.items()) {
-            if (key == "style" && !given("--style")) {
-                std::string v = value.get<std::string>();
-                if (v == "stipple") o.style = DrawStyle::Stipple;
-                else if (v == "direction") o.style = DrawStyle::Direction;
-                else if (v == "both") o.style = DrawStyle::Both;
-                else throw ink::Error("preset '" + o.preset + "': style must be stipple, direction or both");
-            } else if (key == "ink" && !given("--ink")) o.ink = value.get<std::string>();
+            if (key == "style" && !given("--style")) o.styleName = value.get<std::string>();
+            else if (key == "ink" && !given("--ink")) o.ink = value.get<std::string>();
             else if (key == "paper" && !given("--paper")) o.paper = value.get<std::string>();
             else if (key == "dot_size" && !given("--dot-size")) o.render.frontSize = value.get<float>();
             else if (key == "silhouette_size" && !given("--silhouette-size")) o.render.silhouetteSize = value.get<float>();
@@ -109,13 +102,8 @@ static void applyPreset(Options& o) {
             else if (key == "light" && !given("--light")) o.light = value.get<std::vector<float>>();
             else if (key == "levels" && !given("--levels")) o.refine.levels = value.get<uint32_t>();
             else if (key == "passes" && !given("--passes")) o.refine.passes = value.get<uint32_t>();
-            else if (key == "direction" && !given("--direction")) {
-                std::string v = value.get<std::string>();
-                if (v == "axis") o.refine.direction = ink::DirectionField::Axis;
-                else if (v == "curvature-min") o.refine.direction = ink::DirectionField::CurvatureMin;
-                else if (v == "curvature-max") o.refine.direction = ink::DirectionField::CurvatureMax;
-                else throw ink::Error("preset '" + o.preset + "': direction must be axis, curvature-min or curvature-max");
-            } else if (key != "style" && key != "ink" && key != "paper" && key != "dot_size" && key != "silhouette_size" &&
+            else if (key == "direction" && !given("--direction")) o.direction = value.get<std::string>();
+            else if (key != "style" && key != "ink" && key != "paper" && key != "dot_size" && key != "silhouette_size" &&
                        key != "tau" && key != "tone" && key != "ink_density" && key != "hidden_lines" &&
                        key != "light" && key != "levels" && key != "passes" && key != "direction")
                 throw ink::Error("preset '" + o.preset + "': unknown key '" + key + "'");
@@ -127,6 +115,16 @@ static void applyPreset(Options& o) {
 
 void finishOptions(Options& o) {
     if (!o.preset.empty()) applyPreset(o);
+    if (o.styleName == "stipple") o.style = DrawStyle::Stipple;
+    else if (o.styleName == "direction") o.style = DrawStyle::Direction;
+    else if (o.styleName == "both") o.style = DrawStyle::Both;
+    else throw ink::Error("style '" + o.styleName + "' is not stipple, direction or both");
+    if (o.direction == "axis") o.refine.direction = ink::DirectionField::Axis;
+    else if (o.direction == "curvature-min") o.refine.direction = ink::DirectionField::CurvatureMin;
+    else if (o.direction == "curvature-max") o.refine.direction = ink::DirectionField::CurvatureMax;
+    else throw ink::Error("direction '" + o.direction + "' is not axis, curvature-min or curvature-max");
+    o.refine.seeds = o.seeds == "grid" ? ink::SeedMode::Grid : ink::SeedMode::ControlPoints;
+    o.refine.style = o.sampling == "direction" ? ink::SampleStyle::Direction : ink::SampleStyle::Stipple;
     if (!o.axis.empty()) o.refine.axis = Eigen::Vector3d(o.axis[0], o.axis[1], o.axis[2]);
     if (!(o.refine.axis.norm() > 0) || !o.refine.axis.allFinite()) throw ink::Error("--axis must be a non-zero vector");
     o.refine.keepAllLevels = o.keepLevels == "all";

@@ -34,6 +34,7 @@ struct Options {
     std::string backend = "gpu";
     std::string keepLevels = "all";
     std::vector<double> axis;
+    std::string direction = "axis", seeds = "control", sampling = "stipple", styleName = "stipple";
     // Rendering
     DrawStyle style = DrawStyle::Stipple;
     ink::RenderStyle render;

@@ -1,7 +1,228 @@
+// capture (frames along an orbit, with a manifest) and compare (two PNGs against a tolerance): the tools of
+// visual regression testing (docs/capture.md).
 #include "commands.h"
+#include "compare.h"
+#include "image.h"
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
 
 namespace app {
 
-void addCaptureCommands(CLI::App&, Options&, Commands&) {}
+namespace {
+
+using ordered = nlohmann::ordered_json;  // the manifest keeps its keys in a readable order
+
+constexpr uint32_t kMaxFrames = 10000;  // frame_0000 .. frame_9999
+
+struct CaptureOptions {
+    uint32_t frames = 0;
+    float orbitDeg = 360.0f;
+    std::string directory;
+};
+
+struct CompareOptions {
+    std::string a, b, diff;
+    unsigned threshold = ink::kCompareThreshold;
+    double maxFraction = ink::kCompareMaxFraction;
+};
+
+const char* styleName(DrawStyle s) {
+    return s == DrawStyle::Stipple ? "stipple" : s == DrawStyle::Direction ? "direction" : "both";
+}
+
+const char* directionName(ink::DirectionField d) {
+    if (d == ink::DirectionField::Axis) return "axis";
+    return d == ink::DirectionField::CurvatureMin ? "curvature-min" : "curvature-max";
+}
+
+// The float as the double with its shortest decimal form: 1.6f is written 1.6, not 1.600000023841858.
+double shortest(float v) {
+    char text[32];
+    char* end = std::to_chars(text, text + sizeof text, v).ptr;
+    double d = v;
+    std::from_chars(text, end, d);
+    return d;
+}
+
+ordered vec3Json(const glm::vec3& v) { return {shortest(v.x), shortest(v.y), shortest(v.z)}; }
+
+// Everything that decides the pixels, so that a capture can be repeated from its manifest.
+ordered parametersJson(const Options& o, const Scene& scene, const CaptureOptions& c) {
+    const ink::RefineOptions& r = o.refine;
+    const ink::RenderStyle& s = o.render;
+    return {{"control_points", scene.model.fit.controlPoints},
+            {"levels", r.levels},
+            {"passes", r.passes},
+            {"style", styleName(o.style)},
+            {"direction", directionName(r.direction)},
+            {"axis", {r.axis.x(), r.axis.y(), r.axis.z()}},
+            {"seeds", r.seeds == ink::SeedMode::Grid ? "grid" : "control"},
+            {"grid", r.grid},
+            {"rho", r.rho0},
+            {"seed", r.seed},
+            {"keep_levels", o.keepLevels},
+            {"size", o.size},
+            {"supersample", s.supersample},
+            {"orbit_deg", shortest(c.orbitDeg)},
+            {"tau", shortest(s.tau)},
+            {"tone", shortest(s.toneGamma)},
+            {"ink_density", shortest(s.inkDensity)},
+            {"dot_size", shortest(s.frontSize)},
+            {"silhouette_size", shortest(s.silhouetteSize)},
+            {"hidden_lines", s.hiddenLines},
+            {"occlusion", s.occlusion},
+            {"ink", o.ink},
+            {"paper", o.paper},
+            {"light", vec3Json(s.light)}};
+}
+
+ordered cameraJson(const ink::Camera& c) {
+    return {{"azimuth_deg", shortest(c.azimuthDeg)},
+            {"elevation_deg", shortest(c.elevationDeg)},
+            {"distance", shortest(c.distance)},
+            {"target", vec3Json(c.target)}};
+}
+
+void writeOrdered(const std::string& path, const ordered& j) {
+    ink::writeAtomically(path, [&](const std::string& tmp) {
+        std::ofstream out(tmp);
+        out << j.dump(2) << "\n";
+        out.close();
+        if (!out) throw ink::Error("cannot write '" + path + "'");
+    });
+}
+
+void makeDirectory(const std::string& path) {
+    std::error_code error;
+    std::filesystem::create_directories(path, error);
+    if (error) throw ink::Error("cannot create directory '" + path + "': " + error.message());
+    if (!std::filesystem::is_directory(path, error))
+        throw ink::Error("cannot create directory '" + path + "': a file of that name exists");
+}
+
+int runCapture(Options& o, const CaptureOptions& c) {
+    finishOptions(o);
+    if (!std::isfinite(c.orbitDeg)) throw ink::Error("--orbit must be a finite number of degrees");
+    makeDirectory(c.directory);
+    auto start = Clock::now();
+    Session session(o);
+    Scene scene(session.ctx, o);
+    const ink::Camera base = cameraFrom(o);
+    ordered frames = ordered::array();
+    {
+        ink::OffscreenRenderer renderer(session.ctx, o.size[0], o.size[1], o.render, scene.pointers());
+        ink::Progress progress("capture", c.frames);
+        for (uint32_t i = 0; i < c.frames; ++i) {
+            ink::Camera camera = base;
+            // From i, not accumulated frame to frame, and in double: the last of 10000 frames is as exact
+            // as the first.
+            camera.azimuthDeg = float(double(base.azimuthDeg) + double(c.orbitDeg) * i / c.frames);
+            ink::RgbaImage image = renderer.render(camera);
+            session.checkValidation();  // before writing: a frame drawn with validation errors is not kept
+            char name[32];
+            std::snprintf(name, sizeof name, "frame_%04u.png", i);
+            ink::writePng((std::filesystem::path(c.directory) / name).string(), image);
+            frames.push_back({{"file", name}, {"camera", cameraJson(camera)}});
+            progress.update(i + 1);
+        }
+    }
+    session.checkValidation();
+    uint64_t points = scene.points();
+    ordered manifest = {{"model", o.model},
+                        {"frames", frames},
+                        {"parameters", parametersJson(o, scene, c)},
+                        {"device", session.ctx.properties.deviceName},
+                        {"driver", session.ctx.driverInfo},
+                        {"points", points}};
+    // Written last: a manifest says the capture is complete.
+    std::string manifestPath = (std::filesystem::path(c.directory) / "manifest.json").string();
+    writeOrdered(manifestPath, manifest);
+    double seconds = secondsSince(start);
+    writeJson(o.statsPath, {{"control_points", scene.model.fit.controlPoints},
+                            {"fit", fitJson(scene.model)},
+                            {"refine", {{"seconds", scene.refineSeconds}, {"points", points}}},
+                            {"frames", c.frames},
+                            {"seconds", seconds},
+                            {"device", session.ctx.properties.deviceName},
+                            {"driver", session.ctx.driverInfo}});
+    std::printf("%s: %zu control points, %llu points, %u frames, %.2f s -> %s\n", o.model.c_str(),
+                scene.model.fit.controlPoints, (unsigned long long)points, c.frames, seconds,
+                manifestPath.c_str());
+    return 0;
+}
+
+// readPng, but a missing file gets the system's reason as the model loaders give it (stb says "can't fopen").
+ink::RgbaImage readImage(const std::string& path) {
+    errno = 0;
+    if (std::FILE* f = std::fopen(path.c_str(), "rb")) std::fclose(f);
+    else throw ink::Error("cannot open '" + path + "': " + std::strerror(errno));
+    return ink::readPng(path);
+}
+
+std::string defaultDiffPath(const std::string& b) {
+    std::filesystem::path p(b);
+    return (p.parent_path() / (p.stem().string() + "-diff.png")).string();
+}
+
+// 0: within tolerance; 1: the images differ (or cannot be compared). Prints one line either way.
+int runCompare(const CompareOptions& c) {
+    ink::RgbaImage a = readImage(c.a), b = readImage(c.b);
+    if (a.width != b.width || a.height != b.height) {
+        std::printf("images differ in size: '%s' is %ux%u, '%s' is %ux%u\n", c.a.c_str(), a.width, a.height,
+                    c.b.c_str(), b.width, b.height);
+        return 1;
+    }
+    uint8_t threshold = uint8_t(c.threshold);
+    ink::CompareResult result = ink::compareImages(a, b, threshold);
+    if (ink::withinTolerance(result, c.maxFraction)) {
+        std::printf("%s\n", ink::describe(result).c_str());
+        return 0;
+    }
+    std::string diffPath = c.diff.empty() ? defaultDiffPath(c.b) : c.diff;
+    ink::writePng(diffPath, ink::diffImage(a, b, threshold));
+    std::printf("%s: over %.3f%%, diff -> %s\n", ink::describe(result).c_str(), 100.0 * c.maxFraction,
+                diffPath.c_str());
+    return 1;
+}
+
+}  // namespace
+
+void addCaptureCommands(CLI::App& cli, Options& o, Commands& commands) {
+    auto capture = std::make_shared<CaptureOptions>();
+    CLI::App* cap = cli.add_subcommand("capture", "Render frames along an orbit to PNGs, with a manifest");
+    addModelOptions(cap, o);
+    addRefineOptions(cap, o);
+    addRenderOptions(cap, o);
+    addDeviceOptions(cap, o);
+    cap->add_option("--frames", capture->frames, "Frames to render")
+        ->required()
+        ->check(CLI::Range(1u, kMaxFrames));
+    cap->add_option("--orbit", capture->orbitDeg, "Degrees of azimuth the frames span: frame i at orbit·i/N")
+        ->capture_default_str();
+    cap->add_option("-o,--output", capture->directory, "Output directory (created if missing)")->required();
+    commands.emplace_back(cap, [&o, capture] { return runCapture(o, *capture); });
+
+    auto compare = std::make_shared<CompareOptions>();
+    CLI::App* cmp = cli.add_subcommand(
+        "compare", "Compare two PNGs: exit 0 if within tolerance, 1 if not (writing a diff image)");
+    cmp->add_option("a", compare->a, "Reference PNG")->required();
+    cmp->add_option("b", compare->b, "PNG to check")->required();
+    cmp->add_option("--tolerance", compare->threshold,
+                    "A pixel differs when a channel differs by more than this (0-255)")
+        ->check(CLI::Range(0u, 255u))
+        ->capture_default_str();
+    cmp->add_option("--max-fraction", compare->maxFraction, "Largest fraction of pixels that may differ")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    cmp->add_option("--diff", compare->diff, "Diff image written on failure (default: B-diff.png beside B)");
+    commands.emplace_back(cmp, [compare] { return runCompare(*compare); });
+}
 
 }  // namespace app

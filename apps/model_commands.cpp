@@ -99,9 +99,9 @@ void addModelCommands(CLI::App& cli, Options& o, Commands& commands) {
     addModelOptions(sample, o);
     addRefineOptions(sample, o);
     addDeviceOptions(sample, o);
-    sample->add_option("--style", o.refine.style, "Sampling: stipple (4 children) or direction (2, along a field)")
-        ->transform(CLI::CheckedTransformer(std::map<std::string, ink::SampleStyle>{
-            {"stipple", ink::SampleStyle::Stipple}, {"direction", ink::SampleStyle::Direction}}));
+    sample->add_option("--style", o.sampling, "Sampling: stipple (4 children a point) or direction (2, along a field)")
+        ->check(CLI::IsMember({"stipple", "direction"}))
+        ->capture_default_str();
     sample->add_option("--points", *output, "Output PLY (binary little endian, float x y z nx ny nz)")->required();
     sample->add_option("--backend", o.backend, "gpu (Vulkan) or cpu (the multi-threaded reference)")
         ->check(CLI::IsMember({"gpu", "cpu"}))

@@ -101,10 +101,12 @@ VkPipeline createPass(Context& ctx, VkPipelineLayout layout, Pass pass, VkFormat
     return pipeline;
 }
 
-// ρ of the finest level: the local spacing of the densest points, which the splats must cover.
-float finestRho(const GpuRefinement& r) {
+// The spacing the splats must cover: for stippling the finest level's ρ (the densest points); direction
+// sampling makes lines about ρ₀ apart, so its splats must bridge the gaps between lines.
+float splatSpacing(const GpuRefinement& r) {
     uint32_t last = r.plan.levelCount - 1;
-    return float(last == 0 ? r.plan.rho0 : r.plan.rho0 / std::pow(3.0, double(last) - 1.0));
+    if (last == 0 || r.options.style == SampleStyle::Direction) return float(r.plan.rho0);
+    return float(r.plan.rho0 / std::pow(3.0, double(last) - 1.0));
 }
 
 }  // namespace
@@ -121,7 +123,7 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
                                                VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
         uint32_t draw[4];
         downloadBuffer(ctx, r->indirect, GpuRefinement::kDrawOffset, draw, sizeof(draw));
-        sets_.push_back({r, ds, finestRho(*r), draw[0]});
+        sets_.push_back({r, ds, splatSpacing(*r), draw[0]});
     }
     layout_ = createPipelineLayout(ctx, sets_.front().descriptors.layout, sizeof(CameraPush),
                                    VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Regenerates the pictures in docs/images from the current build (build/inkwell).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ink=build/inkwell
+out=docs/images
+mkdir -p "$out"
+$ink -q render assets/bunny.obj --control-points 684 --size 640 640 -o $out/bunny-stipple.png
+$ink -q render assets/bunny.obj --control-points 684 --size 640 640 --hidden-lines --camera 120,25,1.6 \
+  -o $out/bunny-hidden-lines.png
+$ink -q render assets/bunny.obj --control-points 684 --style direction --levels 5 --size 640 640 \
+  --camera 150,20,1.6 -o $out/bunny-direction.png
+$ink -q render assets/bunny.obj --control-points 684 --style direction --direction curvature-max --levels 5 \
+  --size 640 640 -o $out/bunny-curvature.png
+# Refinement levels 0-4, each level alone, without tone, for stippling and direction sampling.
+for level in 0 1 2 3 4; do
+  for style in stipple direction; do
+    $ink -q render assets/bunny.obj --control-points 312 --passes 1 --style $style --levels $level \
+      --keep-levels last --tone 0 --no-occlusion --size 320 320 -o $out/levels-$style-$level.png
+  done
+done
