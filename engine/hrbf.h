@@ -28,6 +28,7 @@ struct Hrbf {
     std::vector<Eigen::Vector3d> centers;  // p_j (normalized)
     std::vector<double> alpha;             // α_j
     std::vector<Eigen::Vector3d> beta;     // β_j
+    std::vector<Eigen::Vector3d> normals;  // n_j, the unit normals the fit interpolates (∇f(p_j) = n_j)
     Eigen::Vector3d a = Eigen::Vector3d::Zero();  // linear term (eq. 6)
     double b = 0.0;
     Frame frame;
@@ -47,9 +48,15 @@ struct FitStats {
 };
 
 // Solves eq. 5 with the linear term (eq. 7–10) for points and unit normals given in normalized
-// coordinates (distinct, finite). Throws ink::Error when there are too few points or the system is singular.
+// coordinates (distinct, finite), with LAPACK's symmetric-indefinite solver (docs/fitting.md). Throws
+// ink::Error when there are too few points, two points coincide, a value is not finite, or the system is
+// singular or too ill-conditioned to trust (relative residual above 1e-6).
 Hrbf fitHrbf(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
              FitStats* stats = nullptr);
+
+// The stats of `model` at its own centres against its stored normals (maxDistance, maxNormalAngleDeg,
+// controlPoints); relativeResidual and seconds are left 0. Used for models loaded from .hrbf files.
+FitStats measureFit(const Hrbf& model);
 
 // Principal curvatures of the level set through x, from ∇f and the Hessian: κ1 ≤ κ2 with unit
 // tangent directions d1 (of κ1) and d2. Sign convention: a sphere with outward gradient has κ > 0.

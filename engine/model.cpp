@@ -1,8 +1,12 @@
 #include "model.h"
 
 #include "common.h"
+#include "hrbf_io.h"
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <filesystem>
 
 namespace ink {
 
@@ -42,8 +46,28 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     return model;
 }
 
+namespace {
+
+bool isHrbfFile(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".hrbf";
+}
+
+}  // namespace
+
 Model loadModel(const std::string& path, const ModelOptions& options) {
     auto start = std::chrono::steady_clock::now();
+    if (isHrbfFile(path)) {
+        if (options.controlPoints)
+            note("--control-points is ignored for '" + path + "': a .hrbf model is already fitted");
+        Model model;
+        model.hrbf = loadHrbf(path);
+        model.inputPoints = model.hrbf.size();
+        model.loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        model.fit = measureFit(model.hrbf);  // relativeResidual and seconds stay 0: nothing was solved
+        return model;
+    }
     OrientedPoints points = loadPoints(path);
     double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     Model model = fitModel(std::move(points), options);

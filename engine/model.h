@@ -26,7 +26,8 @@ struct Model {
 
 // Fits points given in the input's units. Throws ink::Error for too few distinct points or absurd requests.
 Model fitModel(OrientedPoints points, const ModelOptions& options);
-// Loads a mesh or point file and fits it.
+// Loads a mesh or point file and fits it, or loads a fitted model from a .hrbf file (options.controlPoints
+// is then ignored; fit holds the stats at the stored centres, with seconds = 0).
 Model loadModel(const std::string& path, const ModelOptions& options);
 
 }  // namespace ink

@@ -1,0 +1,275 @@
+#include "hrbf_io.h"
+
+#include "common.h"
+#include "image.h"
+#include "model.h"
+
+#include <charconv>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace ink {
+namespace {
+
+constexpr const char* kMagic = "inkwell-hrbf";
+constexpr int kVersion = 1;
+// A real model is at most ~1 MB (4000 lines of ten numbers); this only stops a wrong file being slurped.
+constexpr size_t kMaxFileBytes = size_t(64) << 20;
+constexpr size_t kCenterFields = 10;  // x y z nx ny nz alpha bx by bz
+// The shortest centre line: ten one-digit numbers, nine separators and a newline. Bounds the count a file
+// of a given size can hold, so that a hostile count is refused before anything is allocated for it.
+constexpr size_t kMinCenterLineBytes = 2 * kCenterFields;
+
+[[noreturn]] void fail(const std::string& name, const std::string& what) { throw Error(name + ": " + what); }
+
+// A field for a message: quoted, shortened, bytes outside printable ASCII shown as '?', so that binary
+// garbage cannot break the one-line message.
+std::string quoted(std::string_view s) {
+    constexpr size_t kMax = 40;
+    std::string out = "'";
+    for (size_t i = 0; i < s.size() && i < kMax; ++i) {
+        unsigned char c = static_cast<unsigned char>(s[i]);
+        out += (c >= 0x20 && c < 0x7f) ? char(c) : '?';
+    }
+    if (s.size() > kMax) out += "...";
+    return out + "'";
+}
+
+// The meaningful lines of the file split into whitespace-separated fields; blank lines and lines starting
+// with '#' are skipped. Lines end in "\n" or "\r\n". Only the first few fields are kept (a line has at
+// most ten), so that a huge line of garbage costs no memory; `count` has them all.
+class Lines {
+public:
+    Lines(std::string_view bytes, std::string name) : bytes_(bytes), name_(std::move(name)) {}
+
+    bool next() {
+        while (pos_ < bytes_.size()) {
+            size_t end = bytes_.find('\n', pos_);
+            if (end == std::string_view::npos) end = bytes_.size();
+            std::string_view line = bytes_.substr(pos_, end - pos_);
+            pos_ = end + 1;
+            ++number_;
+            fields.clear();
+            count = 0;
+            size_t i = 0;
+            while (i < line.size()) {
+                while (i < line.size() && isSpace(line[i])) ++i;
+                size_t start = i;
+                while (i < line.size() && !isSpace(line[i])) ++i;
+                if (i == start) continue;
+                if (++count <= kMaxFields) fields.push_back(line.substr(start, i - start));
+            }
+            if (count > 0 && fields[0][0] != '#') return true;
+        }
+        fields.clear();
+        count = 0;
+        return false;
+    }
+
+    [[noreturn]] void fail(const std::string& what) const {
+        ink::fail(name_, "line " + std::to_string(number_) + ": " + what);
+    }
+    size_t line() const { return number_; }
+
+    double real(size_t field) const {
+        std::string_view s = fields[field];
+        if (!s.empty() && s[0] == '+') s.remove_prefix(1);  // from_chars takes no '+'; people write one
+        double v = 0;
+        auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+        if (ec == std::errc::result_out_of_range) fail(quoted(fields[field]) + " is out of range for a double");
+        if (ec != std::errc() || end != s.data() + s.size()) fail(quoted(fields[field]) + " is not a number");
+        if (!std::isfinite(v)) fail(quoted(fields[field]) + " is not finite");
+        return v;
+    }
+
+    Eigen::Vector3d vector(size_t first) const { return {real(first), real(first + 1), real(first + 2)}; }
+
+    // A `key n1 n2 ...` line with `count` numbers; `usage` spells it for the message.
+    void expectKey(const char* key, size_t numbers, const char* usage) const {
+        if (fields[0] != key)
+            fail("expected '" + std::string(usage) + "', found " + quoted(fields[0]));
+        if (this->count != numbers + 1)
+            fail("expected " + std::to_string(numbers) + " numbers after '" + key + "' (" + usage +
+                 "), found " + std::to_string(this->count - 1));
+    }
+
+    std::vector<std::string_view> fields;
+    size_t count = 0;
+
+private:
+    static constexpr size_t kMaxFields = kCenterFields + 1;
+
+    static bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+    std::string_view bytes_;
+    std::string name_;
+    size_t pos_ = 0, number_ = 0;
+};
+
+std::string readFile(const std::string& path) {
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+    // Read in chunks rather than trusting a size: pipes have none, and files can change.
+    std::string bytes;
+    char chunk[1 << 16];
+    size_t n;
+    while ((n = std::fread(chunk, 1, sizeof chunk, file)) > 0) {
+        bytes.append(chunk, n);
+        if (bytes.size() > kMaxFileBytes) {
+            std::fclose(file);
+            fail(path, "file is larger than 64 MiB, far more than any HRBF model (at most " +
+                           std::to_string(kMaxControlPoints) + " centres)");
+        }
+    }
+    bool bad = std::ferror(file);
+    int error = errno;
+    std::fclose(file);
+    if (bad) throw Error("cannot read '" + path + "': " + std::strerror(error));
+    return bytes;
+}
+
+// %.17g, without the C locale's say in the decimal point: 17 significant digits always read back to the
+// same double.
+void put(std::string& out, double v, char after = ' ') {
+    char buf[32];
+    auto result = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 17);
+    out.append(buf, result.ptr);
+    out += after;
+}
+
+void put(std::string& out, const Eigen::Vector3d& v, char after = ' ') {
+    put(out, v.x());
+    put(out, v.y());
+    put(out, v.z(), after);
+}
+
+}  // namespace
+
+void saveHrbf(const std::string& path, const Hrbf& model) {
+    const size_t m = model.size();
+    if (model.alpha.size() != m || model.beta.size() != m || model.normals.size() != m)
+        throw Error("cannot save '" + path + "': the model is incomplete (" + std::to_string(m) + " centres, " +
+                    std::to_string(model.alpha.size()) + " alpha, " + std::to_string(model.beta.size()) +
+                    " beta, " + std::to_string(model.normals.size()) + " normals)");
+    if (m < 2 || m > kMaxControlPoints)
+        throw Error("cannot save '" + path + "': " + std::to_string(m) + " centres (a .hrbf file holds 2 to " +
+                    std::to_string(kMaxControlPoints) + ")");
+
+    std::string text = std::string(kMagic) + " " + std::to_string(kVersion) + "\n";
+    text += "# Inkwell HRBF model (docs/hrbf-format.md); coordinates are normalized: x_normalized = "
+            "(x_input - center) * scale\n";
+    text += "centers " + std::to_string(m) + "\n";
+    text += "frame ";
+    put(text, model.frame.center);
+    put(text, model.frame.scale, '\n');
+    text += "linear ";
+    put(text, model.a);
+    put(text, model.b, '\n');
+    text += "# x y z nx ny nz alpha beta_x beta_y beta_z\n";
+    for (size_t j = 0; j < m; ++j) {
+        put(text, model.centers[j]);
+        put(text, model.normals[j]);
+        put(text, model.alpha[j]);
+        put(text, model.beta[j], '\n');
+    }
+    text += "end\n";
+
+    // Check what we wrote with the reader: a non-finite coefficient or a zero normal would make a file that
+    // cannot be loaded, and it is better to learn that now.
+    try {
+        parseHrbf(text, "the model");
+    } catch (const Error& e) {
+        throw Error("cannot save '" + path + "': " + e.what());
+    }
+
+    writeAtomically(path, [&](const std::string& tmp) {
+        std::FILE* file = std::fopen(tmp.c_str(), "wb");
+        if (!file) throw Error("cannot write '" + path + "': " + std::strerror(errno));
+        bool ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+        int error = errno;
+        if (std::fclose(file) != 0 && ok) {
+            ok = false;
+            error = errno;
+        }
+        if (!ok) throw Error("cannot write '" + path + "': " + std::strerror(error));
+    });
+}
+
+Hrbf loadHrbf(const std::string& path) { return parseHrbf(readFile(path), path); }
+
+Hrbf parseHrbf(const std::string& bytes, const std::string& name) {
+    Lines lines(bytes, name);
+    const std::string magicLine = std::string(kMagic) + " " + std::to_string(kVersion);
+    if (!lines.next())
+        fail(name, "empty file: not an Inkwell HRBF model (expected '" + magicLine + "' on line 1)");
+    if (lines.line() != 1)
+        fail(name, "line 1: not an Inkwell HRBF model (expected '" + magicLine + "' as the first line)");
+    if (lines.fields[0] != kMagic)
+        lines.fail("not an Inkwell HRBF model (expected '" + magicLine + "', found " +
+                   quoted(lines.fields[0]) + ")");
+    if (lines.count != 2 || lines.fields[1] != std::to_string(kVersion))
+        lines.fail("unsupported version " + (lines.count > 1 ? quoted(lines.fields[1]) : "(none)") +
+                   " (this build reads version " + std::to_string(kVersion) + ")");
+
+    auto need = [&](const char* what) {
+        if (!lines.next()) fail(name, std::string("truncated: the file ends before ") + what);
+    };
+    need("the 'centers' line");
+    lines.expectKey("centers", 1, "centers N");
+    uint64_t m = 0;
+    std::string_view count = lines.fields[1];
+    auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), m);
+    if (ec == std::errc::result_out_of_range || (ec == std::errc() && m > kMaxControlPoints))
+        lines.fail(quoted(count) + " centres is more than the maximum of " + std::to_string(kMaxControlPoints));
+    if (ec != std::errc() || end != count.data() + count.size())
+        lines.fail(quoted(count) + " is not a count of centres");
+    if (m < 2) lines.fail(std::to_string(m) + " centres: a model has at least 2");
+    if (m * kMinCenterLineBytes > bytes.size())
+        lines.fail(std::to_string(m) + " centres cannot fit in a file of " + std::to_string(bytes.size()) +
+                   " bytes (truncated?)");
+
+    Hrbf model;
+    need("the 'frame' line");
+    lines.expectKey("frame", 4, "frame cx cy cz scale");
+    model.frame.center = lines.vector(1);
+    model.frame.scale = lines.real(4);
+    if (!(model.frame.scale > 0)) lines.fail("the frame's scale must be positive");
+    need("the 'linear' line");
+    lines.expectKey("linear", 4, "linear ax ay az b");
+    model.a = lines.vector(1);
+    model.b = lines.real(4);
+
+    model.centers.reserve(m);
+    model.normals.reserve(m);
+    model.alpha.reserve(m);
+    model.beta.reserve(m);
+    for (uint64_t j = 0; j < m; ++j) {
+        if (!lines.next())
+            fail(name, "truncated: " + std::to_string(j) + " of " + std::to_string(m) +
+                           " centre lines, no 'end'");
+        if (lines.fields[0] == "end")
+            lines.fail("'end' after " + std::to_string(j) + " of the " + std::to_string(m) +
+                       " centres declared");
+        if (lines.count != kCenterFields)
+            lines.fail("expected 10 numbers (x y z nx ny nz alpha bx by bz), found " +
+                       std::to_string(lines.count) + " fields");
+        model.centers.push_back(lines.vector(0));
+        model.normals.push_back(lines.vector(3));
+        model.alpha.push_back(lines.real(6));
+        model.beta.push_back(lines.vector(7));
+        if (model.normals.back().squaredNorm() == 0) lines.fail("normal is zero");
+    }
+    if (!lines.next()) fail(name, "truncated: no 'end' line after the " + std::to_string(m) + " centres");
+    if (lines.fields[0] != "end" || lines.count != 1)
+        lines.fail("expected 'end' after the " + std::to_string(m) + " centres declared, found " +
+                   quoted(lines.fields[0]) + " (more centres than the count?)");
+    if (lines.next()) lines.fail("unexpected " + quoted(lines.fields[0]) + " after 'end'");
+    return model;
+}
+
+}  // namespace ink

@@ -1,0 +1,265 @@
+#include "common.h"
+#include "hrbf.h"
+#include "hrbf_io.h"
+#include "model.h"
+#include "points.h"
+
+#include <doctest/doctest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+using Eigen::Vector3d;
+
+namespace {
+
+const char* const kBunny = INKWELL_SOURCE_DIR "/assets/bunny.obj";
+
+// The bunny's first `count` farthest-point samples, in input units: fitModel then uses all of them.
+ink::OrientedPoints bunnySubset(size_t count) {
+    ink::OrientedPoints all = ink::loadPoints(kBunny), subset;
+    for (size_t i : ink::farthestPointSample(all.positions, count)) {
+        subset.positions.push_back(all.positions[i]);
+        subset.normals.push_back(all.normals[i]);
+    }
+    return subset;
+}
+
+std::string tempPath(const std::string& name) {
+    return (std::filesystem::temp_directory_path() / ("inkwell-test-" + std::to_string(getpid()) + "-" + name))
+        .string();
+}
+
+bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool sameBits(const Vector3d& a, const Vector3d& b) {
+    return sameBits(a.x(), b.x()) && sameBits(a.y(), b.y()) && sameBits(a.z(), b.z());
+}
+
+// A small, valid file whose lines the bad-file cases below spoil one at a time.
+const std::string kGood =
+    "inkwell-hrbf 1\n"
+    "centers 2\n"
+    "frame 0 0 0 1\n"
+    "linear 0 0 1 0\n"
+    "0 0 0 0 0 1 1 0 0 0\n"
+    "0 0 1 0 0 1 -1 0 0 0\n"
+    "end\n";
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+    size_t at = text.find(from);
+    REQUIRE(at != std::string::npos);
+    return text.replace(at, from.size(), to);
+}
+
+}  // namespace
+
+TEST_CASE("fit: the bunny with 684 control points interpolates its points and normals") {
+    ink::Model m = ink::loadModel(kBunny, {684});
+    CHECK(m.fit.controlPoints == 684);
+    CHECK(m.hrbf.normals.size() == 684);
+    CHECK(m.fit.relativeResidual < 1e-9);
+    CHECK(m.fit.maxDistance < 1e-6);  // normalized units: a fraction of the diagonal
+    CHECK(m.fit.maxNormalAngleDeg < 0.01);
+}
+
+TEST_CASE("fit: farthest-point sampling through fitModel picks the same centres every time") {
+    ink::OrientedPoints points = ink::loadPoints(kBunny);
+    ink::Model a = ink::fitModel(points, {150}), b = ink::fitModel(points, {150});
+    REQUIRE(a.hrbf.size() == 150);
+    REQUIRE(b.hrbf.size() == 150);
+    for (size_t j = 0; j < a.hrbf.size(); ++j) CHECK(sameBits(a.hrbf.centers[j], b.hrbf.centers[j]));
+}
+
+TEST_CASE("fit: the zero set follows a rigid motion and a uniform scale of the input") {
+    // The cubic kernel with a linear term is covariant under similarities: for x' = s R x + t the fit to
+    // the moved points is f'(x') = s f(x) (up to rounding), so signs agree and |f|/‖∇f‖ scales by s.
+    // Each model normalizes by its own bounding box, and those differ: compare in input units. The centres
+    // must be the same points, so both fits use all 200 (farthest-point sampling would start elsewhere).
+    ink::OrientedPoints points = bunnySubset(200), moved;
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    const double s = 3.7;
+    const Vector3d t(12, -5, 40);
+    auto move = [&](const Vector3d& x) -> Vector3d { return s * (R * x) + t; };
+    for (size_t i = 0; i < points.positions.size(); ++i) {
+        moved.positions.push_back(move(points.positions[i]));
+        moved.normals.push_back(R * points.normals[i]);
+    }
+    ink::Model a = ink::fitModel(points, {}), b = ink::fitModel(moved, {});
+    REQUIRE(a.hrbf.size() == 200);
+    REQUIRE(b.hrbf.size() == 200);
+
+    // Probes: each control point pushed off the surface by ±1% of the diagonal along its normal, and the
+    // midpoints of pairs of control points (some inside, some outside).
+    std::vector<Vector3d> probes;
+    const double offset = 0.01 / a.hrbf.frame.scale;
+    for (size_t i = 0; i < points.positions.size(); ++i) {
+        probes.push_back(points.positions[i] + offset * points.normals[i]);
+        probes.push_back(points.positions[i] - offset * points.normals[i]);
+        probes.push_back(0.5 * (points.positions[i] + points.positions[(i * 7 + 3) % points.positions.size()]));
+    }
+    size_t disagreements = 0;
+    double worst = 0;
+    for (const Vector3d& x : probes) {
+        Vector3d ga, gb;
+        double fa = a.hrbf.eval(a.hrbf.frame.toNormalized(x), ga);
+        double fb = b.hrbf.eval(b.hrbf.frame.toNormalized(move(x)), gb);
+        if ((fa > 0) != (fb > 0)) ++disagreements;
+        double da = std::abs(fa) / ga.norm() / a.hrbf.frame.scale;  // input units of a
+        double db = std::abs(fb) / gb.norm() / b.hrbf.frame.scale;  // input units of b = s × those of a
+        worst = std::max(worst, std::abs(db - s * da) / (s * da));
+    }
+    CHECK(disagreements == 0);
+    CHECK(worst < 1e-8);  // measured 3e-11
+}
+
+TEST_CASE("fit: a .hrbf file round-trips bit for bit and evaluates identically") {
+    ink::Model fitted = ink::fitModel(bunnySubset(120), {});
+    const ink::Hrbf& h = fitted.hrbf;
+    std::string path = tempPath("roundtrip.hrbf");
+    ink::saveHrbf(path, h);
+    ink::Hrbf g = ink::loadHrbf(path);
+
+    REQUIRE(g.size() == h.size());
+    CHECK(sameBits(g.frame.center, h.frame.center));
+    CHECK(sameBits(g.frame.scale, h.frame.scale));
+    CHECK(sameBits(g.a, h.a));
+    CHECK(sameBits(g.b, h.b));
+    for (size_t j = 0; j < h.size(); ++j) {
+        CHECK(sameBits(g.centers[j], h.centers[j]));
+        CHECK(sameBits(g.normals[j], h.normals[j]));
+        CHECK(sameBits(g.alpha[j], h.alpha[j]));
+        CHECK(sameBits(g.beta[j], h.beta[j]));
+    }
+    for (double u : {-0.4, -0.1, 0.0, 0.23, 0.5}) {
+        Vector3d x(u, 0.3 * u - 0.05, 0.1 - u), gh, gg;
+        Eigen::Matrix3d Hh, Hg;
+        CHECK(sameBits(h.eval(x, gh, &Hh), g.eval(x, gg, &Hg)));
+        CHECK(sameBits(gh, gg));
+        CHECK(Hh == Hg);
+    }
+
+    // Through loadModel: no fit, the stats measured at the stored centres, the same as the fit's.
+    ink::setNotesEnabled(false);  // --control-points is ignored with a note
+    ink::Model loaded = ink::loadModel(path, {300});
+    ink::setNotesEnabled(true);
+    CHECK(loaded.fit.controlPoints == h.size());
+    CHECK(loaded.fit.seconds == 0);
+    CHECK(loaded.fit.maxDistance == fitted.fit.maxDistance);
+    CHECK(loaded.fit.maxNormalAngleDeg == fitted.fit.maxNormalAngleDeg);
+    CHECK(sameBits(loaded.hrbf.alpha[7], h.alpha[7]));
+
+    // Saving again gives the same bytes.
+    std::string again = tempPath("roundtrip2.hrbf");
+    ink::saveHrbf(again, g);
+    auto slurp = [](const std::string& p) {
+        std::ifstream in(p, std::ios::binary);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        return ss.str();
+    };
+    CHECK(slurp(path) == slurp(again));
+    std::filesystem::remove(path);
+    std::filesystem::remove(again);
+}
+
+TEST_CASE("fit: the .hrbf reader refuses bad files with one-line messages") {
+    auto parse = [](const std::string& text) { return ink::parseHrbf(text, "m.hrbf"); };
+    auto refused = [&](const std::string& text, const std::string& message) {
+        INFO("file: " << text);
+        CHECK_THROWS_WITH_AS(parse(text), doctest::Contains(message.c_str()), ink::Error);
+    };
+    auto spoilt = [](const std::string& from, const std::string& to) { return replaced(kGood, from, to); };
+    REQUIRE(parse(kGood).size() == 2);
+    CHECK(parse(spoilt("0 0 1 0\n0 0 0", "0 0 1 0\n\n# a comment\n0 0 0")).size() == 2);
+    std::string crlf;
+    for (char c : kGood) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    CHECK(parse(crlf).size() == 2);
+
+    // Magic and version.
+    refused("", "m.hrbf: empty file: not an Inkwell HRBF model");
+    refused("ply\nformat ascii 1.0\n", "m.hrbf: line 1: not an Inkwell HRBF model");
+    refused("\n" + kGood, "m.hrbf: line 1: not an Inkwell HRBF model");
+    refused(std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10),  // control bytes are shown as '?'
+            "m.hrbf: line 1: not an Inkwell HRBF model (expected 'inkwell-hrbf 1', found '?ELF" +
+                std::string(6, '?') + "')");
+    refused(spoilt("hrbf 1", "hrbf 2"), "m.hrbf: line 1: unsupported version '2'");
+    refused(spoilt("hrbf 1", "hrbf"), "m.hrbf: line 1: unsupported version (none)");
+
+    // Truncated.
+    refused("inkwell-hrbf 1\n", "m.hrbf: truncated: the file ends before the 'centers' line");
+    refused(kGood.substr(0, kGood.find("0 0 1 0 0 1")), "m.hrbf: truncated: 1 of 2 centre lines, no 'end'");
+    refused(spoilt("end\n", ""), "m.hrbf: truncated: no 'end' line after the 2 centres");
+    refused(spoilt("-1 0 0 0\n", "-1 0 0"),
+            "m.hrbf: line 6: expected 10 numbers (x y z nx ny nz alpha bx by bz), found 9 fields");
+
+    // Numbers.
+    refused(spoilt("-1 0", "-1 abc"), "m.hrbf: line 6: 'abc' is not a number");
+    refused(spoilt("-1 0", "-1 1e"), "m.hrbf: line 6: '1e' is not a number");
+    refused(spoilt("-1 0", "-1 0x10"), "m.hrbf: line 6: '0x10' is not a number");
+    refused(spoilt("linear 0", "linear nan"), "m.hrbf: line 4: 'nan' is not finite");
+    refused(spoilt("-1 0", "-1 -inf"), "m.hrbf: line 6: '-inf' is not finite");
+    refused(spoilt("-1 0", "-1 1e999"), "m.hrbf: line 6: '1e999' is out of range for a double");
+    refused(spoilt("frame 0 0 0 1", "frame 0 0 0 0"), "m.hrbf: line 3: the frame's scale must be positive");
+    refused(spoilt("frame 0 0 0 1", "frame 0 0 0"),
+            "m.hrbf: line 3: expected 4 numbers after 'frame' (frame cx cy cz scale), found 3");
+    refused(spoilt("linear", "affine"), "m.hrbf: line 4: expected 'linear ax ay az b', found 'affine'");
+    refused(spoilt("0 0 1 -1", "0 0 0 -1"), "m.hrbf: line 6: normal is zero");
+
+    // Counts.
+    refused(spoilt("centers 2", "centers 3"), "m.hrbf: line 7: 'end' after 2 of the 3 centres declared");
+    refused(spoilt("centers 2", "centers 1"), "m.hrbf: line 2: 1 centres: a model has at least 2");
+    refused(spoilt("end\n", "0 1 0 0 0 1 0 0 0 0\nend\n"),
+            "m.hrbf: line 7: expected 'end' after the 2 centres declared");
+    refused(spoilt("centers 2", "centers 4000"), "m.hrbf: line 2: 4000 centres cannot fit in a file of");
+    refused(spoilt("centers 2", "centers 4001"),
+            "m.hrbf: line 2: '4001' centres is more than the maximum of 4000");
+    refused(spoilt("centers 2", "centers 99999999999999999999999999"),
+            "m.hrbf: line 2: '99999999999999999999999999' centres is more than the maximum of 4000");
+    refused(spoilt("centers 2", "centers -2"), "m.hrbf: line 2: '-2' is not a count of centres");
+    refused(kGood + "0\n", "m.hrbf: line 8: unexpected '0' after 'end'");
+
+    // Every message is one line; a missing file names the file and the reason.
+    try {
+        parse(spoilt("-1 0", "-1 \x01\x02\r"));
+        FAIL("accepted a control byte");
+    } catch (const ink::Error& e) {
+        CHECK(std::string(e.what()).find_first_of("\r\n") == std::string::npos);
+    }
+    CHECK_THROWS_WITH_AS(ink::loadHrbf("/nonexistent/x.hrbf"),
+                         doctest::Contains("cannot open '/nonexistent/x.hrbf'"), ink::Error);
+    CHECK_THROWS_WITH_AS(ink::loadModel("/nonexistent/x.HRBF", {}), doctest::Contains("cannot open"),
+                         ink::Error);
+}
+
+TEST_CASE("fit: a singular system is refused with a message, not NaNs") {
+    using doctest::Contains;
+    ink::OrientedPoints points = bunnySubset(40);
+    ink::Frame frame = ink::Frame::unitDiagonal(points.positions);
+    std::vector<Vector3d> p, n;
+    for (size_t i = 0; i < points.positions.size(); ++i) {
+        p.push_back(frame.toNormalized(points.positions[i]));
+        n.push_back(points.normals[i]);
+    }
+    p.push_back(p[5]);  // an exact duplicate, as fitModel would have merged it
+    n.push_back(n[5]);
+    CHECK_THROWS_WITH_AS(ink::fitHrbf(p, n),
+                         Contains("the HRBF system is singular: control points 5 and 40 coincide"), ink::Error);
+
+    // Nearly the same point with the opposite normal: no exact zero pivot, but the solution cannot satisfy
+    // both; the residual check refuses it.
+    p.back() = p[5] + Vector3d(1e-15, 0, 0);
+    n.back() = -n[5];
+    CHECK_THROWS_WITH_AS(ink::fitHrbf(p, n), Contains("the HRBF system is ill-conditioned (relative residual"),
+                         ink::Error);
+
+    p.back() = Vector3d(NAN, 0, 0);
+    CHECK_THROWS_WITH_AS(ink::fitHrbf(p, n), Contains("control point 40 has a NaN or infinite coordinate"),
+                         ink::Error);
+    p.pop_back();
+    CHECK_THROWS_WITH_AS(ink::fitHrbf(p, n), Contains("40 points but 41 normals"), ink::Error);
+}
