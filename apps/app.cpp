@@ -10,7 +10,6 @@
 namespace app {
 
 void addModelOptions(CLI::App* cmd, Options& o) {
-    o.command = cmd;
     cmd->add_option("model", o.model, "Mesh, oriented points or fitted model (.obj, .ply, .pts/.xyzn/.txt, .hrbf)")
         ->required();
     cmd->add_option("--control-points", o.controlPoints,

@@ -42,7 +42,7 @@ struct Options {
     std::vector<uint32_t> size{1024, 1024};
     std::string ink = "#000000", paper = "#ffffff", preset;
     std::vector<float> light;
-    CLI::App* command = nullptr;  // set by add*Options: tells a preset which options the user gave
+    CLI::App* command = nullptr;  // the chosen subcommand (set by main): tells a preset which options were given
 };
 
 void addModelOptions(CLI::App* cmd, Options& o);

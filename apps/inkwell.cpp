@@ -29,7 +29,10 @@ int main(int argc, char** argv) {
     ink::setNotesEnabled(!quiet);
     try {
         for (auto& [command, run] : commands)
-            if (command->parsed()) return run();
+            if (command->parsed()) {
+                options.command = command;  // a --preset asks it which options the user gave
+                return run();
+            }
     } catch (const ink::Error& e) {
         std::fprintf(stderr, "inkwell: %s\n", e.what());
         return 1;

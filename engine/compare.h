@@ -12,7 +12,7 @@ namespace ink {
 
 // The defaults of `inkwell compare` and of the golden tests (docs/capture.md says why these values).
 constexpr uint8_t kCompareThreshold = 8;        // a pixel differs if any channel differs by more than this
-constexpr double kCompareMaxFraction = 0.005;   // at most this fraction of the pixels may differ
+constexpr double kCompareMaxFraction = 0.0025;  // at most this fraction of the pixels may differ
 
 struct CompareResult {
     uint32_t maxAbsDiff = 0;          // largest per-channel difference, over all pixels and channels (RGBA)

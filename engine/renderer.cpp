@@ -8,37 +8,21 @@
 
 #include "ink.frag.h"
 #include "ink.vert.h"
-#include "splat.frag.h"
-#include "splat.vert.h"
+#include "cull.comp.h"
+#include "splat.comp.h"
 
 namespace ink {
 
 namespace {
 
-// Matches `Camera` in render_common.glsl.
-struct CameraPush {
-    glm::mat4 view;
-    glm::vec4 projection;
-    glm::vec4 viewport;
-    glm::vec4 splat;
-};
-static_assert(sizeof(CameraPush) == 112);
-
-enum class Pass { Splat, Ink, Hidden };
-
-VkPipeline createPass(Context& ctx, VkPipelineLayout layout, Pass pass, VkFormat colorFormat, VkFormat depthFormat) {
-    bool splat = pass == Pass::Splat;
-    VkShaderModule vert = createShaderModule(ctx, splat ? std::span<const uint32_t>(spv_splat_vert) : spv_ink_vert);
-    VkShaderModule frag = createShaderModule(ctx, splat ? std::span<const uint32_t>(spv_splat_frag) : spv_ink_frag);
-    VkBool32 hidden = pass == Pass::Hidden;
-    VkSpecializationMapEntry entry{0, 0, sizeof(VkBool32)};
-    VkSpecializationInfo specialization{1, &entry, sizeof(hidden), &hidden};
+VkPipeline createInkPipeline(Context& ctx, VkPipelineLayout layout, VkFormat colorFormat, VkFormat depthFormat) {
+    VkShaderModule vert = createShaderModule(ctx, spv_ink_vert);
+    VkShaderModule frag = createShaderModule(ctx, spv_ink_frag);
     VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
                                                  {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
     stages[0].module = vert;
     stages[0].pName = "main";
-    stages[0].pSpecializationInfo = splat ? nullptr : &specialization;
     stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
     stages[1].module = frag;
     stages[1].pName = "main";
@@ -56,14 +40,11 @@ VkPipeline createPass(Context& ctx, VkPipelineLayout layout, Pass pass, VkFormat
     VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
     multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
     VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    depth.depthTestEnable = VK_TRUE;
-    depth.depthWriteEnable = splat;  // the ink tests against the splats and leaves the depth alone
-    depth.depthCompareOp = pass == Pass::Hidden ? VK_COMPARE_OP_GREATER : VK_COMPARE_OP_LESS_OR_EQUAL;
+    // Occlusion was decided per point in cull.comp; same-coloured dots blend the same in any order.
     VkPipelineColorBlendAttachmentState blendAttachment{};
-    blendAttachment.colorWriteMask = splat ? 0u
-                                           : VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                                 VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-    blendAttachment.blendEnable = !splat;
+    blendAttachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                                     VK_COLOR_COMPONENT_A_BIT;
+    blendAttachment.blendEnable = VK_TRUE;
     blendAttachment.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
     blendAttachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
     blendAttachment.colorBlendOp = VK_BLEND_OP_ADD;
@@ -109,52 +90,144 @@ float splatSpacing(const GpuRefinement& r) {
     return float(r.plan.rho0 / std::pow(3.0, double(last) - 1.0));
 }
 
+constexpr VkShaderStageFlags kStages =
+    VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+constexpr uint32_t kComputeGroup = 64;
+constexpr uint32_t kFarDepth = 0x7F7FFFFF;  // FLT_MAX: positive floats order as their bits do
+
 }  // namespace
+
+// Matches `Camera` in render_common.glsl.
+struct PointRenderer::Push {
+    glm::mat4 view;
+    glm::vec4 projection;
+    glm::vec4 viewport;
+    glm::vec4 splat;
+    glm::uvec4 counts;
+};
+static_assert(sizeof(glm::mat4) + 4 * sizeof(glm::vec4) == 128, "push constants within the guaranteed 128 bytes");
 
 PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat,
                              VkFormat depthFormat)
     : ctx_(ctx) {
     styleBuffer_ = createBuffer(ctx, sizeof(StyleBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
                                                              VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
+    depth_ = createBuffer(ctx, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                          MemoryUse::Device);
     for (const GpuRefinement* r : sets) {
-        DescriptorSet ds = createDescriptorSet(ctx,
-                                               {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, r->points.buffer},
-                                                {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer}},
-                                               VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
         uint32_t draw[4];
         downloadBuffer(ctx, r->indirect, GpuRefinement::kDrawOffset, draw, sizeof(draw));
-        sets_.push_back({r, ds, splatSpacing(*r), draw[0]});
+        Buffer visible = createBuffer(ctx, 16 + 4 * VkDeviceSize(std::max(1u, draw[0])),
+                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                          VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                      MemoryUse::Device);
+        sets_.push_back({r, visible, {}, splatSpacing(*r), draw[0], draw[2]});
     }
-    layout_ = createPipelineLayout(ctx, sets_.front().descriptors.layout, sizeof(CameraPush),
-                                   VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT);
-    splat_ = createPass(ctx, layout_, Pass::Splat, colorFormat, depthFormat);
-    ink_ = createPass(ctx, layout_, Pass::Ink, colorFormat, depthFormat);
-    hidden_ = createPass(ctx, layout_, Pass::Hidden, colorFormat, depthFormat);
+    bindDescriptors();
+    layout_ = createPipelineLayout(ctx, sets_.front().descriptors.layout, sizeof(Push), kStages);
+    splat_ = createComputePipeline(ctx, layout_, spv_splat_comp);
+    cull_ = createComputePipeline(ctx, layout_, spv_cull_comp);
+    ink_ = createInkPipeline(ctx, layout_, colorFormat, depthFormat);
 }
 
 PointRenderer::~PointRenderer() {
-    for (VkPipeline p : {splat_, ink_, hidden_}) vkDestroyPipeline(ctx_.device, p, nullptr);
+    for (VkPipeline p : {splat_, cull_, ink_}) vkDestroyPipeline(ctx_.device, p, nullptr);
     vkDestroyPipelineLayout(ctx_.device, layout_, nullptr);
-    for (Set& s : sets_) destroyDescriptorSet(ctx_, s.descriptors);
+    for (Set& s : sets_) {
+        destroyDescriptorSet(ctx_, s.descriptors);
+        destroyBuffer(ctx_, s.visible);
+    }
+    destroyBuffer(ctx_, depth_);
     destroyBuffer(ctx_, styleBuffer_);
+}
+
+void PointRenderer::bindDescriptors() {
+    for (Set& s : sets_) {
+        if (s.descriptors.pool) destroyDescriptorSet(ctx_, s.descriptors);
+        s.descriptors = createDescriptorSet(ctx_,
+                                            {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, s.refinement->points.buffer},
+                                             {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer},
+                                             {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, s.visible.buffer},
+                                             {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depth_.buffer}},
+                                            kStages);
+    }
 }
 
 void PointRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pixelScale) {
     style_ = s;
+    pixelScale_ = pixelScale;
     const float* range = ctx_.properties.limits.pointSizeRange;
     StyleBlock b{};
     b.color[0] = s.ink;
     b.color[1] = s.ink;
-    b.color[2] = s.hiddenInk;
+    b.color[2] = s.ink;
+    b.color[3] = s.hiddenInk;
     b.size = glm::vec4(s.silhouetteSize * pixelScale, s.frontSize * pixelScale, s.hiddenSize * pixelScale, s.tau);
     glm::vec3 l = glm::length(s.light) > 0 ? glm::normalize(s.light) : glm::vec3(0, 0, 1);
     b.light = glm::vec4(l, s.toneGamma);
     b.tone = glm::vec4(s.inkDensity, s.ambient, std::max(1.0f, range[0]), range[1]);
-    pixelScale_ = pixelScale;
     vkCmdUpdateBuffer(cmd, styleBuffer_.buffer, 0, sizeof(b), &b);
     stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
+                     VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                  VK_ACCESS_2_UNIFORM_READ_BIT);
+}
+
+PointRenderer::Push PointRenderer::push(const Set& s, const Camera& camera, VkExtent2D extent) const {
+    glm::mat4 p = camera.projection(float(extent.width) / float(extent.height));
+    // Tone: expected dots per pixel where the model faces the camera — half the points are on the visible
+    // side, spread over about the projected bounding sphere (radius ½ in normalized units) — and k keeping
+    // λ·(dot area) ≈ 0.9, so a fully dark region is about 60% ink at any zoom, size and point count.
+    float pixelsPerUnit = std::abs(p[1][1]) * 0.5f * float(extent.height) / camera.distance;
+    float modelPixels = float(M_PI) * 0.25f * pixelsPerUnit * pixelsPerUnit;
+    float dotPixels = float(M_PI) * 0.25f * std::pow(style_.frontSize * pixelScale_, 2.0f);
+    float lambda = 0.5f * float(std::max(1u, s.points)) / modelPixels;
+    float k = std::min(1.0f, 0.9f / (lambda * dotPixels));
+    float radius = style_.occlusion ? style_.splatScale * s.splatRadius : 0.0f;
+    return Push{camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]),
+                glm::vec4(extent.width, extent.height, depthExtent_.width, depthExtent_.height),
+                glm::vec4(radius, radius, k, 0.0f), glm::uvec4(s.points, style_.hiddenLines ? 1u : 0u, s.first, 0u)};
+}
+
+void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) {
+    VkExtent2D grid{std::max(1u, (extent.width + 1) / 2), std::max(1u, (extent.height + 1) / 2)};
+    if (grid.width != depthExtent_.width || grid.height != depthExtent_.height) {
+        vkDeviceWaitIdle(ctx_.device);
+        destroyBuffer(ctx_, depth_);
+        depth_ = createBuffer(ctx_, VkDeviceSize(grid.width) * grid.height * 4,
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
+        depthExtent_ = grid;
+        bindDescriptors();
+    }
+    const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+    const auto rw = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+    // The previous frame's draw may still read the lists this frame rewrites.
+    stageBarrier(cmd, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | compute,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT,
+                 VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    vkCmdFillBuffer(cmd, depth_.buffer, 0, VK_WHOLE_SIZE, kFarDepth);
+    const uint32_t emptyDraw[4] = {0, 1, 0, 0};
+    for (Set& s : sets_) vkCmdUpdateBuffer(cmd, s.visible.buffer, 0, sizeof(emptyDraw), emptyDraw);
+    stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute, rw);
+
+    auto dispatch = [&](VkPipeline pipeline) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+        for (const Set& s : sets_) {
+            Push constants = push(s, camera, extent);
+            vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(constants), &constants);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &s.descriptors.set, 0,
+                                    nullptr);
+            vkCmdDispatch(cmd, (s.points + kComputeGroup - 1) / kComputeGroup, 1, 1);
+        }
+    };
+    if (style_.occlusion) {
+        dispatch(splat_);
+        stageBarrier(cmd, compute, rw, compute, rw);
+    }
+    dispatch(cull_);
+    stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
 }
 
 void PointRenderer::draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) const {
@@ -162,32 +235,13 @@ void PointRenderer::draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D e
     VkRect2D scissor{{0, 0}, extent};
     vkCmdSetViewport(cmd, 0, 1, &viewport);
     vkCmdSetScissor(cmd, 0, 1, &scissor);
-    glm::mat4 p = camera.projection(float(extent.width) / float(extent.height));
-    CameraPush push{camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]),
-                    glm::vec4(extent.width, extent.height, 1.0f / float(extent.width), 1.0f / float(extent.height)),
-                    glm::vec4(0.0f)};
-
-    // Expected dots per pixel where the model faces the camera: half the points are on the visible side, spread
-    // over about the projected bounding sphere (radius ½ in normalized units). k keeps λ·(dot area) ≈ 0.9.
-    float pixelsPerUnit = std::abs(p[1][1]) * 0.5f * float(extent.height) / camera.distance;
-    float modelPixels = float(M_PI) * 0.25f * pixelsPerUnit * pixelsPerUnit;
-    float dotPixels = float(M_PI) * 0.25f * std::pow(style_.frontSize * pixelScale_, 2.0f);
-    auto drawSets = [&](VkPipeline pipeline) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
-        for (const Set& s : sets_) {
-            float lambda = 0.5f * float(std::max(1u, s.points)) / modelPixels;
-            float k = std::min(1.0f, 0.9f / (lambda * dotPixels));
-            push.splat = glm::vec4(style_.splatScale * s.splatRadius, style_.splatScale * s.splatRadius, k, 0);
-            vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                               sizeof(push), &push);
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &s.descriptors.set, 0,
-                                    nullptr);
-            vkCmdDrawIndirect(cmd, s.refinement->indirect.buffer, GpuRefinement::kDrawOffset, 1, 0);
-        }
-    };
-    if (style_.occlusion) drawSets(splat_);
-    drawSets(ink_);
-    if (style_.occlusion && style_.hiddenLines) drawSets(hidden_);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, ink_);
+    for (const Set& s : sets_) {
+        Push constants = push(s, camera, extent);
+        vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(constants), &constants);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &s.descriptors.set, 0, nullptr);
+        vkCmdDrawIndirect(cmd, s.visible.buffer, 0, 1, 0);
+    }
 }
 
 OffscreenRenderer::OffscreenRenderer(Context& ctx, uint32_t width, uint32_t height, const RenderStyle& style,
@@ -233,6 +287,7 @@ void OffscreenRenderer::draw(const Camera& camera) {
 void OffscreenRenderer::record(VkCommandBuffer cmd, const Camera& camera, bool readback) {
     VkExtent2D extent = color_.extent;
     const RenderStyle& style = renderer_.style();
+    renderer_.prepare(cmd, camera, extent);
     {
         imageBarrier(cmd, color_.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                      VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, 0,

@@ -1,6 +1,7 @@
-// Draws refined points as ink with graphics pipelines, straight from the refinement's device buffers
-// (indirect draws, no readback): a depth pre-pass of oriented splats (visibility splatting), then the ink
-// dots classified by the report's §5 rule and thinned by tone, then optionally the hidden silhouettes, faint.
+// Draws refined points as ink, straight from the refinement's device buffers (no readback). Per frame, two
+// compute passes decide what shows — visibility splatting of oriented disks into a half-resolution depth grid,
+// then per point: the report's §5 class, tone, and the occlusion test — and append the visible dots to a list
+// that a graphics pipeline draws with an indirect draw. Most points never reach the rasterizer.
 #pragma once
 
 #include "camera.h"
@@ -36,15 +37,16 @@ struct RenderStyle {
 
 // Matches `Style` in render_common.glsl (std140).
 struct StyleBlock {
-    glm::vec4 color[3];
+    glm::vec4 color[4];
     glm::vec4 size;
     glm::vec4 light;
     glm::vec4 tone;
 };
 
-// Draws one or more refinements (e.g. stippling and direction sampling together) into a colour + depth target.
+// Draws one or more refinements (e.g. stippling and direction sampling together) into a colour target.
 class PointRenderer {
 public:
+    // The depth format is that of the caller's depth attachment, which the ink pass does not use.
     PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat, VkFormat depthFormat);
     ~PointRenderer();
     PointRenderer(const PointRenderer&) = delete;
@@ -52,24 +54,34 @@ public:
 
     // Records the style upload (outside rendering). `pixelScale` multiplies dot sizes (supersampling).
     void setStyle(VkCommandBuffer cmd, const RenderStyle& style, float pixelScale);
-    // Records the draws; call between vkCmdBeginRendering (depth cleared to 1) and vkCmdEndRendering.
+    // Records the visibility passes for this camera (outside rendering, before draw). Reallocates the depth
+    // grid, after waiting for the device, when the extent changes.
+    void prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent);
+    // Records the ink draws; call between vkCmdBeginRendering and vkCmdEndRendering, after prepare.
     void draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) const;
     const RenderStyle& style() const { return style_; }
 
 private:
     struct Set {
         const GpuRefinement* refinement;
+        Buffer visible;  // VkDrawIndirectCommand, then one entry per visible dot
         DescriptorSet descriptors;
         float splatRadius;
-        uint32_t points;  // drawn by the indirect draw, read once at setup
+        uint32_t points;  // in the refinement's draw, read once at setup
+        uint32_t first;   // its first point: not 0 when only the last level is kept
     };
+    struct Push;
+    Push push(const Set& set, const Camera& camera, VkExtent2D extent) const;
+    void bindDescriptors();
+
     Context& ctx_;
     RenderStyle style_;
     float pixelScale_ = 1.0f;
-    Buffer styleBuffer_;
+    Buffer styleBuffer_, depth_;
+    VkExtent2D depthExtent_{0, 0};
     std::vector<Set> sets_;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
-    VkPipeline splat_ = VK_NULL_HANDLE, ink_ = VK_NULL_HANDLE, hidden_ = VK_NULL_HANDLE;
+    VkPipeline splat_ = VK_NULL_HANDLE, cull_ = VK_NULL_HANDLE, ink_ = VK_NULL_HANDLE;
 };
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;

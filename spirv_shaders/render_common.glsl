@@ -7,17 +7,25 @@
 layout(std430, binding = 0) readonly buffer PointBuffer { Point points[]; };
 
 layout(std140, binding = 1) uniform Style {
-    vec4 color[3];  // silhouette, front, hidden silhouette
+    vec4 color[4];  // silhouette, front, back (unused), hidden silhouette
     vec4 size;      // dot diameter in pixels: silhouette, front, hidden silhouette; w: τ
     vec4 light;     // xyz: unit direction towards the light in view space; w: tone gamma (0: no tone)
     vec4 tone;      // x: ink density, y: ambient darkness, zw: point size range
 } style;
 
+// Per frame and set: the visible dots (point index | class << 30), and the splat depth (float bits, half res).
+layout(std430, binding = 2) buffer VisibleBuffer {
+    uvec4 draw;  // vertexCount, instanceCount, firstVertex, firstInstance
+    uint visible[];
+};
+layout(std430, binding = 3) buffer DepthBuffer { uint depth[]; };
+
 layout(push_constant) uniform Camera {
     mat4 view;        // model → view (rigid)
     vec4 projection;  // P00, P11, P22, P32 of the perspective projection (clip.w = −z_view)
-    vec4 viewport;    // width, height, 1/width, 1/height in pixels
-    vec4 splat;       // x: splat radius, y: push-back, both in model units; z: tone scale k
+    vec4 viewport;    // width, height of the target in pixels; width, height of the depth grid
+    vec4 splat;       // x: splat radius, y: push-back (model units), 0: no occlusion; z: tone scale k
+    uvec4 counts;     // x: points in the set; y: 1 = draw hidden silhouettes; z: the set's first point
 } cam;
 
 vec4 project(vec3 v) {
@@ -25,9 +33,10 @@ vec4 project(vec3 v) {
 }
 
 // Report §5: silhouette |n·v| < τ, front n·v > τ, back n·v < −τ; v from the point towards the camera.
-const uint SILHOUETTE = 0u, FRONT = 1u, BACK = 2u;
+const uint SILHOUETTE = 0u, FRONT = 1u, BACK = 2u, HIDDEN = 3u;
 uint classify(float nv) { return abs(nv) < style.size.w ? SILHOUETTE : (nv > 0.0 ? FRONT : BACK); }
 
-const vec4 CULLED = vec4(0.0, 0.0, 2.0, 1.0);  // z > w: clipped away
+// The depth grid is the target at half resolution: one cell per 2×2 pixels.
+const float DEPTH_CELL = 2.0;
 
 #endif
