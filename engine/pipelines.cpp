@@ -52,7 +52,10 @@ DescriptorSet createDescriptorSet(Context& ctx, std::initializer_list<Descriptor
         w.dstBinding = b.binding;
         w.descriptorCount = b.count;
         w.descriptorType = b.type;
-        w.pBufferInfo = elements.data();
+        if (b.view)
+            w.pTexelBufferView = &b.view;
+        else
+            w.pBufferInfo = elements.data();
         writes.push_back(w);
     }
     vkUpdateDescriptorSets(ctx.device, uint32_t(writes.size()), writes.data(), 0, nullptr);

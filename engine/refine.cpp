@@ -185,7 +185,7 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const Re
     uploadBuffer(ctx, r.hrbf, centers.data(), centers.size() * sizeof(double));
     // Blocks past the last real one point at block 0: they are declared by the shader but never read.
     const uint32_t realBlocks = uint32_t(centers.size() * sizeof(double) / kHrbfBlockBytes);
-    r.points = createBuffer(ctx, plan.maxPoints * sizeof(PointRecord), storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+    r.points = createBuffer(ctx, plan.maxPoints * sizeof(PointRecord), storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
                             MemoryUse::Device);
     r.candidates = createBuffer(ctx, maxCandidates * sizeof(PointRecord), storage, MemoryUse::Device);
     r.flags = createBuffer(ctx, maxCandidates * 4, storage, MemoryUse::Device);

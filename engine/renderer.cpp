@@ -121,20 +121,32 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                                           VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                       MemoryUse::Device);
-        sets_.push_back({r, visible, {}, splatSpacing(*r), draw[0], draw[2]});
+        VkBufferViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+        viewInfo.buffer = r->points.buffer;
+        viewInfo.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+        viewInfo.range = VK_WHOLE_SIZE;
+        VkBufferView texels;
+        VK_CHECK(vkCreateBufferView(ctx.device, &viewInfo, nullptr, &texels));
+        sets_.push_back({r, visible, texels, {}, splatSpacing(*r), draw[0], draw[2]});
     }
     bindDescriptors();
     layout_ = createPipelineLayout(ctx, sets_.front().descriptors.layout, sizeof(Push), kStages);
     splat_ = createComputePipeline(ctx, layout_, spv_splat_comp);
     cull_ = createComputePipeline(ctx, layout_, spv_cull_comp);
     ink_ = createInkPipeline(ctx, layout_, colorFormat, depthFormat);
+    VkQueryPoolCreateInfo query{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    query.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    query.queryCount = 4;
+    VK_CHECK(vkCreateQueryPool(ctx.device, &query, nullptr, &timestamps_));
 }
 
 PointRenderer::~PointRenderer() {
+    vkDestroyQueryPool(ctx_.device, timestamps_, nullptr);
     for (VkPipeline p : {splat_, cull_, ink_}) vkDestroyPipeline(ctx_.device, p, nullptr);
     vkDestroyPipelineLayout(ctx_.device, layout_, nullptr);
     for (Set& s : sets_) {
         destroyDescriptorSet(ctx_, s.descriptors);
+        vkDestroyBufferView(ctx_.device, s.texels, nullptr);
         destroyBuffer(ctx_, s.visible);
     }
     destroyBuffer(ctx_, depth_);
@@ -148,7 +160,9 @@ void PointRenderer::bindDescriptors() {
                                             {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, s.refinement->points.buffer},
                                              {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer},
                                              {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, s.visible.buffer},
-                                             {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depth_.buffer}},
+                                             {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depth_.buffer},
+                                             {4, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1, 0, 0,
+                                              s.texels}},
                                             kStages);
     }
 }
@@ -209,6 +223,8 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
     const uint32_t emptyDraw[4] = {0, 1, 0, 0};
     for (Set& s : sets_) vkCmdUpdateBuffer(cmd, s.visible.buffer, 0, sizeof(emptyDraw), emptyDraw);
     stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute, rw);
+    vkCmdResetQueryPool(cmd, timestamps_, 0, 4);
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, timestamps_, 0);
 
     auto dispatch = [&](VkPipeline pipeline) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
@@ -224,7 +240,9 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
         dispatch(splat_);
         stageBarrier(cmd, compute, rw, compute, rw);
     }
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, timestamps_, 1);
     dispatch(cull_);
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, timestamps_, 2);
     stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
@@ -242,6 +260,19 @@ void PointRenderer::draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D e
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &s.descriptors.set, 0, nullptr);
         vkCmdDrawIndirect(cmd, s.visible.buffer, 0, 1, 0);
     }
+}
+
+void PointRenderer::writeEnd(VkCommandBuffer cmd) const {
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, timestamps_, 3);
+}
+
+PointRenderer::Timings PointRenderer::timings() const {
+    uint64_t t[4] = {};
+    if (vkGetQueryPoolResults(ctx_.device, timestamps_, 0, 4, sizeof(t), t, sizeof(uint64_t),
+                              VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
+        return {};
+    double ms = ctx_.properties.limits.timestampPeriod * 1e-6;
+    return {double(t[1] - t[0]) * ms, double(t[2] - t[1]) * ms, double(t[3] - t[2]) * ms};
 }
 
 OffscreenRenderer::OffscreenRenderer(Context& ctx, uint32_t width, uint32_t height, const RenderStyle& style,
@@ -319,6 +350,7 @@ void OffscreenRenderer::record(VkCommandBuffer cmd, const Camera& camera, bool r
         vkCmdBeginRendering(cmd, &rendering);
         renderer_.draw(cmd, camera, extent);
         vkCmdEndRendering(cmd);
+        renderer_.writeEnd(cmd);
         if (!readback) return;
 
         imageBarrier(cmd, color_.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,

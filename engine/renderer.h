@@ -61,10 +61,18 @@ public:
     void draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) const;
     const RenderStyle& style() const { return style_; }
 
+    // Milliseconds of the last frame's passes, from timestamps: splat, cull, ink (ink ends at writeEnd).
+    struct Timings {
+        double splatMs = 0, cullMs = 0, inkMs = 0;
+    };
+    void writeEnd(VkCommandBuffer cmd) const;
+    Timings timings() const;
+
 private:
     struct Set {
         const GpuRefinement* refinement;
         Buffer visible;  // VkDrawIndirectCommand, then one entry per visible dot
+        VkBufferView texels = VK_NULL_HANDLE;  // the points as RGBA32F texels, 2 a point (vectorized loads)
         DescriptorSet descriptors;
         float splatRadius;
         uint32_t points;  // in the refinement's draw, read once at setup
@@ -82,6 +90,7 @@ private:
     std::vector<Set> sets_;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
     VkPipeline splat_ = VK_NULL_HANDLE, cull_ = VK_NULL_HANDLE, ink_ = VK_NULL_HANDLE;
+    VkQueryPool timestamps_ = VK_NULL_HANDLE;
 };
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
@@ -105,6 +114,7 @@ public:
     RgbaImage render(const Camera& camera);
     // Draws a frame and waits for it, without reading it back (benchmarks).
     void draw(const Camera& camera);
+    PointRenderer::Timings timings() const { return renderer_.timings(); }
 
 private:
     void record(VkCommandBuffer cmd, const Camera& camera, bool readback);

@@ -10,7 +10,7 @@ layout(local_size_x = 64) in;
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= cam.counts.x) return;
-    Point p = points[cam.counts.z + i];
+    Point p = fetchPoint(cam.counts.z + i);
     vec3 c = (cam.view * vec4(p.position, 1.0)).xyz;
     if (-c.z <= 1e-6) return;
     vec3 n = mat3(cam.view) * p.normal;

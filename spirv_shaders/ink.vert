@@ -8,7 +8,7 @@ layout(location = 0) out vec4 color;
 void main() {
     uint entry = visible[gl_VertexIndex];
     uint cls = entry >> 30;
-    Point p = points[entry & 0x3FFFFFFFu];
+    Point p = fetchPoint(entry & 0x3FFFFFFFu);
     gl_Position = project((cam.view * vec4(p.position, 1.0)).xyz);
     uint sizeSlot = cls == HIDDEN ? 2u : cls;
     gl_PointSize = clamp(style.size[sizeSlot], style.tone.z, style.tone.w);

@@ -20,6 +20,15 @@ layout(std430, binding = 2) buffer VisibleBuffer {
 };
 layout(std430, binding = 3) buffer DepthBuffer { uint depth[]; };
 
+// The same points as RGBA32F texels, two a point: texel fetches are vectorized gathers on CPU drivers, where
+// per-point storage-buffer loads become one scalar load per lane and component.
+layout(binding = 4) uniform samplerBuffer pointTexels;
+
+Point fetchPoint(uint i) {
+    vec4 a = texelFetch(pointTexels, int(2u * i)), b = texelFetch(pointTexels, int(2u * i + 1u));
+    return Point(a.xyz, floatBitsToUint(a.w), b.xyz, b.w);
+}
+
 layout(push_constant) uniform Camera {
     mat4 view;        // model → view (rigid)
     vec4 projection;  // P00, P11, P22, P32 of the perspective projection (clip.w = −z_view)

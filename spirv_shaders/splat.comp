@@ -13,7 +13,7 @@ const int MAX_CELLS = 9;  // a disk spans at most this many cells a side; larger
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= cam.counts.x) return;
-    Point p = points[cam.counts.z + i];
+    Point p = fetchPoint(cam.counts.z + i);
     vec3 c = (cam.view * vec4(p.position, 1.0)).xyz;
     vec3 n = mat3(cam.view) * p.normal;
     // Disks facing away lie behind the front surface of a closed shape; keep a margin for edge-on ones.
@@ -22,9 +22,9 @@ void main() {
     vec2 grid = cam.viewport.zw;
     vec2 center = (clip.xy / clip.w * 0.5 + 0.5) * grid;
     float radius = cam.splat.x * abs(cam.projection.y) * 0.5 * grid.y / (-c.z);  // in cells
-    int span = int(ceil(radius));
-    int step = max(1, (2 * span + MAX_CELLS - 1) / MAX_CELLS);
-    ivec2 lo = ivec2(floor(center)) - span, hi = ivec2(floor(center)) + span;
+    // Cells whose centres the disk's screen footprint may reach (the ray test below is exact).
+    ivec2 lo = ivec2(floor(center - radius - 0.5)), hi = ivec2(floor(center + radius - 0.5)) + 1;
+    int step = max(1, (max(hi.x - lo.x, hi.y - lo.y) + MAX_CELLS) / MAX_CELLS);
     float planeD = dot(c, n);
     for (int y = lo.y; y <= hi.y; y += step) {
         for (int x = lo.x; x <= hi.x; x += step) {
