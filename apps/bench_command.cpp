@@ -72,13 +72,18 @@ json runWorkload(Session& session, const Workload& w, uint32_t frames) {
         double preprocess = secondsSince(start);
 
         // Frames with the camera moving every frame; the first few warm caches and pipelines up.
-        std::vector<double> frameMs;
+        std::vector<double> frameMs, splatMs, cullMs, inkMs;
         ink::Camera camera;
         for (uint32_t i = 0; i < frames + 3; ++i) {
             camera.azimuthDeg = 30.0f + 360.0f * float(i) / float(frames + 3);
             auto t = Clock::now();
             renderer.draw(camera);
-            if (i >= 3) frameMs.push_back(1000.0 * secondsSince(t));
+            if (i < 3) continue;
+            frameMs.push_back(1000.0 * secondsSince(t));
+            ink::PointRenderer::Timings passes = renderer.timings();
+            splatMs.push_back(passes.splatMs);
+            cullMs.push_back(passes.cullMs);
+            inkMs.push_back(passes.inkMs);
         }
 
         auto cpuStart = Clock::now();
@@ -101,6 +106,7 @@ json runWorkload(Session& session, const Workload& w, uint32_t frames) {
                {"refine_seconds", refineSeconds},
                {"preprocess_seconds", preprocess},
                {"frame_ms_median", median(frameMs)},
+               {"frame_passes_ms_median", {{"splat", median(splatMs)}, {"cull", median(cullMs)}, {"ink", median(inkMs)}}},
                {"fps", 1000.0 / median(frameMs)},
                {"cpu_refine_seconds", cpuRefine},
                {"gpu_over_cpu_refine", cpuRefine / refineSeconds},
@@ -145,12 +151,15 @@ int runBench(Options& o, const std::vector<std::string>& names, const std::strin
     if (repeat < 1 || repeat > 100) throw ink::Error("--repeat must be between 1 and 100");
     if (frames < 1 || frames > 10000) throw ink::Error("--frames must be between 1 and 10000");
 
+    auto deviceStart = Clock::now();
     Session session(o);
+    double deviceSeconds = secondsSince(deviceStart);
     json results = json::array();
     for (const Workload& w : workloads) {
         std::vector<json> runs;
         for (uint32_t i = 0; i < repeat; ++i) runs.push_back(runWorkload(session, w, frames));
         json m = medianOf(runs);
+        m["device_seconds"] = deviceSeconds;  // creating the Vulkan device, once per process, not in preprocess
         std::printf("%-10s %8llu points  fit %6.3f s  refine %6.3f s (cpu %6.3f s, %.2fx)  preprocess %6.3f s  "
                     "frame %7.2f ms (%5.1f fps)\n",
                     w.name.c_str(), (unsigned long long)m["points"].get<uint64_t>(), m["fit_seconds"].get<double>(),
