@@ -299,7 +299,7 @@ VkCommandBuffer beginOneTime(Context& ctx) {
     return cmd;
 }
 
-void endOneTime(Context& ctx, VkCommandBuffer cmd) {
+void endOneTime(Context& ctx, VkCommandBuffer cmd, const std::function<void()>& whileWaiting) {
     VK_CHECK(vkEndCommandBuffer(cmd));
     VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
     cmdInfo.commandBuffer = cmd;
@@ -309,11 +309,14 @@ void endOneTime(Context& ctx, VkCommandBuffer cmd) {
     VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     VkFence fence;
     VK_CHECK(vkCreateFence(ctx.device, &fenceInfo, nullptr, &fence));
-    VK_CHECK(vkQueueSubmit2(ctx.queue, 1, &submit, fence));
-    VkResult wait = vkWaitForFences(ctx.device, 1, &fence, VK_TRUE, UINT64_MAX);
+    VkResult result = vkQueueSubmit2(ctx.queue, 1, &submit, fence);
+    if (result == VK_SUCCESS) {
+        const uint64_t slice = whileWaiting ? 100'000'000 : UINT64_MAX;  // 100 ms between calls
+        while ((result = vkWaitForFences(ctx.device, 1, &fence, VK_TRUE, slice)) == VK_TIMEOUT) whileWaiting();
+    }
     vkDestroyFence(ctx.device, fence, nullptr);
     vkFreeCommandBuffers(ctx.device, ctx.commandPool, 1, &cmd);
-    VK_CHECK(wait);
+    VK_CHECK(result);
 }
 
 }  // namespace ink

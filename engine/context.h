@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -59,7 +60,8 @@ std::vector<std::string> listDevices();
 template <typename Record>
 void submitAndWait(Context& ctx, Record&& record);
 VkCommandBuffer beginOneTime(Context& ctx);
-void endOneTime(Context& ctx, VkCommandBuffer cmd);
+// Submits and waits; `whileWaiting`, when given, is called every 100 ms until the work is done (progress).
+void endOneTime(Context& ctx, VkCommandBuffer cmd, const std::function<void()>& whileWaiting = {});
 
 template <typename Record>
 void submitAndWait(Context& ctx, Record&& record) {

@@ -285,33 +285,18 @@ void recordRefinement(Context&, VkCommandBuffer cmd, GpuRefinement& r) {
 void runRefinement(Context& ctx, GpuRefinement& r) {
     VkCommandBuffer cmd = beginOneTime(ctx);
     recordRefinement(ctx, cmd, r);
-    VK_CHECK(vkEndCommandBuffer(cmd));
-    VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
-    cmdInfo.commandBuffer = cmd;
-    VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
-    submit.commandBufferInfoCount = 1;
-    submit.pCommandBufferInfos = &cmdInfo;
-    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    VkFence fence;
-    VK_CHECK(vkCreateFence(ctx.device, &fenceInfo, nullptr, &fence));
-    VkResult result = vkQueueSubmit2(ctx.queue, 1, &submit, fence);
-    if (result == VK_SUCCESS) {
-        Progress progress("refine", r.plan.levelCount);
-        const uint32_t queries = r.plan.levelCount + 1;
-        std::vector<uint64_t> available(2 * queries);
-        while ((result = vkWaitForFences(ctx.device, 1, &fence, VK_TRUE, 100'000'000)) == VK_TIMEOUT) {
-            if (vkGetQueryPoolResults(ctx.device, r.timestamps, 0, queries, available.size() * 8, available.data(),
-                                      16, VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT) < 0)
-                continue;
-            uint32_t done = 0;
-            while (done + 1 < queries && available[2 * (done + 1) + 1]) ++done;
-            progress.update(done);
-        }
-        if (result == VK_SUCCESS) progress.update(r.plan.levelCount);
-    }
-    vkDestroyFence(ctx.device, fence, nullptr);
-    vkFreeCommandBuffers(ctx.device, ctx.commandPool, 1, &cmd);
-    VK_CHECK(result);
+    Progress progress("refine", r.plan.levelCount);
+    const uint32_t queries = r.plan.levelCount + 1;
+    std::vector<uint64_t> available(2 * queries);
+    endOneTime(ctx, cmd, [&] {
+        if (vkGetQueryPoolResults(ctx.device, r.timestamps, 0, queries, available.size() * 8, available.data(), 16,
+                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT) < 0)
+            return;
+        uint32_t done = 0;
+        while (done + 1 < queries && available[2 * (done + 1) + 1]) ++done;
+        progress.update(done);
+    });
+    progress.update(r.plan.levelCount);
 }
 
 std::vector<LevelStats> readLevelStats(Context& ctx, GpuRefinement& r) {
