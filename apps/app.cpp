@@ -113,6 +113,7 @@ static void applyPreset(Options& o) {
 }
 
 void finishOptions(Options& o) {
+    ink::checkModelOptions({o.controlPoints});
     if (!o.preset.empty()) applyPreset(o);
     if (o.styleName == "stipple") o.style = DrawStyle::Stipple;
     else if (o.styleName == "direction") o.style = DrawStyle::Direction;
@@ -140,6 +141,10 @@ void finishOptions(Options& o) {
     if (!(o.render.tau >= 0 && o.render.tau < 1)) throw ink::Error("--tau must be in [0, 1)");
     if (!(o.render.toneGamma >= 0 && o.render.toneGamma <= 16)) throw ink::Error("--tone must be in [0, 16]");
     if (!(o.render.inkDensity >= 0 && o.render.inkDensity <= 100)) throw ink::Error("--ink-density must be in [0, 100]");
+    // The device-independent limit here, before any work; what fits the device is checked once it is known.
+    if (o.refine.levels >= ink::kMaxLevels)
+        throw ink::Error("--levels " + std::to_string(o.refine.levels) + " is too many: at most " +
+                         std::to_string(ink::kMaxLevels - 1) + " refinement levels");
     if (o.size.size() == 2 && (o.size[0] < 1 || o.size[1] < 1 || o.size[0] > 8192 || o.size[1] > 8192))
         throw ink::Error("--size " + std::to_string(o.size[0]) + " " + std::to_string(o.size[1]) +
                          " is outside 1..8192 pixels a side");

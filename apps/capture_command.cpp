@@ -99,18 +99,55 @@ void writeOrdered(const std::string& path, const ordered& j) {
     });
 }
 
-void makeDirectory(const std::string& path) {
-    std::error_code error;
-    std::filesystem::create_directories(path, error);
-    if (error) throw ink::Error("cannot create directory '" + path + "': " + error.message());
-    if (!std::filesystem::is_directory(path, error))
-        throw ink::Error("cannot create directory '" + path + "': a file of that name exists");
-}
+// The output directory of one capture: created (with missing parents) up front, so that a bad path fails
+// before any work; what the capture writes is listed, and unless commit() is called, the destructor removes
+// it again, and the directories it created: a failed capture leaves neither frames nor empty directories.
+class CaptureOutput {
+public:
+    explicit CaptureOutput(const std::string& path) {
+        namespace fs = std::filesystem;
+        std::error_code error;
+        for (fs::path p = fs::path(path).lexically_normal(); !p.empty() && !fs::exists(p, error);
+             p = p.parent_path()) {
+            created_.push_back(p);
+            if (p == p.parent_path()) break;
+        }
+        fs::create_directories(path, error);
+        if (error) {
+            removeCreated();
+            throw ink::Error("cannot create directory '" + path + "': " + error.message());
+        }
+        if (!fs::is_directory(path, error))
+            throw ink::Error("cannot create directory '" + path + "': a file of that name exists");
+    }
+    ~CaptureOutput() {
+        if (committed_) return;
+        for (const std::string& file : files_) std::remove(file.c_str());
+        removeCreated();
+    }
+    CaptureOutput(const CaptureOutput&) = delete;
+    CaptureOutput& operator=(const CaptureOutput&) = delete;
+
+    void wrote(const std::string& file) { files_.push_back(file); }
+    void commit() { committed_ = true; }
+
+private:
+    void removeCreated() {
+        std::error_code error;
+        for (const auto& dir : created_) std::filesystem::remove(dir, error);  // deepest first; only if empty
+    }
+    std::vector<std::filesystem::path> created_;
+    std::vector<std::string> files_;
+    bool committed_ = false;
+};
 
 int runCapture(Options& o, const CaptureOptions& c) {
     finishOptions(o);
     if (!std::isfinite(c.orbitDeg)) throw ink::Error("--orbit must be a finite number of degrees");
-    makeDirectory(c.directory);
+    CaptureOutput output(c.directory);
+    std::string manifestPath = (std::filesystem::path(c.directory) / "manifest.json").string();
+    ink::checkWritable(manifestPath);  // a directory that exists but cannot be written to
+    ink::checkWritable(o.statsPath);   // after the directory: the stats may go into it
     auto start = Clock::now();
     Session session(o);
     Scene scene(session.ctx, o);
@@ -128,7 +165,9 @@ int runCapture(Options& o, const CaptureOptions& c) {
             session.checkValidation();  // before writing: a frame drawn with validation errors is not kept
             char name[32];
             std::snprintf(name, sizeof name, "frame_%04u.png", i);
-            ink::writePng((std::filesystem::path(c.directory) / name).string(), image);
+            std::string frame = (std::filesystem::path(c.directory) / name).string();
+            ink::writePng(frame, image);
+            output.wrote(frame);
             frames.push_back({{"file", name}, {"camera", cameraJson(camera)}});
             progress.update(i + 1);
         }
@@ -142,8 +181,8 @@ int runCapture(Options& o, const CaptureOptions& c) {
                         {"driver", session.ctx.driverInfo},
                         {"points", points}};
     // Written last: a manifest says the capture is complete.
-    std::string manifestPath = (std::filesystem::path(c.directory) / "manifest.json").string();
     writeOrdered(manifestPath, manifest);
+    output.wrote(manifestPath);
     double seconds = secondsSince(start);
     writeJson(o.statsPath, {{"control_points", scene.model.fit.controlPoints},
                             {"fit", fitJson(scene.model)},
@@ -152,6 +191,7 @@ int runCapture(Options& o, const CaptureOptions& c) {
                             {"seconds", seconds},
                             {"device", session.ctx.properties.deviceName},
                             {"driver", session.ctx.driverInfo}});
+    output.commit();
     std::printf("%s: %zu control points, %llu points, %u frames, %.2f s -> %s\n", o.model.c_str(),
                 scene.model.fit.controlPoints, (unsigned long long)points, c.frames, seconds,
                 manifestPath.c_str());

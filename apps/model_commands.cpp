@@ -9,6 +9,9 @@
 namespace app {
 
 static int runFit(Options& o, const std::string& output) {
+    ink::checkModelOptions({o.controlPoints});
+    ink::checkWritable(output);
+    ink::checkWritable(o.statsPath);
     ink::Model model = ink::loadModel(o.model, {o.controlPoints});
     ink::saveHrbf(output, model.hrbf);
     writeJson(o.statsPath, {{"control_points", model.fit.controlPoints},
@@ -24,33 +27,37 @@ static int runFit(Options& o, const std::string& output) {
 
 static int runSample(Options& o, const std::string& pointsPath) {
     finishOptions(o);
+    ink::checkWritable(pointsPath);
+    ink::checkWritable(o.statsPath);
+    // The device first: without one there is no point in fitting.
+    std::unique_ptr<Session> session;
+    if (o.backend != "cpu") session = std::make_unique<Session>(o);
     ink::Model model = ink::loadModel(o.model, {o.controlPoints});
     json stats = {{"control_points", model.fit.controlPoints}, {"fit", fitJson(model)}};
     std::vector<ink::PointRecord> points;
     std::vector<ink::LevelStats> levels;
-    if (o.backend == "cpu") {
+    if (!session) {
         auto start = Clock::now();
         ink::RefinePlan plan = ink::planRefinement(model.hrbf, o.refine, UINT32_MAX);
         points = ink::refineOnCpu(model.hrbf, o.refine, plan, &levels);
         stats["refine"]["seconds"] = secondsSince(start);
         stats["device"] = "cpu";
     } else {
-        Session session(o);
         ink::GpuRefinement r;
         try {
-            ink::createRefinement(session.ctx, r, model.hrbf, o.refine);
+            ink::createRefinement(session->ctx, r, model.hrbf, o.refine);
             auto start = Clock::now();
-            ink::runRefinement(session.ctx, r);
+            ink::runRefinement(session->ctx, r);
             stats["refine"]["seconds"] = secondsSince(start);
-            points = ink::readPoints(session.ctx, r);
-            levels = ink::readLevelStats(session.ctx, r);
+            points = ink::readPoints(session->ctx, r);
+            levels = ink::readLevelStats(session->ctx, r);
         } catch (...) {
-            ink::destroyRefinement(session.ctx, r);
+            ink::destroyRefinement(session->ctx, r);
             throw;
         }
-        ink::destroyRefinement(session.ctx, r);
-        session.checkValidation();
-        stats.update(deviceJson(session.ctx));
+        ink::destroyRefinement(session->ctx, r);
+        session->checkValidation();
+        stats.update(deviceJson(session->ctx));
     }
     stats["refine"]["points"] = points.size();
     stats["refine"]["levels"] = levelsJson(levels);
@@ -63,6 +70,8 @@ static int runSample(Options& o, const std::string& pointsPath) {
 
 static int runRender(Options& o, const std::string& output) {
     finishOptions(o);
+    ink::checkWritable(output);
+    ink::checkWritable(o.statsPath);
     auto start = Clock::now();
     Session session(o);
     Scene scene(session.ctx, o);

@@ -23,9 +23,17 @@ Frame Frame::unitDiagonal(const std::vector<Vector3d>& points) {
         lo = lo.cwiseMin(p);
         hi = hi.cwiseMax(p);
     }
-    frame.center = 0.5 * (lo + hi);
-    double diagonal = (hi - lo).norm();
-    if (!(diagonal > 0) || !std::isfinite(diagonal)) throw Error("the points span no volume: all positions coincide");
+    frame.center = 0.5 * lo + 0.5 * hi;  // halves first: lo + hi may overflow
+    if (!lo.allFinite() || !hi.allFinite()) throw Error("the points have a NaN or infinite coordinate");
+    // stableNorm: the squares of a tiny or huge extent would underflow to 0 or overflow to infinity.
+    double diagonal = (hi - lo).stableNorm();
+    if (diagonal == 0) throw Error("the points span no volume: all positions coincide");
+    if (!std::isfinite(diagonal) || !std::isfinite(1.0 / diagonal)) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", diagonal);
+        throw Error(std::string("the points' bounding box is too large or too small to normalize (diagonal ") +
+                    text + ")");
+    }
     frame.scale = 1.0 / diagonal;
     return frame;
 }

@@ -25,8 +25,25 @@
 
 namespace ink {
 
+namespace {
+
+std::string temporaryPath(const std::string& path) { return path + ".tmp" + std::to_string(getpid()); }
+
+}  // namespace
+
+void checkWritable(const std::string& path) {
+    if (path.empty()) return;
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw Error("cannot write '" + path + "': " + std::strerror(EISDIR));
+    std::string tmp = temporaryPath(path);
+    std::FILE* file = std::fopen(tmp.c_str(), "wb");
+    if (!file) throw Error("cannot write '" + path + "': " + std::strerror(errno));
+    std::fclose(file);
+    std::remove(tmp.c_str());
+}
+
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write) {
-    std::string tmp = path + ".tmp" + std::to_string(getpid());
+    std::string tmp = temporaryPath(path);
     try {
         write(tmp);
     } catch (...) {

@@ -10,7 +10,15 @@
 
 namespace ink {
 
+void checkModelOptions(const ModelOptions& options) {
+    if (options.controlPoints > kMaxControlPoints)
+        throw Error("--control-points " + std::to_string(options.controlPoints) +
+                    " is more than the dense fit can hold (at most " + std::to_string(kMaxControlPoints) +
+                    ": the system needs (4m+4)² doubles)");
+}
+
 Model fitModel(OrientedPoints points, const ModelOptions& options) {
+    checkModelOptions(options);
     Model model;
     model.inputPoints = points.positions.size();
     Frame frame = Frame::unitDiagonal(points.positions);
@@ -25,9 +33,6 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         throw Error("too few distinct points to fit a surface: " + std::to_string(distinct) + " (need at least 2)");
 
     size_t wanted = options.controlPoints;
-    if (wanted > kMaxControlPoints)
-        throw Error("--control-points " + std::to_string(wanted) + " is more than the dense fit can hold (at most " +
-                    std::to_string(kMaxControlPoints) + ": the system needs (4m+4)² doubles)");
     if (wanted == 0) {
         wanted = std::min(distinct, kDefaultControlPoints);
         if (wanted < distinct)
@@ -57,12 +62,13 @@ bool isHrbfFile(const std::string& path) {
 }  // namespace
 
 Model loadModel(const std::string& path, const ModelOptions& options) {
+    checkModelOptions(options);
     auto start = std::chrono::steady_clock::now();
     if (isHrbfFile(path)) {
+        Model model;
+        model.hrbf = loadHrbf(path);  // first: a broken file gets one line, not a note and then the error
         if (options.controlPoints)
             note("--control-points is ignored for '" + path + "': a .hrbf model is already fitted");
-        Model model;
-        model.hrbf = loadHrbf(path);
         model.inputPoints = model.hrbf.size();
         model.loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         model.fit = measureFit(model.hrbf);  // relativeResidual and seconds stay 0: nothing was solved
@@ -70,7 +76,13 @@ Model loadModel(const std::string& path, const ModelOptions& options) {
     }
     OrientedPoints points = loadPoints(path);
     double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    Model model = fitModel(std::move(points), options);
+    Model model;
+    try {
+        model = fitModel(std::move(points), options);
+    } catch (const Error& e) {
+        // The loaders' messages start with the path; the fit's ("too few distinct points") say which file.
+        throw Error(path + ": " + e.what());
+    }
     model.loadSeconds = load;
     return model;
 }

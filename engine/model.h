@@ -24,10 +24,14 @@ struct Model {
     double loadSeconds = 0;
 };
 
+// Refuses options no model can satisfy (--control-points above kMaxControlPoints) before any work is done.
+void checkModelOptions(const ModelOptions& options);
+
 // Fits points given in the input's units. Throws ink::Error for too few distinct points or absurd requests.
 Model fitModel(OrientedPoints points, const ModelOptions& options);
 // Loads a mesh or point file and fits it, or loads a fitted model from a .hrbf file (options.controlPoints
-// is then ignored; fit holds the stats at the stored centres, with seconds = 0).
+// is then ignored; fit holds the stats at the stored centres, with seconds = 0). Every error from the file
+// or the fit names `path`.
 Model loadModel(const std::string& path, const ModelOptions& options);
 
 }  // namespace ink

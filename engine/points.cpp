@@ -206,7 +206,7 @@ void finish(OrientedPoints& points, const std::string& name, Where where) {
 // ----------------------------------------------------------------------------------------------------
 // OBJ
 
-// tinyobjloader reads from an istream; this one reads the caller's bytes in place instead of copying them.
+// tinyobjloader reads from an istream; this one reads bytes in place instead of copying them.
 struct MemoryBuffer : std::streambuf {
     MemoryBuffer(const char* begin, size_t size) {
         char* p = const_cast<char*>(begin);  // never written: the get area only
@@ -221,6 +221,12 @@ struct ObjScan {
     std::vector<Vector3d> v, vn;
     std::vector<size_t> vLine, vnLine;
     size_t faces = 0;
+    // What tinyobjloader gets to read: the v, vn and f lines this pass checked, rebuilt from their fields
+    // ("v x y z", "f 1//2 3//4 5//6"), and an empty line for every other line, so line numbers stay the
+    // same. tinyobjloader never sees the lines it parses but we ignore (vt, vw, t, l, p, g, ...): fuzzing
+    // found undefined behaviour in its `vw` parser (a float out of int range), and what it does with them
+    // is of no use to us anyway.
+    std::string checked;
 };
 
 std::string lineName(size_t line) { return "line " + std::to_string(line); }
@@ -267,11 +273,19 @@ ObjScan scanObj(const std::string& bytes, const std::string& name) {
         bool vertex = line[0] == 'v' && space(1);
         bool normal = line[0] == 'v' && line.size() > 1 && line[1] == 'n' && space(2);
         bool face = line[0] == 'f' && space(1);
-        if (!vertex && !normal && !face) continue;
+        if (!vertex && !normal && !face) {
+            scan.checked += '\n';
+            continue;
+        }
         splitFields(line.substr(vertex || face ? 2 : 3), fields);
+        auto keep = [&] {
+            scan.checked += vertex ? "v" : normal ? "vn" : "f";
+            for (std::string_view field : fields) (scan.checked += ' ') += field;
+            scan.checked += '\n';
+        };
 
         if (vertex || normal) {
-            // A trailing comment is harmless here: tinyobjloader ignores fields after the numbers it needs.
+            // A trailing comment is allowed (and not passed on to tinyobjloader).
             auto comment = std::find_if(fields.begin(), fields.end(), [](auto f) { return f[0] == '#'; });
             fields.erase(comment, fields.end());
             // v takes x y z, optionally w or r g b (which we ignore); vn exactly x y z.
@@ -292,6 +306,7 @@ ObjScan scanObj(const std::string& bytes, const std::string& name) {
             (vertex ? scan.vLine : scan.vnLine).push_back(lines.number());
             if (scan.v.size() > kMaxElements || scan.vn.size() > kMaxElements)
                 fail(name, where() + ": more than " + std::to_string(kMaxElements) + " vertices or normals");
+            keep();
             continue;
         }
 
@@ -321,7 +336,13 @@ ObjScan scanObj(const std::string& bytes, const std::string& name) {
                                    " so far)");
                 if (i > have) pending.push_back({lines.number(), i, isNormal});
             }
+            // The texture coordinate index is not used, but tinyobjloader reads it into an int.
+            constexpr int64_t kMaxInt = std::numeric_limits<int>::max();
+            if (count >= 2 && (index[1] > kMaxInt || index[1] < -kMaxInt))
+                fail(name, where() + ": face texture coordinate index " + std::to_string(index[1]) +
+                               " is out of range");
         }
+        keep();
         ++scan.faces;
     }
     for (const Pending& p : pending) {
@@ -349,9 +370,9 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> materials;
     std::string warn, err;
-    MemoryBuffer buffer(bytes.data(), bytes.size());
+    MemoryBuffer buffer(scan.checked.data(), scan.checked.size());
     std::istream in(&buffer);
-    // No material reader: mtllib lines are skipped rather than opening files next to who knows what.
+    // No material reader, and no mtllib lines reach it anyway: no files next to who knows what are opened.
     // No triangulation: its ear clipping silently drops triangles it cannot place, and we only need
     // polygon area vectors anyway. Warnings (missing materials and the like) are not our concern; every
     // index problem was already refused by scanObj.
@@ -772,6 +793,10 @@ OrientedPoints parsePly(const std::string& bytes, const std::string& name) {
     PlyBody body(bytes, header, name);
     for (const PlyElement& e : header.elements) {
         body.beginElement(e);
+        // An element without properties has nothing to read, in either encoding (an ascii entry would be
+        // an empty line, and blank lines are skipped): skip it rather than count to a hostile 100 million,
+        // fifty times over in a header of one kilobyte.
+        if (e.properties.empty()) continue;
         if (&e == vertex) {
             points.positions.assign(e.count, Vector3d::Zero());
             points.normals.assign(e.count, Vector3d::Zero());

@@ -139,6 +139,11 @@ TEST_CASE("points: obj polygons, negative indices, unreferenced vertices") {
         obj("mtllib nowhere.mtl\no thing\ng part\nusemtl red\ns 1\n"
             "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nl 1 2\n");
     CHECK(q.positions.size() == 3);
+
+    // Lines we ignore are ignored, however tinyobjloader would have read them (it refuses `p 0`, and a
+    // `vw` weight out of int range was undefined behaviour in it: fuzzing, docs/robustness.md).
+    CHECK(obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\np 0\nl 0 9\nvw 0 00 0 1e3080\nt x 1/1/1 a b\n")
+              .positions.size() == 3);
 }
 
 TEST_CASE("points: obj point cloud pairs v with vn in order") {
@@ -178,7 +183,8 @@ TEST_CASE("points: bad obj input") {
     bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n", "face normal index 1 is out of range");
     bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 0\nf 1//1 2//1 3//1\n", "line 4: normal is zero");
     bad("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", "t.obj: vertex 1 (line 1): normal is zero");
-    bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\np 0\n", "tinyobjloader: Failed parse `p' line");
+    bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/3000000000 2 3\n",
+        "line 4: face texture coordinate index 3000000000 is out of range");
     bad(std::string("v 0 0 0\nv 1\0 0 0\n", 16), "line 2: binary data");
     std::string huge = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf";
     for (int i = 0; i < 300; ++i) huge += " 1";

@@ -1,0 +1,44 @@
+// What every point-loader fuzz target does: parse the input as one format, accept ink::Error as the
+// loader's answer to bad input, and check what a successful parse promises (docs/file-formats.md). Any
+// other exception, a crash, a sanitizer report, a hang or a huge allocation is a finding.
+#pragma once
+
+#include "common.h"
+#include "points.h"
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace fuzz {
+
+[[noreturn]] inline void broken(const char* what) {
+    std::fprintf(stderr, "fuzz: a parse succeeded but broke its promise: %s\n", what);
+    std::abort();
+}
+
+inline int parsePointsOnce(const uint8_t* data, size_t size, const char* format) {
+    std::string bytes(reinterpret_cast<const char*>(data), size);
+    ink::OrientedPoints p;
+    try {
+        p = ink::parsePoints(bytes, format, std::string("fuzz.") + format);
+    } catch (const ink::Error& e) {
+        // One line: the apps print it as "inkwell: <message>".
+        std::string message = e.what();
+        if (message.empty() || message.find('\n') != std::string::npos) broken("an error message is not one line");
+        return 0;
+    }
+    if (p.positions.empty()) broken("no points");
+    if (p.positions.size() != p.normals.size()) broken("positions and normals differ in number");
+    for (size_t i = 0; i < p.positions.size(); ++i) {
+        if (!p.positions[i].allFinite()) broken("a coordinate is not finite");
+        if (!p.normals[i].allFinite() || std::abs(p.normals[i].norm() - 1.0) > 1e-9)
+            broken("a normal is not of unit length");
+    }
+    return 0;
+}
+
+}  // namespace fuzz
