@@ -42,11 +42,16 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     wanted = std::min(wanted, distinct);
 
     std::vector<Eigen::Vector3d> p, n;
+    // On a terminal: the stages of the fit (the dense solve, the last, dominates from about 1000 points on).
+    Progress progress("fit", 2);
+    progress.update(0);
     for (size_t i : farthestPointSample(points.positions, wanted)) {
         p.push_back(frame.toNormalized(points.positions[i]));
         n.push_back(points.normals[i]);
     }
+    progress.update(1);
     model.hrbf = fitHrbf(p, n, &model.fit);
+    progress.update(2);
     model.hrbf.frame = frame;
     return model;
 }
