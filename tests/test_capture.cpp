@@ -8,6 +8,8 @@
 #include "refine.h"
 #include "renderer.h"
 
+#include "run_command.h"
+
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 
@@ -125,21 +127,7 @@ void checkGolden(const GoldenScene& scene) {
     }
 }
 
-struct Run {
-    int status;
-    std::string output;  // stdout and stderr together
-};
-
-Run run(const std::string& args) {
-    std::string command = std::string(INKWELL_BINARY) + " " + args + " 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    REQUIRE(pipe);
-    std::string out;
-    std::array<char, 4096> buffer;
-    while (size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) out.append(buffer.data(), n);
-    int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, out};
-}
+Run run(const std::string& args) { return runInkwell(args); }
 
 size_t lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
 

@@ -1,4 +1,6 @@
 // The inkwell executable as a user meets it: exit codes and one-line messages.
+#include "run_command.h"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -12,21 +14,7 @@
 
 namespace {
 
-struct Run {
-    int status;
-    std::string output;  // stdout and stderr together
-};
-
-Run run(const std::string& args) {
-    std::string command = std::string(INKWELL_BINARY) + " " + args + " 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    REQUIRE(pipe);
-    std::string out;
-    std::array<char, 4096> buffer;
-    while (size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) out.append(buffer.data(), n);
-    int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, out};
-}
+Run run(const std::string& args) { return runInkwell(args); }
 
 }  // namespace
 

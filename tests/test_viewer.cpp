@@ -2,6 +2,8 @@
 // clean under validation, and says so in one line when there is no display.
 #include "image.h"
 
+#include "run_command.h"
+
 #include <doctest/doctest.h>
 
 #include <array>
@@ -13,20 +15,7 @@
 
 namespace {
 
-struct Run {
-    int status;
-    std::string output;  // stdout and stderr together
-};
-
-Run shell(const std::string& command) {
-    FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-    REQUIRE(pipe);
-    std::string out;
-    std::array<char, 4096> buffer;
-    while (size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) out.append(buffer.data(), n);
-    int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, out};
-}
+Run shell(const std::string& command) { return runShell(command + " 2>&1"); }
 
 // The viewer in a fresh virtual screen larger than its default 1024×768 window. Each test searches for a
 // free display from its own number, so that tests run in parallel (ctest -j) do not race for the same one.
