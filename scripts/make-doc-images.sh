@@ -8,6 +8,8 @@ mkdir -p "$out"
 $ink -q render assets/bunny.obj --control-points 684 --size 640 640 -o $out/bunny-stipple.png
 $ink -q render assets/bunny.obj --control-points 684 --size 640 640 --hidden-lines --camera 120,25,1.6 \
   -o $out/bunny-hidden-lines.png
+$ink -q render assets/bunny.obj --control-points 684 --preset assets/presets/engraving.json --size 640 640 \
+  -o $out/bunny-engraving.png
 $ink -q render assets/bunny.obj --control-points 684 --style direction --levels 5 --size 640 640 \
   --camera 150,20,1.6 -o $out/bunny-direction.png
 $ink -q render assets/bunny.obj --control-points 684 --style direction --direction curvature-max --levels 5 \
