@@ -34,7 +34,7 @@ static double meanSpacing(const std::vector<Eigen::Vector3d>& p) {
 }
 
 RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& o, uint64_t maxPoints) {
-    if (o.levels + 1 > kMaxLevels)
+    if (o.levels >= kMaxLevels)  // written so that a huge --levels cannot overflow
         throw Error("--levels " + std::to_string(o.levels) + " is too many: at most " +
                     std::to_string(kMaxLevels - 1) + " refinement levels");
     if (o.passes < 1 || o.passes > 64) throw Error("--passes must be between 1 and 64");

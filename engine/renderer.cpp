@@ -277,7 +277,7 @@ PointRenderer::Timings PointRenderer::timings() const {
 
 OffscreenRenderer::OffscreenRenderer(Context& ctx, uint32_t width, uint32_t height, const RenderStyle& style,
                                      std::vector<const GpuRefinement*> sets)
-    : ctx_(ctx), width_(width), height_(height), factor_(std::max(1u, style.supersample)),
+    : ctx_(ctx), factor_(std::max(1u, style.supersample)),
       renderer_(ctx, std::move(sets), kColorFormat, kDepthFormat) {
     uint32_t maxSide = std::min(ctx.properties.limits.maxImageDimension2D, 16384u);
     if (width == 0 || height == 0 || width * factor_ > maxSide || height * factor_ > maxSide)

@@ -120,7 +120,7 @@ private:
     void record(VkCommandBuffer cmd, const Camera& camera, bool readback);
 
     Context& ctx_;
-    uint32_t width_, height_, factor_;
+    uint32_t factor_;
     Image color_, depth_;
     Buffer readback_;
     PointRenderer renderer_;

@@ -5,10 +5,10 @@
 #include "common.h"
 #include "hrbf_io.h"
 #include "points.h"
+#include "run_command.h"
 
 #include <doctest/doctest.h>
 
-#include <array>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -16,7 +16,6 @@
 #include <fstream>
 #include <random>
 #include <string>
-#include <sys/wait.h>
 #include <unistd.h>
 #include <vector>
 
@@ -46,7 +45,8 @@ struct TempDir {
     }
 };
 
-struct Run {
+// What a command did, with stdout and stderr apart.
+struct Outcome {
     int status;
     std::string out, err;
     std::vector<std::string> errLines() const {
@@ -67,19 +67,14 @@ std::string slurp(const std::string& path) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// Runs inkwell with `args`; stdout and stderr are kept apart. `env` goes before the command (VAR=value).
-Run run(const TempDir& dir, const std::string& args, const std::string& env = "") {
+// Runs inkwell with `args`, stderr into a file of `dir` so that it is kept apart from stdout. `env` goes
+// before the command (VAR=value ...).
+Outcome run(const TempDir& dir, const std::string& args, const std::string& env = "") {
     std::string errPath = dir / "stderr.txt";
-    std::string command = env + " " + INKWELL_BINARY + " " + args + " 2>" + errPath;
-    FILE* pipe = popen(command.c_str(), "r");
-    REQUIRE(pipe);
-    std::string out;
-    std::array<char, 4096> buffer;
-    while (size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) out.append(buffer.data(), n);
-    int status = pclose(pipe);
-    Run r{WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), out, slurp(errPath)};
+    Run r = runShell(env + " " + INKWELL_BINARY + " " + args + " 2>" + errPath);
+    Outcome outcome{r.status, r.output, slurp(errPath)};
     fs::remove(errPath);
-    return r;
+    return outcome;
 }
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
@@ -94,7 +89,7 @@ std::vector<std::string> temporaries(const fs::path& dir) {
 
 // The one-line refusal: exit status 1, nothing on stdout, exactly one line on stderr that starts with
 // "inkwell: " and contains each of `words`.
-void checkRefusal(const Run& r, const std::vector<std::string>& words) {
+void checkRefusal(const Outcome& r, const std::vector<std::string>& words) {
     INFO("stderr: ", r.err);
     CHECK(r.status == 1);
     CHECK(r.out.empty());
@@ -165,7 +160,7 @@ void checkRefusesBadModels(const std::string& command, const std::string& output
         args.replace(args.find("MODEL"), 5, model);
         args.replace(args.find("OUT"), 3, dir / output);
         CAPTURE(args);
-        Run r = run(dir, args);
+        Outcome r = run(dir, args);
         checkRefusal(r, {model + bad.words});
         CHECK_FALSE(fs::exists(dir / output));
         CHECK_FALSE(fs::exists(dir / fs::path(output).begin()->string()));  // capture's frames/ of frames/sub
@@ -286,7 +281,7 @@ TEST_CASE("robust: an unwritable output path is refused up front with one line, 
     for (const Case& c : cases) {
         CAPTURE(c.args);
         auto start = std::chrono::steady_clock::now();
-        Run r = run(dir, c.args);
+        Outcome r = run(dir, c.args);
         double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         checkRefusal(r, {c.words, "'" + c.path + "'"});
         // Nothing was written: neither the unwritable output nor the others of the same command.
@@ -298,8 +293,9 @@ TEST_CASE("robust: an unwritable output path is refused up front with one line, 
 
 TEST_CASE("robust: outputs are checked up front, but capture's stats may go into the directory it creates") {
     TempDir dir;
-    Run r = run(dir, "capture " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 50 --levels 1 --size 64 64 "
-                     "--frames 1 -q -o " + (dir / "new/cap") + " --stats " + (dir / "new/cap/stats.json"));
+    Outcome r = run(dir, "capture " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 50 --levels 1 "
+                         "--size 64 64 --frames 1 -q -o " + (dir / "new/cap") + " --stats " +
+                             (dir / "new/cap/stats.json"));
     CHECK(r.status == 0);
     CHECK(r.err.empty());
     CHECK(fs::exists(dir / "new/cap/frame_0000.png"));
@@ -335,7 +331,7 @@ TEST_CASE("robust: absurd sizes, levels and control point counts are refused up 
     }
     for (const Case& c : cases) {
         CAPTURE(c.args);
-        Run r = run(dir, c.args);
+        Outcome r = run(dir, c.args);
         CHECK(r.status == 1);
         CHECK(r.err == c.message);
         CHECK_FALSE(fs::exists(dir / "out"));
@@ -343,8 +339,8 @@ TEST_CASE("robust: absurd sizes, levels and control point counts are refused up 
 
     // --levels 14 is within 15 but cannot fit the device: refused once the device's limit is known, before
     // any refinement buffer is made, with both numbers.
-    Run levels = run(dir, "render " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 100 --levels 14 -q -o " +
-                              (dir / "out.png"));
+    Outcome levels = run(dir, "render " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 100 --levels 14 "
+                              "-q -o " + (dir / "out.png"));
     checkRefusal(levels, {"the refinement asks for up to ", " points (200 seeds, 14 levels of 4 children), but at most ",
                           " fit: use fewer levels, passes or control points"});
     CHECK_FALSE(fs::exists(dir / "out.png"));
@@ -363,15 +359,15 @@ TEST_CASE("robust: without a Vulkan driver the device commands say so in one lin
                                     "capture " + bunny + " --frames 1 -o " + (dir / "frames"),
                                     "bench --workload sphere --json " + (dir / "out.json"), std::string("devices")}) {
         CAPTURE(args);
-        Run r = run(dir, args, noDriver);
+        Outcome r = run(dir, args, noDriver);
         CHECK(r.status == 1);
         CHECK(r.err == expected);
         CHECK(fs::is_empty(dir.path));
     }
     // The CPU backend needs no device.
-    Run cpu = run(dir, "sample " + bunny + " --control-points 30 --levels 1 --backend cpu -q --points " +
-                           (dir / "cpu.ply"),
-                  noDriver);
+    Outcome cpu = run(dir, "sample " + bunny + " --control-points 30 --levels 1 --backend cpu -q --points " +
+                               (dir / "cpu.ply"),
+                      noDriver);
     CHECK(cpu.status == 0);
     CHECK(cpu.err.empty());
     CHECK(fs::file_size(dir / "cpu.ply") > 100);
