@@ -7,6 +7,17 @@ namespace ink {
 
 static bool g_notes = true;
 
+std::string quoted(std::string_view s) {
+    constexpr size_t kMax = 40;
+    std::string out = "'";
+    for (size_t i = 0; i < s.size() && i < kMax; ++i) {
+        unsigned char c = static_cast<unsigned char>(s[i]);
+        out += (c >= 0x20 && c < 0x7f) ? char(c) : '?';
+    }
+    if (s.size() > kMax) out += "...";
+    return out + "'";
+}
+
 void note(const std::string& line) {
     if (g_notes) std::fprintf(stderr, "note: %s\n", line.c_str());
 }

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace ink {
 
@@ -12,6 +13,10 @@ namespace ink {
 struct Error : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
+
+// A token or line of a file, for a message: quoted, shortened, bytes outside printable ASCII shown as '?',
+// so that binary garbage cannot break the one-line message.
+std::string quoted(std::string_view s);
 
 // A one-line remark to the user ("note: merged 3 duplicate points"), written to stderr unless silenced.
 void note(const std::string& line);

@@ -27,19 +27,6 @@ constexpr size_t kMinCenterLineBytes = 2 * kCenterFields;
 
 [[noreturn]] void fail(const std::string& name, const std::string& what) { throw Error(name + ": " + what); }
 
-// A field for a message: quoted, shortened, bytes outside printable ASCII shown as '?', so that binary
-// garbage cannot break the one-line message.
-std::string quoted(std::string_view s) {
-    constexpr size_t kMax = 40;
-    std::string out = "'";
-    for (size_t i = 0; i < s.size() && i < kMax; ++i) {
-        unsigned char c = static_cast<unsigned char>(s[i]);
-        out += (c >= 0x20 && c < 0x7f) ? char(c) : '?';
-    }
-    if (s.size() > kMax) out += "...";
-    return out + "'";
-}
-
 // The meaningful lines of the file split into whitespace-separated fields; blank lines and lines starting
 // with '#' are skipped. Lines end in "\n" or "\r\n". Only the first few fields are kept (a line has at
 // most ten), so that a huge line of garbage costs no memory; `count` has them all.

@@ -37,19 +37,6 @@ using Eigen::Vector3d;
 
 [[noreturn]] void fail(const std::string& name, const std::string& what) { throw Error(name + ": " + what); }
 
-// A token or line for a message: quoted, shortened, control bytes and non-ASCII shown as '?', so binary
-// garbage cannot break the one-line message.
-std::string quoted(std::string_view s) {
-    constexpr size_t kMax = 40;
-    std::string out = "'";
-    for (size_t i = 0; i < s.size() && i < kMax; ++i) {
-        unsigned char c = static_cast<unsigned char>(s[i]);
-        out += (c >= 0x20 && c < 0x7f) ? char(c) : '?';
-    }
-    if (s.size() > kMax) out += "...";
-    return out + "'";
-}
-
 std::string str(const Vector3d& v) {
     char buf[96];
     std::snprintf(buf, sizeof buf, "(%g, %g, %g)", v.x(), v.y(), v.z());
