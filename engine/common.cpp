@@ -1,11 +1,33 @@
 #include "common.h"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <unistd.h>
 
 namespace ink {
 
 static bool g_notes = true;
+
+std::string readFileCapped(const std::string& path, size_t maxBytes, const std::string& tooLarge) {
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+    std::string bytes;
+    char chunk[1 << 16];
+    size_t n;
+    while ((n = std::fread(chunk, 1, sizeof chunk, file)) > 0) {
+        bytes.append(chunk, n);
+        if (bytes.size() > maxBytes) {
+            std::fclose(file);
+            throw Error(path + ": " + tooLarge);
+        }
+    }
+    bool bad = std::ferror(file);
+    int error = errno;
+    std::fclose(file);
+    if (bad) throw Error("cannot read '" + path + "': " + std::strerror(error));
+    return bytes;
+}
 
 std::string quoted(std::string_view s) {
     constexpr size_t kMax = 40;

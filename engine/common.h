@@ -18,6 +18,10 @@ struct Error : std::runtime_error {
 // so that binary garbage cannot break the one-line message.
 std::string quoted(std::string_view s);
 
+// The whole file, read in chunks (pipes have no size, files can change); more than maxBytes throws
+// "PATH: tooLarge". Errors name the file and the system's reason.
+std::string readFileCapped(const std::string& path, size_t maxBytes, const std::string& tooLarge);
+
 // A one-line remark to the user ("note: merged 3 duplicate points"), written to stderr unless silenced.
 void note(const std::string& line);
 void setNotesEnabled(bool enabled);

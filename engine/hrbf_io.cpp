@@ -99,25 +99,9 @@ private:
 };
 
 std::string readFile(const std::string& path) {
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file) throw Error("cannot open '" + path + "': " + std::strerror(errno));
-    // Read in chunks rather than trusting a size: pipes have none, and files can change.
-    std::string bytes;
-    char chunk[1 << 16];
-    size_t n;
-    while ((n = std::fread(chunk, 1, sizeof chunk, file)) > 0) {
-        bytes.append(chunk, n);
-        if (bytes.size() > kMaxFileBytes) {
-            std::fclose(file);
-            fail(path, "file is larger than 64 MiB, far more than any HRBF model (at most " +
-                           std::to_string(kMaxControlPoints) + " centres)");
-        }
-    }
-    bool bad = std::ferror(file);
-    int error = errno;
-    std::fclose(file);
-    if (bad) throw Error("cannot read '" + path + "': " + std::strerror(error));
-    return bytes;
+    return readFileCapped(path, kMaxFileBytes,
+                          "file is larger than 64 MiB, far more than any HRBF model (at most " +
+                              std::to_string(kMaxControlPoints) + " centres)");
 }
 
 // %.17g, without the C locale's say in the decimal point: 17 significant digits always read back to the

@@ -886,24 +886,7 @@ std::string readFile(const std::string& path) {
         if (!ec && size > kMaxFileBytes)
             fail(path, "file is " + std::to_string(size) + " bytes; the limit is 2 GiB");
     }
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file) throw Error("cannot open '" + path + "': " + std::strerror(errno));
-    // Read in chunks rather than trusting the size: pipes and devices have none, and files can change.
-    std::string bytes;
-    char chunk[1 << 16];
-    size_t n;
-    while ((n = std::fread(chunk, 1, sizeof chunk, file)) > 0) {
-        bytes.append(chunk, n);
-        if (bytes.size() > kMaxFileBytes) {
-            std::fclose(file);
-            fail(path, "file is larger than the limit of 2 GiB");
-        }
-    }
-    bool bad = std::ferror(file);
-    int error = errno;
-    std::fclose(file);
-    if (bad) throw Error("cannot read '" + path + "': " + std::strerror(error));
-    return bytes;
+    return readFileCapped(path, kMaxFileBytes, "file is larger than the limit of 2 GiB");
 }
 
 }  // namespace
