@@ -204,7 +204,8 @@ void createContext(Context& ctx, const ContextOptions& options) {
     }
 
     ctx.physicalDevice = pickDevice(ctx.instance, options.device);
-    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &subgroup};
     VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
     vkGetPhysicalDeviceProperties2(ctx.physicalDevice, &props2);
     ctx.properties = props2.properties;
@@ -231,6 +232,15 @@ void createContext(Context& ctx, const ContextOptions& options) {
     if (!supported.shaderFloat64)
         throw Error(std::string(ctx.properties.deviceName) +
                     " lacks shaderFloat64, which the HRBF evaluation needs (float cancels to 1e-3 noise)");
+    // The refinement shares the HRBF centres across a subgroup (hrbf.glsl) and compacts with ballots.
+    const VkSubgroupFeatureFlags subgroupOps = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT |
+                                               VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT |
+                                               VK_SUBGROUP_FEATURE_SHUFFLE_BIT;
+    if (!(subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
+        (subgroup.supportedOperations & subgroupOps) != subgroupOps)
+        throw Error(std::string(ctx.properties.deviceName) +
+                    " lacks subgroup operations in compute shaders (basic, vote, ballot, arithmetic, shuffle), "
+                    "which the refinement needs");
 
     // glslang's vulkan1.3 target assumes maintenance4; the refinement needs sync2 and indirect dispatch.
     VkPhysicalDeviceVulkan13Features v13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};

@@ -8,6 +8,11 @@
 #ifndef HRBF_GLSL
 #define HRBF_GLSL
 
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_shuffle : require
+#extension GL_EXT_control_flow_attributes : require
+
 #ifndef HRBF_SET
 #define HRBF_SET 0
 #endif
@@ -15,9 +20,8 @@
 #define HRBF_BINDING 0
 #endif
 
-// The centres live in uniform blocks rather than a storage buffer: every invocation reads the same centre at
-// the same time, and uniform loads are broadcast (on lavapipe this made the refinement 7× faster than the
-// same loop over a storage buffer). Blocks of 1024 centres (64 KiB); HRBF_BLOCKS × 1024 ≥ kMaxControlPoints.
+// The centres live in uniform blocks of 1024 centres (64 KiB); HRBF_BLOCKS × 1024 ≥ kMaxControlPoints. The
+// buffer holds whole blocks (engine/refine.cpp), so reading past the last centre within its block is safe.
 const uint HRBF_BLOCK_SIZE = 1024u;
 const uint HRBF_BLOCKS = 4u;
 
@@ -37,27 +41,82 @@ layout(std140, set = HRBF_SET, binding = HRBF_BINDING + 8) uniform HrbfBlock {
 
 HrbfCenter hrbfCenter(uint j) { return hrbfBlocks[j / HRBF_BLOCK_SIZE].centers[j % HRBF_BLOCK_SIZE]; }
 
-// f and ∇f (eq. 6 and its gradient).
-double hrbfEval(dvec3 x, out dvec3 grad) {
-    double f = dot(hrbf.linear.xyz, x) + hrbf.linear.w;
-    dvec3 g = hrbf.linear.xyz;
-    uint m = hrbf.count.x;
-    for (uint j = 0u; j < m; ++j) {
-        HrbfCenter c = hrbfCenter(j);
-        dvec4 pa = c.pAlpha;
-        dvec3 beta = c.beta.xyz;
-        dvec3 d = x - pa.xyz;
-        double r = length(d);
-        double db = dot(d, beta);
-        f += pa.w * r * r * r - 3.0LF * r * db;
-        // At r = 0 the gradient terms vanish; max() keeps 1/r finite there without a branch.
-        g += 3.0LF * pa.w * r * d - 3.0LF * (r * beta + d * (db / max(r, 1e-300LF)));
-    }
-    grad = g;
-    return f;
+// Centre (p, α, β)'s term at x, added to f and to g = ∇f/3:  α r³ − 3 r ⟨d, β⟩  and  (α r − ⟨d, β⟩/r) d − r β.
+void hrbfAdd(dvec3 x, dvec4 pa, dvec3 beta, inout double f, inout dvec3 g) {
+    dvec3 d = x - pa.xyz;
+    double r2 = fma(d.z, d.z, fma(d.y, d.y, d.x * d.x));
+    double db = fma(d.z, beta.z, fma(d.y, beta.y, d.x * beta.x));
+    double r = sqrt(r2);
+    // At r = 0 the gradient terms vanish; max() keeps 1/r finite there without a branch.
+    double s = fma(pa.w, r, -db / max(r, 1e-300LF));
+    f = fma(r, fma(pa.w, r2, -3.0LF * db), f);
+    g = fma(dvec3(s), d, fma(dvec3(-r), beta, g));
 }
 
-// f, ∇f and the Hessian (for principal curvature directions).
+// v of invocation l, in every invocation. A double as two 32-bit shuffles: llvmpipe turns those into one
+// vpermd each, while its subgroupBroadcast first searches for an active lane, element by element.
+double hrbfLane(double v, uint l) {
+    uvec2 u = unpackDouble2x32(v);
+    return packDouble2x32(uvec2(subgroupShuffle(u.x, l), subgroupShuffle(u.y, l)));
+}
+
+// f and ∇f (eq. 6 and its gradient). Every invocation needs every centre, and a centre read at a loop index
+// costs llvmpipe (Mesa 22.3) a per-lane gather of each double: it broadcasts a uniform load only at a
+// constant or push-constant offset, never at a loop counter; ~200 instructions a centre against ~50 of
+// arithmetic. So the subgroup shares the loads, each invocation reading different centres.
+//
+// Call it only from subgroup-uniform control flow (every invocation of the subgroup active).
+double hrbfEval(dvec3 x, out dvec3 grad) {
+    uint m = hrbf.count.x, lane = gl_SubgroupInvocationID;
+    double f = 0.0LF;
+    dvec3 g = dvec3(0.0LF);
+    if (gl_SubgroupSize == 8u) {
+        // Transposed (lavapipe on AVX2): invocation c takes centres j ≡ c (mod 8) against the 8 points of
+        // the subgroup, and keeps a partial sum per point; subgroupAdd then gives each point its f and ∇f.
+        // Broadcasting each centre to all lanes instead is as slow as the gather on llvmpipe.
+        dvec3 X[8], G[8];
+        double F[8];
+        [[unroll]] for (uint l = 0u; l < 8u; ++l) {
+            X[l] = dvec3(hrbfLane(x.x, l), hrbfLane(x.y, l), hrbfLane(x.z, l));
+            F[l] = 0.0LF;
+            G[l] = dvec3(0.0LF);
+        }
+        // 16 centres a pass: llvmpipe blends every loop-carried value with the loop mask once a pass, so two
+        // centres an invocation halve that (4% faster; four are slower). 16 divides HRBF_BLOCK_SIZE, so a pass
+        // stays in one block, which exists since j0 < m. Centres past m count as zeros (α = β = 0: +0).
+        for (uint j0 = 0u; j0 < m; j0 += 16u) {
+            [[unroll]] for (uint u = 0u; u < 2u; ++u) {
+                uint j = j0 + 8u * u + lane;
+                HrbfCenter c = hrbfBlocks[j0 / HRBF_BLOCK_SIZE].centers[j % HRBF_BLOCK_SIZE];
+                dvec4 pa = j < m ? c.pAlpha : dvec4(0.0LF);
+                dvec3 beta = j < m ? c.beta.xyz : dvec3(0.0LF);
+                [[unroll]] for (uint l = 0u; l < 8u; ++l) hrbfAdd(X[l], pa, beta, F[l], G[l]);
+            }
+        }
+        [[unroll]] for (uint l = 0u; l < 8u; ++l) {
+            double fl = subgroupAdd(F[l]);
+            dvec3 gl = dvec3(subgroupAdd(G[l].x), subgroupAdd(G[l].y), subgroupAdd(G[l].z));
+            if (lane == l) {
+                f = fl;
+                g = gl;
+            }
+        }
+    } else {
+        // Any other subgroup size: chunks of gl_SubgroupSize centres, one loaded by each invocation and
+        // broadcast to all (a dynamically uniform id, allowed from SPIR-V 1.5), summed in order j = 0..m−1.
+        // A power of two ≤ 128, the subgroup size divides HRBF_BLOCK_SIZE, so a chunk stays in one block.
+        for (uint j0 = 0u; j0 < m; j0 += gl_SubgroupSize) {
+            HrbfCenter c = hrbfBlocks[j0 / HRBF_BLOCK_SIZE].centers[(j0 + lane) % HRBF_BLOCK_SIZE];
+            uint n = min(gl_SubgroupSize, m - j0);
+            for (uint k = 0u; k < n; ++k)
+                hrbfAdd(x, subgroupBroadcast(c.pAlpha, k), subgroupBroadcast(c.beta.xyz, k), f, g);
+        }
+    }
+    grad = hrbf.linear.xyz + 3.0LF * g;
+    return dot(hrbf.linear.xyz, x) + hrbf.linear.w + f;
+}
+
+// f, ∇f and the Hessian (for principal curvature directions). Per invocation, callable anywhere.
 double hrbfEvalHessian(dvec3 x, out dvec3 grad, out dmat3 H) {
     double f = dot(hrbf.linear.xyz, x) + hrbf.linear.w;
     dvec3 g = hrbf.linear.xyz;

@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_vote : require
 // One refinement level (report §4.2): each invocation makes one child of a parent point on its tangent
 // plane (stippling or direction sampling), or takes one seed, and projects it onto f = 0 (eq. 11).
 #include "refine_bindings.glsl"
@@ -12,33 +13,64 @@ shared uint groupKept;
 const uint KEPT = 4u;
 
 // Eq. 11 with the Armijo rule: p ← p − δ^i f/‖∇f‖² ∇f, i the smallest with f(p′)² ≤ f(p)²(1 − 2φδ^i).
-uint project(inout dvec3 p, out dvec3 grad) {
-    dvec3 g;
-    double f = hrbfEval(p, g);
-    for (uint it = 0u;; ++it) {
-        double gg = dot(g, g);
-        if (gg < double(pc.eps2) * double(pc.eps2)) return DROP_GRADIENT;
-        if (abs(f) < double(pc.eps1) * sqrt(gg)) {
-            grad = g;
-            return KEPT;
-        }
-        if (it == pc.maxIterations) return DROP_ITERATIONS;
-        dvec3 step = (f / gg) * g;
-        double t = 1.0LF;  // δ^i
-        for (uint i = 0u;; ++i) {
-            dvec3 gq;
-            dvec3 q = p - t * step;
-            double fq = hrbfEval(q, gq);
+// hrbfEval needs the whole subgroup active, so the projection is a state machine in one subgroup-uniform
+// loop: each pass makes one evaluation for every invocation, at its next point (or again at its last one once
+// it is done or out of range), until all are done. Per invocation it makes the same evaluations and decisions,
+// in the same order, as the nested loops of engine/refine_cpu.cpp's Projector.
+const uint START = 0u;  // evaluating the starting point
+const uint TRIAL = 1u;  // evaluating an Armijo trial point q = p − δ^i step
+const uint DONE = 2u;
+
+uint project(bool inRange, inout dvec3 p, out dvec3 grad) {
+    uint state = inRange ? START : DONE, result = DROP_ITERATIONS;
+    uint it = 0u, i = 0u;  // iteration, Armijo exponent
+    double f = 0.0LF, t = 1.0LF;  // f(p), δ^i
+    dvec3 g = dvec3(0.0LF), step = g, q = p;  // ∇f(p), the Newton step, the point being evaluated
+    grad = dvec3(0.0LF);
+    while (subgroupAny(state != DONE)) {
+        dvec3 gq;
+        double fq = hrbfEval(q, gq);
+        if (state == START) {
+            f = fq;
+            g = gq;
+        } else if (state == TRIAL) {
             if (fq * fq <= f * f * (1.0LF - 2.0LF * double(pc.phi) * t)) {
                 p = q;
                 f = fq;
                 g = gq;
-                break;
+                ++it;
+            } else if (i == 16u) {  // i_k > 16
+                result = DROP_ARMIJO;
+                state = DONE;
+            } else {
+                t *= double(pc.delta);
+                ++i;
+                q = p - t * step;
+                continue;
             }
-            if (i == 16u) return DROP_ARMIJO;  // i_k > 16
-            t *= double(pc.delta);
+        }
+        if (state == DONE) continue;
+        // At p with f, g: stop, or start the Armijo trials of iteration `it`.
+        double gg = dot(g, g);
+        if (gg < double(pc.eps2) * double(pc.eps2)) {
+            result = DROP_GRADIENT;
+            state = DONE;
+        } else if (abs(f) < double(pc.eps1) * sqrt(gg)) {
+            grad = g;
+            result = KEPT;
+            state = DONE;
+        } else if (it == pc.maxIterations) {
+            result = DROP_ITERATIONS;
+            state = DONE;
+        } else {
+            step = (f / gg) * g;
+            t = 1.0LF;
+            i = 0u;
+            q = p - t * step;
+            state = TRIAL;
         }
     }
+    return result;
 }
 
 // A unit vector perpendicular to n without branches on the sign (Stark 2009 style).
@@ -89,10 +121,12 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     uint L = pc.level;
     uint count = levels[L].candidates;
-    if (i < count) {
+    bool inRange = i < count;
+    vec3 origin = vec3(0.0), start = vec3(0.0);
+    vec4 rnd = vec4(0.0);
+    if (inRange) {
         uint parentIndex = i / pc.childCount, child = i % pc.childCount;
-        vec4 rnd = unitFloats(pcg4d(uvec4(pc.seed, L, parentIndex, child)));
-        vec3 origin, start;
+        rnd = unitFloats(pcg4d(uvec4(pc.seed, L, parentIndex, child)));
         if (pc.mode == 0u) {
             origin = seeds[i].xyz;
             start = origin;
@@ -112,8 +146,11 @@ void main() {
                 start = origin + (child == 0u ? -pc.rho : pc.rho) * d;
             }
         }
-        dvec3 p = dvec3(start), g = dvec3(0.0LF);
-        uint result = project(p, g);
+    }
+    // Out of the branch: the projection runs in subgroup-uniform control flow (see project()).
+    dvec3 p = dvec3(start), g;
+    uint result = project(inRange, p, g);
+    if (inRange) {
         if (result == KEPT && distance(vec3(p), origin) > pc.jumpLimit) result = DROP_JUMP;
         bool kept = result == KEPT;
         if (kept) {

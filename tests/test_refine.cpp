@@ -130,6 +130,37 @@ TEST_CASE("refine: counts per level match the CPU reference and points agree") {
     gpu.requireNoValidationErrors();
 }
 
+// hrbf.glsl shares the centres across a subgroup, a chunk at a time, from 64 KiB blocks of 1024 centres: a
+// model with a second block and a last chunk that is not full must still match the CPU reference.
+TEST_CASE("refine: more than 1024 centres, not a multiple of the subgroup size, match the CPU reference") {
+    GpuFixture gpu;
+    ink::OrientedPoints pts = torus(60, 19);  // 1140 = 1024 + 116 centres: 1140 mod 8 = 4, 1140 mod 16 = 4
+    ink::ModelOptions fitOptions;
+    fitOptions.controlPoints = pts.positions.size();
+    ink::Model model = ink::fitModel(pts, fitOptions);
+    REQUIRE(model.hrbf.size() == 1140);
+    ink::RefineOptions options;
+    options.levels = 2;
+    Refined gpuOut = refineOnGpu(gpu, model.hrbf, options);
+    std::vector<ink::LevelStats> cpuLevels;
+    auto cpuPoints = ink::refineOnCpu(model.hrbf, options, gpuOut.plan, &cpuLevels, 2);
+    REQUIRE(cpuLevels.size() == gpuOut.levels.size());
+    for (size_t l = 0; l < cpuLevels.size(); ++l) {
+        CHECK(cpuLevels[l].candidates == gpuOut.levels[l].candidates);
+        CHECK(cpuLevels[l].kept == gpuOut.levels[l].kept);
+    }
+    REQUIRE(cpuPoints.size() == gpuOut.points.size());
+    CHECK(gpuOut.points.size() > 3 * 1140);
+    size_t close = 0;
+    for (size_t i = 0; i < cpuPoints.size(); ++i) {
+        Eigen::Vector3f a(cpuPoints[i].position), b(gpuOut.points[i].position);
+        Eigen::Vector3f na(cpuPoints[i].normal), nb(gpuOut.points[i].normal);
+        close += (a - b).norm() < 1e-5f && na.dot(nb) > 0.99999f;
+    }
+    CHECK(double(close) >= 0.99 * double(cpuPoints.size()));
+    gpu.requireNoValidationErrors();
+}
+
 TEST_CASE("refine: stippling a torus puts points within 1% of its size of the true surface") {
     GpuFixture gpu;
     ink::Model model = ink::fitModel(torus(24, 12), {});
