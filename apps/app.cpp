@@ -130,7 +130,7 @@ void finishOptions(Options& o) {
     o.refine.keepAllLevels = o.keepLevels == "all";
     o.render.ink = parseColour(o.ink, "ink");
     o.render.paper = parseColour(o.paper, "paper");
-    o.render.hiddenInk = glm::vec4(glm::vec3(o.render.ink), 0.18f);
+    o.render.hiddenInk = glm::vec4(glm::vec3(o.render.ink), ink::RenderStyle{}.hiddenInk.a);
     if (!o.light.empty()) {
         glm::vec3 l(o.light[0], o.light[1], o.light[2]);
         if (!(glm::length(l) > 0) || !std::isfinite(glm::length(l))) throw ink::Error("--light must be a non-zero vector");

@@ -220,7 +220,7 @@ Viewer::Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene
             VK_CHECK(vkCreateSemaphore(ctx.device, &semaphoreInfo, nullptr, &f.acquired));
         }
         renderer_ =
-            std::make_unique<ink::PointRenderer>(ctx, scene.pointers(), format_.format, ink::kDepthFormat);
+            std::make_unique<ink::PointRenderer>(ctx, scene.pointers(), format_.format);
         points_ = scene.points();
     } catch (...) {
         release();
@@ -321,8 +321,7 @@ bool Viewer::ensureSwapchain() {
     if (swapchain_.swapchain && !resized_) return true;
     int width = 0, height = 0;
     glfwGetFramebufferSize(window_, &width, &height);
-    if (!ink::createSwapchain(ctx_, swapchain_, surface_, format_, {uint32_t(width), uint32_t(height)},
-                              ink::kDepthFormat))
+    if (!ink::createSwapchain(ctx_, swapchain_, surface_, format_, {uint32_t(width), uint32_t(height)}))
         return false;
     resized_ = false;
     if (!v_.screenshot.empty() && !swapchain_.copyable)
@@ -348,7 +347,7 @@ void Viewer::refine() {
     appliedStyle_ = o_.style;
     appliedLevels_ = o_.refine.levels;
     renderer_ =
-        std::make_unique<ink::PointRenderer>(ctx_, scene_.pointers(), format_.format, ink::kDepthFormat);
+        std::make_unique<ink::PointRenderer>(ctx_, scene_.pointers(), format_.format);
     points_ = scene_.points();
     restyle_ = true;  // the new renderer's style block is empty
 }
@@ -377,13 +376,6 @@ void Viewer::record(Frame& f, uint32_t index, bool capture) {
     ink::imageBarrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
                       VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, colorStage, 0, colorStage,
                       VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT);
-    // One depth image serves both frames in flight: the previous frame's depth writes come first.
-    const VkPipelineStageFlags2 depthStages =
-        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
-    const VkAccessFlags2 depthWrite = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-    ink::imageBarrier(cmd, swapchain_.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                      VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, depthStages, depthWrite, depthStages,
-                      VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | depthWrite);
 
     const glm::vec4& paper = o_.render.paper;
     VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
@@ -392,18 +384,11 @@ void Viewer::record(Frame& f, uint32_t index, bool capture) {
     color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
     color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
     color.clearValue.color = {{paper.r, paper.g, paper.b, paper.a}};
-    VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    depth.imageView = swapchain_.depth.view;
-    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-    depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    depth.clearValue.depthStencil = {1.0f, 0};
     VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
     rendering.renderArea = {{0, 0}, swapchain_.extent};
     rendering.layerCount = 1;
     rendering.colorAttachmentCount = 1;
     rendering.pColorAttachments = &color;
-    rendering.pDepthAttachment = &depth;
     vkCmdBeginRendering(cmd, &rendering);
     renderer_->draw(cmd, camera_, swapchain_.extent);
     vkCmdEndRendering(cmd);

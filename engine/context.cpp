@@ -228,11 +228,11 @@ void createContext(Context& ctx, const ContextOptions& options) {
 
     VkPhysicalDeviceFeatures supported{};
     vkGetPhysicalDeviceFeatures(ctx.physicalDevice, &supported);
-    if (!supported.largePoints) throw Error(std::string(ctx.properties.deviceName) + " lacks the largePoints feature");
     if (!supported.shaderFloat64)
         throw Error(std::string(ctx.properties.deviceName) +
                     " lacks shaderFloat64, which the HRBF evaluation needs (float cancels to 1e-3 noise)");
-    // The refinement shares the HRBF centres across a subgroup (hrbf.glsl) and compacts with ballots.
+    // The refinement shares the HRBF centres across a subgroup (hrbf.glsl); it and the drawing passes compact
+    // lists with ballots.
     const VkSubgroupFeatureFlags subgroupOps = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT |
                                                VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT |
                                                VK_SUBGROUP_FEATURE_SHUFFLE_BIT;
@@ -240,7 +240,7 @@ void createContext(Context& ctx, const ContextOptions& options) {
         (subgroup.supportedOperations & subgroupOps) != subgroupOps)
         throw Error(std::string(ctx.properties.deviceName) +
                     " lacks subgroup operations in compute shaders (basic, vote, ballot, arithmetic, shuffle), "
-                    "which the refinement needs");
+                    "which the refinement and drawing need");
 
     // glslang's vulkan1.3 target assumes maintenance4; the refinement needs sync2 and indirect dispatch.
     VkPhysicalDeviceVulkan13Features v13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
@@ -250,7 +250,6 @@ void createContext(Context& ctx, const ContextOptions& options) {
     VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &v13};
     v12.hostQueryReset = VK_TRUE;
     VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
-    features.features.largePoints = VK_TRUE;
     features.features.shaderFloat64 = VK_TRUE;
 
     float priority = 1.0f;

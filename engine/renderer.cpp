@@ -8,14 +8,14 @@
 
 #include "ink.frag.h"
 #include "ink.vert.h"
-#include "cull.comp.h"
 #include "splat.comp.h"
+#include "stamp.comp.h"
 
 namespace ink {
 
 namespace {
 
-VkPipeline createInkPipeline(Context& ctx, VkPipelineLayout layout, VkFormat colorFormat, VkFormat depthFormat) {
+VkPipeline createInkPipeline(Context& ctx, VkPipelineLayout layout, VkFormat colorFormat) {
     VkShaderModule vert = createShaderModule(ctx, spv_ink_vert);
     VkShaderModule frag = createShaderModule(ctx, spv_ink_frag);
     VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
@@ -29,7 +29,7 @@ VkPipeline createInkPipeline(Context& ctx, VkPipelineLayout layout, VkFormat col
 
     VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    assembly.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
     VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
     viewport.viewportCount = 1;
     viewport.scissorCount = 1;
@@ -39,8 +39,7 @@ VkPipeline createInkPipeline(Context& ctx, VkPipelineLayout layout, VkFormat col
     raster.lineWidth = 1.0f;
     VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
     multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    // Occlusion was decided per point in cull.comp; same-coloured dots blend the same in any order.
+    // Occlusion was decided per point in stamp.comp; the ink blends over whatever the target holds.
     VkPipelineColorBlendAttachmentState blendAttachment{};
     blendAttachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
                                      VK_COLOR_COMPONENT_A_BIT;
@@ -61,7 +60,6 @@ VkPipeline createInkPipeline(Context& ctx, VkPipelineLayout layout, VkFormat col
     VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
     rendering.colorAttachmentCount = 1;
     rendering.pColorAttachmentFormats = &colorFormat;
-    rendering.depthAttachmentFormat = depthFormat;
 
     VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
     info.stageCount = 2;
@@ -71,7 +69,6 @@ VkPipeline createInkPipeline(Context& ctx, VkPipelineLayout layout, VkFormat col
     info.pViewportState = &viewport;
     info.pRasterizationState = &raster;
     info.pMultisampleState = &multisample;
-    info.pDepthStencilState = &depth;
     info.pColorBlendState = &blend;
     info.pDynamicState = &dynamic;
     info.layout = layout;
@@ -92,8 +89,11 @@ float splatSpacing(const GpuRefinement& r) {
 
 constexpr VkShaderStageFlags kStages =
     VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-constexpr uint32_t kComputeGroup = 64;
+constexpr uint32_t kComputeGroup = 256;  // GROUP_SIZE in render_common.glsl
 constexpr uint32_t kFarDepth = 0x7F7FFFFF;  // FLT_MAX: positive floats order as their bits do
+constexpr float kMaxDotPixels = 64.0f;        // dot diameters are clamped to this (times the pixel scale)
+// `Drawn` in render_common.glsl at the start of a frame: no dots, empty bounds.
+constexpr uint32_t kNothingDrawn[8] = {0, 0, 0, 0, UINT32_MAX, UINT32_MAX, 0, 0};
 
 }  // namespace
 
@@ -107,33 +107,33 @@ struct PointRenderer::Push {
 };
 static_assert(sizeof(glm::mat4) + 4 * sizeof(glm::vec4) == 128, "push constants within the guaranteed 128 bytes");
 
-PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat,
-                             VkFormat depthFormat)
+PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat)
     : ctx_(ctx) {
     styleBuffer_ = createBuffer(ctx, sizeof(StyleBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
                                                              VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
-    depth_ = createBuffer(ctx, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                          MemoryUse::Device);
+    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    drawn_ = createBuffer(ctx, sizeof(kNothingDrawn), storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Device);
+    depth_ = createBuffer(ctx, 4, storage, MemoryUse::Device);
+    coverage_ = createBuffer(ctx, 4, storage, MemoryUse::Device);
     for (const GpuRefinement* r : sets) {
         uint32_t draw[4];
         downloadBuffer(ctx, r->indirect, GpuRefinement::kDrawOffset, draw, sizeof(draw));
-        Buffer visible = createBuffer(ctx, 16 + 4 * VkDeviceSize(std::max(1u, draw[0])),
-                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                                          VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                      MemoryUse::Device);
+        // `DotList`: the indirect dispatch, then up to one 16-byte `Dot` a point.
+        Buffer dots = createBuffer(ctx, 16 + 16 * VkDeviceSize(std::max(1u, draw[0])),
+                                   storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryUse::Device);
         VkBufferViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
         viewInfo.buffer = r->points.buffer;
         viewInfo.format = VK_FORMAT_R32G32B32A32_SFLOAT;
         viewInfo.range = VK_WHOLE_SIZE;
         VkBufferView texels;
         VK_CHECK(vkCreateBufferView(ctx.device, &viewInfo, nullptr, &texels));
-        sets_.push_back({r, visible, texels, {}, splatSpacing(*r), draw[0], draw[2]});
+        sets_.push_back({r, dots, texels, {}, splatSpacing(*r), draw[0], draw[2]});
     }
     bindDescriptors();
     layout_ = createPipelineLayout(ctx, sets_.front().descriptors.layout, sizeof(Push), kStages);
     splat_ = createComputePipeline(ctx, layout_, spv_splat_comp);
-    cull_ = createComputePipeline(ctx, layout_, spv_cull_comp);
-    ink_ = createInkPipeline(ctx, layout_, colorFormat, depthFormat);
+    stamp_ = createComputePipeline(ctx, layout_, spv_stamp_comp);
+    ink_ = createInkPipeline(ctx, layout_, colorFormat);
     VkQueryPoolCreateInfo query{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     query.queryType = VK_QUERY_TYPE_TIMESTAMP;
     query.queryCount = 4;
@@ -142,14 +142,16 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
 
 PointRenderer::~PointRenderer() {
     vkDestroyQueryPool(ctx_.device, timestamps_, nullptr);
-    for (VkPipeline p : {splat_, cull_, ink_}) vkDestroyPipeline(ctx_.device, p, nullptr);
+    for (VkPipeline p : {splat_, stamp_, ink_}) vkDestroyPipeline(ctx_.device, p, nullptr);
     vkDestroyPipelineLayout(ctx_.device, layout_, nullptr);
     for (Set& s : sets_) {
         destroyDescriptorSet(ctx_, s.descriptors);
         vkDestroyBufferView(ctx_.device, s.texels, nullptr);
-        destroyBuffer(ctx_, s.visible);
+        destroyBuffer(ctx_, s.dots);
     }
+    destroyBuffer(ctx_, coverage_);
     destroyBuffer(ctx_, depth_);
+    destroyBuffer(ctx_, drawn_);
     destroyBuffer(ctx_, styleBuffer_);
 }
 
@@ -157,12 +159,13 @@ void PointRenderer::bindDescriptors() {
     for (Set& s : sets_) {
         if (s.descriptors.pool) destroyDescriptorSet(ctx_, s.descriptors);
         s.descriptors = createDescriptorSet(ctx_,
-                                            {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, s.refinement->points.buffer},
+                                            {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, s.dots.buffer},
                                              {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer},
-                                             {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, s.visible.buffer},
+                                             {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, drawn_.buffer},
                                              {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depth_.buffer},
                                              {4, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1, 0, 0,
-                                              s.texels}},
+                                              s.texels},
+                                             {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.buffer}},
                                             kStages);
     }
 }
@@ -170,20 +173,16 @@ void PointRenderer::bindDescriptors() {
 void PointRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pixelScale) {
     style_ = s;
     pixelScale_ = pixelScale;
-    const float* range = ctx_.properties.limits.pointSizeRange;
     StyleBlock b{};
     b.color[0] = s.ink;
-    b.color[1] = s.ink;
-    b.color[2] = s.ink;
-    b.color[3] = s.hiddenInk;
+    b.color[1] = s.hiddenInk;
     b.size = glm::vec4(s.silhouetteSize * pixelScale, s.frontSize * pixelScale, s.hiddenSize * pixelScale, s.tau);
     glm::vec3 l = glm::length(s.light) > 0 ? glm::normalize(s.light) : glm::vec3(0, 0, 1);
     b.light = glm::vec4(l, s.toneGamma);
-    b.tone = glm::vec4(s.inkDensity, s.ambient, std::max(1.0f, range[0]), range[1]);
+    b.tone = glm::vec4(s.inkDensity, s.ambient, 1.0f, kMaxDotPixels * pixelScale);
     vkCmdUpdateBuffer(cmd, styleBuffer_.buffer, 0, sizeof(b), &b);
     stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
-                     VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                  VK_ACCESS_2_UNIFORM_READ_BIT);
 }
 
@@ -199,53 +198,63 @@ PointRenderer::Push PointRenderer::push(const Set& s, const Camera& camera, VkEx
     float k = std::min(1.0f, 0.9f / (lambda * dotPixels));
     float radius = style_.occlusion ? style_.splatScale * s.splatRadius : 0.0f;
     return Push{camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]),
-                glm::vec4(extent.width, extent.height, depthExtent_.width, depthExtent_.height),
+                glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
                 glm::vec4(radius, radius, k, 0.0f), glm::uvec4(s.points, style_.hiddenLines ? 1u : 0u, s.first, 0u)};
 }
 
 void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) {
-    VkExtent2D grid{std::max(1u, (extent.width + 1) / 2), std::max(1u, (extent.height + 1) / 2)};
-    if (grid.width != depthExtent_.width || grid.height != depthExtent_.height) {
+    if (extent.width != extent_.width || extent.height != extent_.height) {
         vkDeviceWaitIdle(ctx_.device);
         destroyBuffer(ctx_, depth_);
-        depth_ = createBuffer(ctx_, VkDeviceSize(grid.width) * grid.height * 4,
-                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
-        depthExtent_ = grid;
+        destroyBuffer(ctx_, coverage_);
+        const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+        // The depth grid has one cell per 2×2 pixels; coverage has 2 bits a pixel.
+        VkDeviceSize cells = VkDeviceSize((extent.width + 1) / 2) * ((extent.height + 1) / 2);
+        depth_ = createBuffer(ctx_, cells * 4, usage, MemoryUse::Device);
+        coverage_ = createBuffer(ctx_, (VkDeviceSize(extent.width) * extent.height + 15) / 16 * 4, usage,
+                                 MemoryUse::Device);
+        extent_ = extent;
         bindDescriptors();
     }
     const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     const auto rw = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-    // The previous frame's draw may still read the lists this frame rewrites.
-    stageBarrier(cmd, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | compute,
-                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT,
-                 VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    const auto indirect = VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT;
+    // The previous frame's passes may still use the buffers this frame clears.
+    stageBarrier(cmd, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | compute | indirect,
+                 rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                 VK_ACCESS_2_TRANSFER_WRITE_BIT);
     vkCmdFillBuffer(cmd, depth_.buffer, 0, VK_WHOLE_SIZE, kFarDepth);
-    const uint32_t emptyDraw[4] = {0, 1, 0, 0};
-    for (Set& s : sets_) vkCmdUpdateBuffer(cmd, s.visible.buffer, 0, sizeof(emptyDraw), emptyDraw);
+    vkCmdFillBuffer(cmd, coverage_.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdUpdateBuffer(cmd, drawn_.buffer, 0, sizeof(kNothingDrawn), kNothingDrawn);
+    const uint32_t noDots[4] = {0, 1, 1, 0};  // an empty list: no workgroups
+    for (const Set& s : sets_) vkCmdUpdateBuffer(cmd, s.dots.buffer, 0, sizeof(noDots), noDots);
     stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute, rw);
     vkCmdResetQueryPool(cmd, timestamps_, 0, 4);
     vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, timestamps_, 0);
 
-    auto dispatch = [&](VkPipeline pipeline) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-        for (const Set& s : sets_) {
-            Push constants = push(s, camera, extent);
-            vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(constants), &constants);
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &s.descriptors.set, 0,
-                                    nullptr);
-            vkCmdDispatch(cmd, (s.points + kComputeGroup - 1) / kComputeGroup, 1, 1);
-        }
+    auto bind = [&](const Set& s) {
+        Push constants = push(s, camera, extent);
+        vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(constants), &constants);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &s.descriptors.set, 0, nullptr);
     };
-    if (style_.occlusion) {
-        dispatch(splat_);
-        stageBarrier(cmd, compute, rw, compute, rw);
+    // Every set splats before any is tested: sets occlude each other.
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, splat_);
+    for (const Set& s : sets_) {
+        bind(s);
+        vkCmdDispatch(cmd, (s.points + kComputeGroup - 1) / kComputeGroup, 1, 1);
     }
-    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, timestamps_, 1);
-    dispatch(cull_);
-    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, timestamps_, 2);
+    vkCmdWriteTimestamp2(cmd, compute, timestamps_, 1);
+    stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, compute | indirect,
+                 rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, stamp_);
+    for (const Set& s : sets_) {
+        bind(s);
+        vkCmdDispatchIndirect(cmd, s.dots.buffer, 0);
+    }
+    vkCmdWriteTimestamp2(cmd, compute, timestamps_, 2);
     stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
-                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+                 VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
 }
 
 void PointRenderer::draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) const {
@@ -254,12 +263,12 @@ void PointRenderer::draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D e
     vkCmdSetViewport(cmd, 0, 1, &viewport);
     vkCmdSetScissor(cmd, 0, 1, &scissor);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, ink_);
-    for (const Set& s : sets_) {
-        Push constants = push(s, camera, extent);
-        vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(constants), &constants);
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &s.descriptors.set, 0, nullptr);
-        vkCmdDrawIndirect(cmd, s.visible.buffer, 0, 1, 0);
-    }
+    // Every set stamped into the same coverage: one triangle inks them all.
+    Push constants = push(sets_.front(), camera, extent);
+    vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(constants), &constants);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &sets_.front().descriptors.set, 0,
+                            nullptr);
+    vkCmdDraw(cmd, 6, 1, 0, 0);
 }
 
 void PointRenderer::writeEnd(VkCommandBuffer cmd) const {
@@ -275,10 +284,17 @@ PointRenderer::Timings PointRenderer::timings() const {
     return {double(t[1] - t[0]) * ms, double(t[2] - t[1]) * ms, double(t[3] - t[2]) * ms};
 }
 
+uint32_t PointRenderer::drawnDots() const {
+    vkDeviceWaitIdle(ctx_.device);
+    uint32_t dots = 0;
+    downloadBuffer(ctx_, drawn_, 0, &dots, sizeof(dots));
+    return dots;
+}
+
 OffscreenRenderer::OffscreenRenderer(Context& ctx, uint32_t width, uint32_t height, const RenderStyle& style,
                                      std::vector<const GpuRefinement*> sets)
     : ctx_(ctx), factor_(std::max(1u, style.supersample)),
-      renderer_(ctx, std::move(sets), kColorFormat, kDepthFormat) {
+      renderer_(ctx, std::move(sets), kColorFormat) {
     uint32_t maxSide = std::min(ctx.properties.limits.maxImageDimension2D, 16384u);
     if (width == 0 || height == 0 || width * factor_ > maxSide || height * factor_ > maxSide)
         throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) + " with " +
@@ -287,14 +303,12 @@ OffscreenRenderer::OffscreenRenderer(Context& ctx, uint32_t width, uint32_t heig
     uint32_t w = width * factor_, h = height * factor_;
     color_ = createImage(ctx, w, h, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                          VK_IMAGE_ASPECT_COLOR_BIT);
-    depth_ = createImage(ctx, w, h, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
     readback_ = createBuffer(ctx, VkDeviceSize(w) * h * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback);
     setStyle(style);
 }
 
 OffscreenRenderer::~OffscreenRenderer() {
     destroyImage(ctx_, color_);
-    destroyImage(ctx_, depth_);
     destroyBuffer(ctx_, readback_);
 }
 
@@ -324,10 +338,6 @@ void OffscreenRenderer::record(VkCommandBuffer cmd, const Camera& camera, bool r
                      VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, 0,
                      VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT);
-        imageBarrier(cmd, depth_.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                     VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, 0,
-                     VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                     VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
 
         VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
         color.imageView = color_.view;
@@ -335,18 +345,11 @@ void OffscreenRenderer::record(VkCommandBuffer cmd, const Camera& camera, bool r
         color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
         color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
         color.clearValue.color = {{style.paper.r, style.paper.g, style.paper.b, style.paper.a}};
-        VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-        depth.imageView = depth_.view;
-        depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-        depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-        depth.clearValue.depthStencil = {1.0f, 0};
         VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
         rendering.renderArea = {{0, 0}, extent};
         rendering.layerCount = 1;
         rendering.colorAttachmentCount = 1;
         rendering.pColorAttachments = &color;
-        rendering.pDepthAttachment = &depth;
         vkCmdBeginRendering(cmd, &rendering);
         renderer_.draw(cmd, camera, extent);
         vkCmdEndRendering(cmd);

@@ -1,7 +1,7 @@
 // Draws refined points as ink, straight from the refinement's device buffers (no readback). Per frame, two
 // compute passes decide what shows — visibility splatting of oriented disks into a half-resolution depth grid,
-// then per point: the report's §5 class, tone, and the occlusion test — and append the visible dots to a list
-// that a graphics pipeline draws with an indirect draw. Most points never reach the rasterizer.
+// then per point: the report's §5 class, tone, and the occlusion test — and stamp the visible dots into
+// coverage bits, two a pixel; a graphics pipeline then inks the covered pixels (two triangles over their bounds).
 #pragma once
 
 #include "camera.h"
@@ -17,7 +17,7 @@ namespace ink {
 struct RenderStyle {
     glm::vec4 ink{0.0f, 0.0f, 0.0f, 1.0f};
     glm::vec4 paper{1.0f, 1.0f, 1.0f, 1.0f};
-    glm::vec4 hiddenInk{0.0f, 0.0f, 0.0f, 0.18f};  // blended over the paper: faint
+    glm::vec4 hiddenInk{0.0f, 0.0f, 0.0f, 0.45f};  // blended over the paper once: a grey line
     float frontSize = 1.6f;       // dot diameter in output pixels
     float silhouetteSize = 2.4f;
     float hiddenSize = 1.4f;
@@ -37,7 +37,7 @@ struct RenderStyle {
 
 // Matches `Style` in render_common.glsl (std140).
 struct StyleBlock {
-    glm::vec4 color[4];
+    glm::vec4 color[2];
     glm::vec4 size;
     glm::vec4 light;
     glm::vec4 tone;
@@ -46,8 +46,8 @@ struct StyleBlock {
 // Draws one or more refinements (e.g. stippling and direction sampling together) into a colour target.
 class PointRenderer {
 public:
-    // The depth format is that of the caller's depth attachment, which the ink pass does not use.
-    PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat, VkFormat depthFormat);
+    // `colorFormat` is that of the colour attachment draw() renders into (no depth attachment).
+    PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat);
     ~PointRenderer();
     PointRenderer(const PointRenderer&) = delete;
     PointRenderer& operator=(const PointRenderer&) = delete;
@@ -61,17 +61,19 @@ public:
     void draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) const;
     const RenderStyle& style() const { return style_; }
 
-    // Milliseconds of the last frame's passes, from timestamps: splat, cull, ink (ink ends at writeEnd).
+    // Milliseconds of the last frame's passes, from timestamps: splat (and dot selection), stamp, ink (ink ends at writeEnd).
     struct Timings {
-        double splatMs = 0, cullMs = 0, inkMs = 0;
+        double splatMs = 0, stampMs = 0, inkMs = 0;
     };
     void writeEnd(VkCommandBuffer cmd) const;
     Timings timings() const;
+    // Dots the last frame drew, over all sets (reads a counter back; waits for the device).
+    uint32_t drawnDots() const;
 
 private:
     struct Set {
         const GpuRefinement* refinement;
-        Buffer visible;  // VkDrawIndirectCommand, then one entry per visible dot
+        Buffer dots;  // `DotList`: the dots that may show this frame, and stamp.comp's indirect dispatch
         VkBufferView texels = VK_NULL_HANDLE;  // the points as RGBA32F texels, 2 a point (vectorized loads)
         DescriptorSet descriptors;
         float splatRadius;
@@ -85,16 +87,15 @@ private:
     Context& ctx_;
     RenderStyle style_;
     float pixelScale_ = 1.0f;
-    Buffer styleBuffer_, depth_;
-    VkExtent2D depthExtent_{0, 0};
+    Buffer styleBuffer_, drawn_, depth_, coverage_;  // depth and coverage follow the target's extent
+    VkExtent2D extent_{0, 0};
     std::vector<Set> sets_;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
-    VkPipeline splat_ = VK_NULL_HANDLE, cull_ = VK_NULL_HANDLE, ink_ = VK_NULL_HANDLE;
+    VkPipeline splat_ = VK_NULL_HANDLE, stamp_ = VK_NULL_HANDLE, ink_ = VK_NULL_HANDLE;
     VkQueryPool timestamps_ = VK_NULL_HANDLE;
 };
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
-constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 
 struct RgbaImage {
     uint32_t width = 0, height = 0;
@@ -115,13 +116,14 @@ public:
     // Draws a frame and waits for it, without reading it back (benchmarks).
     void draw(const Camera& camera);
     PointRenderer::Timings timings() const { return renderer_.timings(); }
+    uint32_t drawnDots() const { return renderer_.drawnDots(); }
 
 private:
     void record(VkCommandBuffer cmd, const Camera& camera, bool readback);
 
     Context& ctx_;
     uint32_t factor_;
-    Image color_, depth_;
+    Image color_;
     Buffer readback_;
     PointRenderer renderer_;
 };

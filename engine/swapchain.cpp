@@ -47,13 +47,12 @@ static VkCompositeAlphaFlagBitsKHR chooseCompositeAlpha(VkCompositeAlphaFlagsKHR
 static void destroyImageResources(Context& ctx, Swapchain& sc) {
     for (VkImageView v : sc.views) vkDestroyImageView(ctx.device, v, nullptr);
     for (VkSemaphore s : sc.rendered) vkDestroySemaphore(ctx.device, s, nullptr);
-    if (sc.depth.image) destroyImage(ctx, sc.depth);
     sc.views.clear();
     sc.rendered.clear();
     sc.images.clear();
 }
 
-static void createImageResources(Context& ctx, Swapchain& sc, VkFormat depthFormat) {
+static void createImageResources(Context& ctx, Swapchain& sc) {
     uint32_t count = 0;
     VK_CHECK(vkGetSwapchainImagesKHR(ctx.device, sc.swapchain, &count, nullptr));
     sc.images.resize(count);
@@ -72,12 +71,10 @@ static void createImageResources(Context& ctx, Swapchain& sc, VkFormat depthForm
         VK_CHECK(vkCreateSemaphore(ctx.device, &semaphoreInfo, nullptr, &semaphore));
         sc.rendered.push_back(semaphore);
     }
-    sc.depth = createImage(ctx, sc.extent.width, sc.extent.height, depthFormat,
-                           VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
 }
 
 bool createSwapchain(Context& ctx, Swapchain& sc, VkSurfaceKHR surface, VkSurfaceFormatKHR format,
-                     VkExtent2D framebuffer, VkFormat depthFormat) {
+                     VkExtent2D framebuffer) {
     VkSurfaceCapabilitiesKHR caps;
     VK_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(ctx.physicalDevice, surface, &caps));
     VkExtent2D extent = chooseExtent(caps, framebuffer);
@@ -114,7 +111,7 @@ bool createSwapchain(Context& ctx, Swapchain& sc, VkSurfaceKHR surface, VkSurfac
     sc.format = format.format;
     sc.extent = extent;
     sc.copyable = copyable;
-    createImageResources(ctx, sc, depthFormat);
+    createImageResources(ctx, sc);
     return true;
 }
 

@@ -1,4 +1,4 @@
-// A window's swapchain for the viewer, with a depth buffer of the same size. The surface comes from the
+// A window's swapchain for the viewer. The surface comes from the
 // windowing library (the engine knows no windows); presentation is FIFO, which every driver has.
 #pragma once
 
@@ -19,7 +19,6 @@ struct Swapchain {
     // One per image, signalled by the frame's submission and waited on by its presentation: a semaphore
     // handed to vkQueuePresentKHR is only known to be free again when its image is acquired once more.
     std::vector<VkSemaphore> rendered;
-    Image depth;  // kDepthFormat-style depth attachment, extent-sized
 };
 
 // Throws ink::Error when the context's queue family cannot present to `surface`.
@@ -33,7 +32,7 @@ VkSurfaceFormatKHR chooseSurfaceFormat(const Context& ctx, VkSurfaceKHR surface)
 // exists. `framebuffer` is the window's size in pixels, used where the surface leaves the size to us.
 // Returns false and creates nothing while the surface has no area (a minimized window): try again later.
 bool createSwapchain(Context& ctx, Swapchain& sc, VkSurfaceKHR surface, VkSurfaceFormatKHR format,
-                     VkExtent2D framebuffer, VkFormat depthFormat);
+                     VkExtent2D framebuffer);
 void destroySwapchain(Context& ctx, Swapchain& sc);
 
 // Converts pixels copied from a swapchain image of `format` to RGBA in place; throws ink::Error for a

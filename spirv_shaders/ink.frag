@@ -1,10 +1,15 @@
 #version 460
-// Round dots: the square point sprite is cut to its inscribed disk.
-layout(location = 0) in vec4 color;
+#extension GL_GOOGLE_include_directive : require
+// The ink: each pixel a dot covers takes the ink once — visible dots over hidden ones — and blends over the
+// paper, so overlapping dots make no darker blots (a pen's line has one tone).
+#include "render_common.glsl"
+
 layout(location = 0) out vec4 outColor;
 
 void main() {
-    vec2 c = gl_PointCoord * 2.0 - 1.0;
-    if (dot(c, c) > 1.0) discard;
-    outColor = color;
+    uvec2 pixel = uvec2(gl_FragCoord.xy);
+    uint i = pixel.y * uint(cam.viewport.x) + pixel.x;
+    uint bits = (coverage[i >> 4u] >> ((i & 15u) * 2u)) & 3u;
+    if (bits == 0u) discard;
+    outColor = style.color[(bits & INK_BIT) != 0u ? 0 : 1];
 }

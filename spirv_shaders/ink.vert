@@ -1,16 +1,12 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// The ink: the dots cull.comp found visible, round, sized and coloured by class.
+// Two triangles over the pixels the dots inked (their bounds from cull.comp), nothing when none were;
+// ink.frag colours the covered pixels.
 #include "render_common.glsl"
 
-layout(location = 0) out vec4 color;
-
 void main() {
-    uint entry = visible[gl_VertexIndex];
-    uint cls = entry >> 30;
-    Point p = fetchPoint(entry & 0x3FFFFFFFu);
-    gl_Position = project((cam.view * vec4(p.position, 1.0)).xyz);
-    uint sizeSlot = cls == HIDDEN ? 2u : cls;
-    gl_PointSize = clamp(style.size[sizeSlot], style.tone.z, style.tone.w);
-    color = style.color[cls];
+    uvec4 b = drawn.bounds;
+    const uvec2 corners[6] = uvec2[](uvec2(0, 0), uvec2(1, 0), uvec2(0, 1), uvec2(1, 0), uvec2(1, 1), uvec2(0, 1));
+    vec2 pixel = vec2(mix(b.xy, b.zw + 1u, corners[gl_VertexIndex]));
+    gl_Position = b.x <= b.z ? vec4(pixel / cam.viewport.xy * 2.0 - 1.0, 0.0, 1.0) : vec4(0.0);
 }

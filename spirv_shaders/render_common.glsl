@@ -1,24 +1,44 @@
-// What the drawing passes share: the point buffer, the style, and the camera (view space, perspective).
+// What the drawing passes share: the points, the style, the per-frame buffers and the camera (view space,
+// perspective). On a CPU driver every instruction of a shader runs for every batch of lanes, masked or not, so
+// the passes narrow the work down with lists rather than branches: splat.comp runs over every point,
+// stamp.comp over the few dots that may show.
 #ifndef RENDER_COMMON_GLSL
 #define RENDER_COMMON_GLSL
 
 #include "common.glsl"
 
-layout(std430, binding = 0) readonly buffer PointBuffer { Point points[]; };
-
 layout(std140, binding = 1) uniform Style {
-    vec4 color[4];  // silhouette, front, back (unused), hidden silhouette
+    vec4 color[2];  // ink (silhouette and front dots), hidden ink (occluded silhouettes)
     vec4 size;      // dot diameter in pixels: silhouette, front, hidden silhouette; w: τ
     vec4 light;     // xyz: unit direction towards the light in view space; w: tone gamma (0: no tone)
-    vec4 tone;      // x: ink density, y: ambient darkness, zw: point size range
+    vec4 tone;      // x: ink density, y: ambient darkness, zw: dot diameter range in pixels
 } style;
 
-// Per frame and set: the visible dots (point index | class << 30), and the splat depth (float bits, half res).
-layout(std430, binding = 2) buffer VisibleBuffer {
-    uvec4 draw;  // vertexCount, instanceCount, firstVertex, firstInstance
-    uint visible[];
+// Per frame and set: the dots that passed class, tone and frustum (splat.comp), for stamp.comp to test for
+// occlusion and stamp. `dispatch` is stamp.comp's indirect dispatch, one workgroup per GROUP_SIZE dots.
+struct Dot {
+    vec2 pixel;  // the centre, in pixels
+    float z;     // normalized depth
+    uint cls;    // SILHOUETTE or FRONT
 };
+layout(std430, binding = 0) buffer DotList {
+    uvec4 dispatch;  // workgroups, 1, 1, dots
+    Dot dots[];
+} list;
+const uint GROUP_SIZE = 256u;
+
+// Per frame: the dots drawn (a statistic) and the pixel bounds of their stamps (ink.vert covers just those),
+// and the splat depth (float bits, half res).
+layout(std430, binding = 2) buffer Drawn {
+    uvec4 dotCount;  // x: dots
+    uvec4 bounds;    // min x, min y, max x, max y of the inked pixels (inclusive); min > max: none
+} drawn;
 layout(std430, binding = 3) buffer DepthBuffer { uint depth[]; };
+
+// Per frame: the ink coverage of every target pixel, two bits a pixel, sixteen pixels a word (pixel i in
+// word i / 16 at bit 2·(i mod 16)). stamp.comp sets it; ink.frag turns it into colour.
+layout(std430, binding = 5) buffer CoverageBuffer { uint coverage[]; };
+const uint INK_BIT = 1u, HIDDEN_BIT = 2u;
 
 // The same points as RGBA32F texels, two a point: texel fetches are vectorized gathers on CPU drivers, where
 // per-point storage-buffer loads become one scalar load per lane and component.
@@ -45,7 +65,5 @@ vec4 project(vec3 v) {
 const uint SILHOUETTE = 0u, FRONT = 1u, BACK = 2u, HIDDEN = 3u;
 uint classify(float nv) { return abs(nv) < style.size.w ? SILHOUETTE : (nv > 0.0 ? FRONT : BACK); }
 
-// The depth grid is the target at half resolution: one cell per 2×2 pixels.
-const float DEPTH_CELL = 2.0;
 
 #endif

@@ -167,7 +167,7 @@ TEST_CASE("capture: golden torus-hidden (oriented points, hidden lines) matches"
 }
 
 TEST_CASE("capture: the default tolerance notices the torus golden's hidden lines going missing") {
-    // The faint hidden silhouettes are the smallest feature a golden holds (0.7% of the pixels): if the
+    // The grey hidden silhouettes are the smallest feature a golden holds (0.7% of the pixels): if the
     // tolerance let them go, it would let most regressions go.
     if (updatingGoldens()) return;
     GpuFixture gpu;

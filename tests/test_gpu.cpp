@@ -4,6 +4,7 @@
 #include "model.h"
 #include "refine.h"
 #include "renderer.h"
+#include "shapes.h"
 
 #include <doctest/doctest.h>
 
@@ -102,5 +103,50 @@ TEST_CASE("gpu: the bunny renders as dots on white paper") {
     // The corners are paper: the camera frames the model.
     CHECK(image.pixels[0] == 255);
     CHECK(image.pixels[image.pixels.size() - 4] == 255);
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("gpu: each pixel takes the ink once — paper, ink or hidden ink over paper — and frames repeat exactly") {
+    GpuFixture gpu;
+    ink::Model model = ink::fitModel(ink::torusPoints(24, 12), {});
+    ink::RefineOptions options;
+    options.levels = 3;
+    ink::GpuRefinement r;
+    ink::createRefinement(gpu.ctx, r, model.hrbf, options);
+    ink::runRefinement(gpu.ctx, r);
+    ink::RenderStyle style;
+    style.supersample = 1;
+    style.hiddenLines = true;
+    style.frontSize = style.hiddenSize = 3.0f;  // large dots overlap a lot
+    ink::Camera camera;
+    camera.elevationDeg = 35.0f;
+    ink::RgbaImage first, second;
+    uint32_t dots = 0;
+    {
+        ink::OffscreenRenderer renderer(gpu.ctx, 200, 200, style, {&r});
+        first = renderer.render(camera);
+        dots = renderer.drawnDots();
+        second = renderer.render(camera);
+    }
+    ink::destroyRefinement(gpu.ctx, r);
+    CHECK(first.pixels == second.pixels);
+    // Blending the hidden ink once over white paper gives exactly this grey.
+    const int grey = int(std::lround(255.0 * (1.0 - double(style.hiddenInk.a))));
+    size_t paper = 0, ink = 0, hidden = 0, other = 0;
+    for (size_t i = 0; i < first.pixels.size(); i += 4) {
+        int v = first.pixels[i];
+        if (v == 255) ++paper;
+        else if (v == 0) ++ink;
+        else if (std::abs(v - grey) <= 1) ++hidden;
+        else ++other;
+    }
+    CHECK(other == 0);
+    CHECK(ink > 500);
+    CHECK(hidden > 50);  // the torus hides part of its inner silhouette from this camera
+    CHECK(paper > 200 * 200 / 2);
+    // Every drawn dot inks at least the pixel under its centre; overlapping dots share pixels.
+    CHECK(dots > 0);
+    CHECK(ink + hidden <= size_t(dots) * 9);
+    CHECK(ink + hidden >= size_t(dots) / 4);
     gpu.requireNoValidationErrors();
 }
