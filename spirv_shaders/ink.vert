@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Two triangles over the pixels the dots inked (their bounds from cull.comp), nothing when none were;
+// Two triangles over the pixels the dots inked (their bounds from stamp.comp), nothing when none were;
 // ink.frag colours the covered pixels.
 #include "render_common.glsl"
 
