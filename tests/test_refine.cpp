@@ -52,6 +52,29 @@ Refined refineOnGpu(GpuFixture& gpu, const ink::Hrbf& hrbf, const ink::RefineOpt
     return out;
 }
 
+// Refines on the device and with the CPU reference on the same plan; the counts per level must agree. Returns
+// the device's points and the fraction of them within `distance` of the reference's, normals within `cosine`.
+std::pair<Refined, double> compareWithCpu(GpuFixture& gpu, const ink::Hrbf& hrbf, const ink::RefineOptions& options,
+                                          float distance, float cosine = -1.0f) {
+    Refined gpuOut = refineOnGpu(gpu, hrbf, options);
+    std::vector<ink::LevelStats> cpuLevels;
+    auto cpuPoints = ink::refineOnCpu(hrbf, options, gpuOut.plan, &cpuLevels, 2);
+    REQUIRE(cpuLevels.size() == gpuOut.levels.size());
+    for (size_t l = 0; l < cpuLevels.size(); ++l) {
+        CHECK(cpuLevels[l].candidates == gpuOut.levels[l].candidates);
+        CHECK(cpuLevels[l].kept == gpuOut.levels[l].kept);
+    }
+    REQUIRE(cpuPoints.size() == gpuOut.points.size());
+    REQUIRE(!cpuPoints.empty());
+    size_t close = 0;
+    for (size_t i = 0; i < cpuPoints.size(); ++i) {
+        Eigen::Vector3f a(cpuPoints[i].position), b(gpuOut.points[i].position);
+        Eigen::Vector3f na(cpuPoints[i].normal), nb(gpuOut.points[i].normal);
+        close += (a - b).norm() < distance && na.dot(nb) > cosine && cpuPoints[i].level == gpuOut.points[i].level;
+    }
+    return {std::move(gpuOut), double(close) / double(cpuPoints.size())};
+}
+
 }  // namespace
 
 TEST_CASE("refine: every kept point of every level is on the surface with a unit normal along grad f") {
@@ -111,21 +134,7 @@ TEST_CASE("refine: counts per level match the CPU reference and points agree") {
         options.levels = 3;
         options.style = direction == ink::DirectionField::Axis ? ink::SampleStyle::Stipple : ink::SampleStyle::Direction;
         options.direction = direction;
-        Refined gpuOut = refineOnGpu(gpu, model.hrbf, options);
-        std::vector<ink::LevelStats> cpuLevels;
-        auto cpuPoints = ink::refineOnCpu(model.hrbf, options, gpuOut.plan, &cpuLevels, 2);
-        REQUIRE(cpuLevels.size() == gpuOut.levels.size());
-        for (size_t l = 0; l < cpuLevels.size(); ++l) {
-            CHECK(cpuLevels[l].candidates == gpuOut.levels[l].candidates);
-            CHECK(cpuLevels[l].kept == gpuOut.levels[l].kept);
-        }
-        REQUIRE(cpuPoints.size() == gpuOut.points.size());
-        size_t close = 0;
-        for (size_t i = 0; i < cpuPoints.size(); ++i) {
-            Eigen::Vector3f a(cpuPoints[i].position), b(gpuOut.points[i].position);
-            close += (a - b).norm() < 1e-3f;
-        }
-        CHECK(double(close) >= 0.99 * double(cpuPoints.size()));
+        CHECK(compareWithCpu(gpu, model.hrbf, options, 1e-3f).second >= 0.99);
     }
     gpu.requireNoValidationErrors();
 }
@@ -141,23 +150,9 @@ TEST_CASE("refine: more than 1024 centres, not a multiple of the subgroup size, 
     REQUIRE(model.hrbf.size() == 1140);
     ink::RefineOptions options;
     options.levels = 2;
-    Refined gpuOut = refineOnGpu(gpu, model.hrbf, options);
-    std::vector<ink::LevelStats> cpuLevels;
-    auto cpuPoints = ink::refineOnCpu(model.hrbf, options, gpuOut.plan, &cpuLevels, 2);
-    REQUIRE(cpuLevels.size() == gpuOut.levels.size());
-    for (size_t l = 0; l < cpuLevels.size(); ++l) {
-        CHECK(cpuLevels[l].candidates == gpuOut.levels[l].candidates);
-        CHECK(cpuLevels[l].kept == gpuOut.levels[l].kept);
-    }
-    REQUIRE(cpuPoints.size() == gpuOut.points.size());
+    auto [gpuOut, agreement] = compareWithCpu(gpu, model.hrbf, options, 1e-5f, 0.99999f);
     CHECK(gpuOut.points.size() > 3 * 1140);
-    size_t close = 0;
-    for (size_t i = 0; i < cpuPoints.size(); ++i) {
-        Eigen::Vector3f a(cpuPoints[i].position), b(gpuOut.points[i].position);
-        Eigen::Vector3f na(cpuPoints[i].normal), nb(gpuOut.points[i].normal);
-        close += (a - b).norm() < 1e-5f && na.dot(nb) > 0.99999f;
-    }
-    CHECK(double(close) >= 0.99 * double(cpuPoints.size()));
+    CHECK(agreement >= 0.99);
     gpu.requireNoValidationErrors();
 }
 
