@@ -150,6 +150,7 @@ int runCapture(Options& o, const CaptureOptions& c) {
     ink::checkWritable(o.statsPath);   // after the directory: the stats may go into it
     auto start = Clock::now();
     Session session(o);
+    ink::checkOffscreenSize(session.ctx, o.size[0], o.size[1], std::max(1u, o.render.supersample));
     Scene scene(session.ctx, o);
     const ink::Camera base = cameraFrom(o);
     ordered frames = ordered::array();

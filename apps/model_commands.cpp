@@ -74,6 +74,7 @@ static int runRender(Options& o, const std::string& output) {
     ink::checkWritable(o.statsPath);
     auto start = Clock::now();
     Session session(o);
+    ink::checkOffscreenSize(session.ctx, o.size[0], o.size[1], std::max(1u, o.render.supersample));
     Scene scene(session.ctx, o);
     ink::RgbaImage image;
     {

@@ -92,6 +92,11 @@ constexpr VkShaderStageFlags kStages =
 constexpr uint32_t kComputeGroup = 256;  // GROUP_SIZE in render_common.glsl
 constexpr uint32_t kFarDepth = 0x7F7FFFFF;  // FLT_MAX: positive floats order as their bits do
 constexpr float kMaxDotPixels = 64.0f;        // dot diameters are clamped to this (times the pixel scale)
+// The splat depth grid, a float for every 2×2 pixels, is one storage-buffer binding; coverage is smaller.
+VkDeviceSize depthGridBytes(VkExtent2D extent) {
+    return VkDeviceSize((extent.width + 1) / 2) * ((extent.height + 1) / 2) * 4;
+}
+
 // `Drawn` in render_common.glsl at the start of a frame: no dots, empty bounds.
 constexpr uint32_t kNothingDrawn[8] = {0, 0, 0, 0, UINT32_MAX, UINT32_MAX, 0, 0};
 
@@ -204,13 +209,15 @@ PointRenderer::Push PointRenderer::push(const Set& s, const Camera& camera, VkEx
 
 void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) {
     if (extent.width != extent_.width || extent.height != extent_.height) {
+        if (depthGridBytes(extent) > ctx_.properties.limits.maxStorageBufferRange)
+            throw Error("a " + std::to_string(extent.width) + "x" + std::to_string(extent.height) +
+                        " target is too large for this device's storage buffers");
         vkDeviceWaitIdle(ctx_.device);
         destroyBuffer(ctx_, depth_);
         destroyBuffer(ctx_, coverage_);
         const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
         // The depth grid has one cell per 2×2 pixels; coverage has 2 bits a pixel.
-        VkDeviceSize cells = VkDeviceSize((extent.width + 1) / 2) * ((extent.height + 1) / 2);
-        depth_ = createBuffer(ctx_, cells * 4, usage, MemoryUse::Device);
+        depth_ = createBuffer(ctx_, depthGridBytes(extent), usage, MemoryUse::Device);
         coverage_ = createBuffer(ctx_, (VkDeviceSize(extent.width) * extent.height + 15) / 16 * 4, usage,
                                  MemoryUse::Device);
         extent_ = extent;
@@ -284,6 +291,19 @@ PointRenderer::Timings PointRenderer::timings() const {
     return {double(t[1] - t[0]) * ms, double(t[2] - t[1]) * ms, double(t[3] - t[2]) * ms};
 }
 
+void checkOffscreenSize(const Context& ctx, uint32_t width, uint32_t height, uint32_t supersample) {
+    const std::string what = "image size " + std::to_string(width) + "x" + std::to_string(height) + " with " +
+                             std::to_string(supersample) + "x supersampling";
+    uint32_t maxSide = std::min(ctx.properties.limits.maxImageDimension2D, 16384u);
+    if (width == 0 || height == 0 || width * supersample > maxSide || height * supersample > maxSide)
+        throw Error(what + " is outside 1.." + std::to_string(maxSide / supersample) + " pixels a side");
+    VkDeviceSize bytes = depthGridBytes({width * supersample, height * supersample});
+    VkDeviceSize limit = ctx.properties.limits.maxStorageBufferRange;
+    if (bytes > limit)
+        throw Error(what + " needs a " + std::to_string(bytes >> 20) + " MiB depth grid, more than this device's " +
+                    std::to_string(limit >> 20) + " MiB storage buffers: use a smaller size or less supersampling");
+}
+
 uint32_t PointRenderer::drawnDots() const {
     vkDeviceWaitIdle(ctx_.device);
     uint32_t dots = 0;
@@ -295,11 +315,7 @@ OffscreenRenderer::OffscreenRenderer(Context& ctx, uint32_t width, uint32_t heig
                                      std::vector<const GpuRefinement*> sets)
     : ctx_(ctx), factor_(std::max(1u, style.supersample)),
       renderer_(ctx, std::move(sets), kColorFormat) {
-    uint32_t maxSide = std::min(ctx.properties.limits.maxImageDimension2D, 16384u);
-    if (width == 0 || height == 0 || width * factor_ > maxSide || height * factor_ > maxSide)
-        throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) + " with " +
-                    std::to_string(factor_) + "x supersampling is outside 1.." + std::to_string(maxSide / factor_) +
-                    " pixels a side");
+    checkOffscreenSize(ctx, width, height, factor_);
     uint32_t w = width * factor_, h = height * factor_;
     color_ = createImage(ctx, w, h, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                          VK_IMAGE_ASPECT_COLOR_BIT);

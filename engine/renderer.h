@@ -128,6 +128,10 @@ private:
     PointRenderer renderer_;
 };
 
+// Throws ink::Error when an offscreen image of width × height with this supersampling cannot be drawn on this
+// device: a side beyond its image limit, or the splat depth grid beyond one storage buffer.
+void checkOffscreenSize(const Context& ctx, uint32_t width, uint32_t height, uint32_t supersample);
+
 // Box-filters an image whose sides are `factor` times larger.
 RgbaImage downsample(const RgbaImage& image, uint32_t factor);
 

@@ -344,6 +344,16 @@ TEST_CASE("robust: absurd sizes, levels and control point counts are refused up 
     checkRefusal(levels, {"the refinement asks for up to ", " points (200 seeds, 14 levels of 4 children), but at most ",
                           " fit: use fewer levels, passes or control points"});
     CHECK_FALSE(fs::exists(dir / "out.png"));
+
+    // 16384² pixels need a 256 MiB splat depth grid, over lavapipe's 128 MiB storage buffers: refused once the
+    // device is known, before the model is read, instead of a validation error.
+    for (const char* command : {"render", "capture --frames 1"}) {
+        Outcome huge = run(dir, std::string(command) + " " + missing + " --size 8192 8192 --supersample 2 " +
+                                    "--device llvmpipe -o " + (dir / "out"));
+        checkRefusal(huge, {"image size 8192x8192 with 2x supersampling needs a 256 MiB depth grid, more than this "
+                            "device's ", " MiB storage buffers: use a smaller size or less supersampling"});
+        CHECK_FALSE(fs::exists(dir / "out"));
+    }
 }
 
 // ---- No Vulkan ----------------------------------------------------------------------------------------
