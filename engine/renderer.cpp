@@ -226,10 +226,10 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
     const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     const auto rw = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
     const auto indirect = VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT;
+    const auto graphics = VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
     // The previous frame's passes may still use the buffers this frame clears.
-    stageBarrier(cmd, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | compute | indirect,
-                 rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
-                 VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    stageBarrier(cmd, graphics | compute | indirect, rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT,
+                 VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     vkCmdFillBuffer(cmd, depth_.buffer, 0, VK_WHOLE_SIZE, kFarDepth);
     vkCmdFillBuffer(cmd, coverage_.buffer, 0, VK_WHOLE_SIZE, 0);
     vkCmdUpdateBuffer(cmd, drawn_.buffer, 0, sizeof(kNothingDrawn), kNothingDrawn);
@@ -259,9 +259,7 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
         vkCmdDispatchIndirect(cmd, s.dots.buffer, 0);
     }
     vkCmdWriteTimestamp2(cmd, compute, timestamps_, 2);
-    stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
-                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, graphics, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
 }
 
 void PointRenderer::draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) const {

@@ -1,7 +1,8 @@
-// Draws refined points as ink, straight from the refinement's device buffers (no readback). Per frame, two
-// compute passes decide what shows — visibility splatting of oriented disks into a half-resolution depth grid,
-// then per point: the report's §5 class, tone, and the occlusion test — and stamp the visible dots into
-// coverage bits, two a pixel; a graphics pipeline then inks the covered pixels (two triangles over their bounds).
+// Draws refined points as ink, straight from the refinement's device buffers (no readback). Per frame:
+// splat.comp, over every point, splats oriented disks into a half-resolution depth grid and selects the dots
+// that may show (the report's §5 class, tone, frustum) into a list; stamp.comp, over that list, tests them
+// against the depth and stamps the visible ones into coverage bits, two a pixel; a graphics pipeline then inks
+// the covered pixels (two triangles over their bounds). Most points never reach the stamping.
 #pragma once
 
 #include "camera.h"
@@ -61,7 +62,8 @@ public:
     void draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) const;
     const RenderStyle& style() const { return style_; }
 
-    // Milliseconds of the last frame's passes, from timestamps: splat (and dot selection), stamp, ink (ink ends at writeEnd).
+    // Milliseconds of the last frame's passes, from timestamps: splat (with the dot selection), stamp, and ink
+    // (which ends at writeEnd).
     struct Timings {
         double splatMs = 0, stampMs = 0, inkMs = 0;
     };
