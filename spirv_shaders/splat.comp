@@ -19,9 +19,10 @@ void splat(vec3 c, vec3 n) {
     vec2 grid = cam.viewport.zw;
     vec2 center = (clip.xy / clip.w * 0.5 + 0.5) * grid;
     // The disk's screen footprint lies within this many cells of its centre's projection, a side: a disk point
-    // c + u (|u| ≤ R) lands f·(u.x·z + c.x·u.z) / (z·(z − u.z)) cells away in x, z = −c.z, f cells per unit.
-    // The cells whose centres it may reach are tested, exactly.
-    float z = -c.z, f = abs(cam.projection.y) * 0.5 * grid.y;
+    // c + u (|u| ≤ R) lands f·(u.x·z + c.x·u.z) / (z·(z − u.z)) cells away in x, z = −c.z, f cells per unit
+    // (likewise in y). The cells whose centres it may reach are tested, exactly.
+    float z = -c.z;
+    vec2 f = abs(cam.projection.xy) * 0.5 * grid;
     vec2 radius = min(f * cam.splat.x * (1.0 + abs(c.xy) / z) / max(z - cam.splat.x, 1e-6), grid);
     ivec2 lo = max(ivec2(ceil(center - radius - 0.5)), ivec2(0));
     ivec2 hi = min(ivec2(floor(center + radius - 0.5)), ivec2(grid) - 1);
