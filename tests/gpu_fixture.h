@@ -3,6 +3,7 @@
 #pragma once
 
 #include "context.h"
+#include "refine.h"
 
 #include <doctest/doctest.h>
 
@@ -18,4 +19,22 @@ struct GpuFixture {
         INFO("first validation message: " << ctx.firstValidationMessage);
         CHECK(ctx.validationErrors.load() == 0);
     }
+};
+
+// A refinement made and run on a device, destroyed with this object (also when a REQUIRE throws).
+struct Refinement {
+    ink::Context& ctx;
+    ink::GpuRefinement r;
+    Refinement(ink::Context& context, const ink::Hrbf& hrbf, const ink::RefineOptions& options) : ctx(context) {
+        try {
+            ink::createRefinement(ctx, r, hrbf, options);
+            ink::runRefinement(ctx, r);
+        } catch (...) {
+            ink::destroyRefinement(ctx, r);
+            throw;
+        }
+    }
+    ~Refinement() { ink::destroyRefinement(ctx, r); }
+    Refinement(const Refinement&) = delete;
+    Refinement& operator=(const Refinement&) = delete;
 };

@@ -77,19 +77,9 @@ ink::RgbaImage renderScene(ink::Context& ctx, const GoldenScene& scene) {
     options.style = scene.style;
     ink::RenderStyle style;
     style.hiddenLines = scene.hiddenLines;
-    ink::GpuRefinement r;
-    ink::RgbaImage image;
-    try {
-        ink::createRefinement(ctx, r, model.hrbf, options);
-        ink::runRefinement(ctx, r);
-        ink::OffscreenRenderer renderer(ctx, kGoldenSize, kGoldenSize, style, {&r});
-        image = renderer.render(scene.camera);
-    } catch (...) {
-        ink::destroyRefinement(ctx, r);
-        throw;
-    }
-    ink::destroyRefinement(ctx, r);
-    return image;
+    Refinement refined(ctx, model.hrbf, options);
+    ink::OffscreenRenderer renderer(ctx, kGoldenSize, kGoldenSize, style, {&refined.r});
+    return renderer.render(scene.camera);
 }
 
 void checkGolden(const GoldenScene& scene) {

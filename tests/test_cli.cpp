@@ -112,6 +112,7 @@ TEST_CASE("cli: bench runs the sphere workload and reports the documented keys")
     for (const char* key : {"\"workload\": \"sphere\"", "\"candidates\": 65532", "\"points\"", "\"fit_seconds\"",
                             "\"refine_seconds\"", "\"preprocess_seconds\"", "\"frame_ms_median\"",
                             "\"cpu_refine_seconds\"", "\"peak_memory_mb\"", "\"device\"", "\"driver\"",
-                            "\"level_gpu_ms\""})
+                            "\"level_gpu_ms\"", "\"frame_passes_ms_median\"", "\"stamp\"",
+                            "\"dots_drawn_first_frame\""})
         CHECK_MESSAGE(text.find(key) != std::string::npos, key);
 }

@@ -27,12 +27,9 @@ TEST_CASE("gpu: seeds projected on the device match the CPU evaluation, with zer
     options.levels = 0;
     options.seeds = ink::SeedMode::Grid;
     options.grid = 12;
-    ink::GpuRefinement r;
-    ink::createRefinement(gpu.ctx, r, model.hrbf, options);
-    ink::runRefinement(gpu.ctx, r);
-    std::vector<ink::PointRecord> points = ink::readPoints(gpu.ctx, r);
-    auto stats = ink::readLevelStats(gpu.ctx, r);
-    ink::destroyRefinement(gpu.ctx, r);
+    Refinement refined(gpu.ctx, model.hrbf, options);
+    std::vector<ink::PointRecord> points = ink::readPoints(gpu.ctx, refined.r);
+    auto stats = ink::readLevelStats(gpu.ctx, refined.r);
 
     REQUIRE(points.size() > 100);
     CHECK(stats[0].kept == points.size());
@@ -47,51 +44,14 @@ TEST_CASE("gpu: seeds projected on the device match the CPU evaluation, with zer
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("gpu: stippling levels on the device match the CPU reference") {
-    GpuFixture gpu;
-    ink::Model model = bunny(150);
-    ink::RefineOptions options;
-    options.levels = 2;
-    options.passes = 2;
-    ink::GpuRefinement r;
-    ink::createRefinement(gpu.ctx, r, model.hrbf, options);
-    ink::runRefinement(gpu.ctx, r);
-    std::vector<ink::PointRecord> gpuPoints = ink::readPoints(gpu.ctx, r);
-    auto gpuStats = ink::readLevelStats(gpu.ctx, r);
-    std::vector<ink::LevelStats> cpuStats;
-    std::vector<ink::PointRecord> cpuPoints = ink::refineOnCpu(model.hrbf, options, r.plan, &cpuStats);
-    ink::destroyRefinement(gpu.ctx, r);
-
-    REQUIRE(gpuStats.size() == 3);
-    CHECK(gpuStats[0].candidates == 300);
-    for (size_t l = 0; l < gpuStats.size(); ++l) {
-        CHECK(gpuStats[l].candidates == cpuStats[l].candidates);
-        CHECK(std::abs(int(gpuStats[l].kept) - int(cpuStats[l].kept)) <= int(gpuStats[l].candidates / 100));
-    }
-    REQUIRE(gpuPoints.size() == cpuPoints.size());
-    size_t close = 0;
-    for (size_t i = 0; i < gpuPoints.size(); ++i) {
-        Eigen::Vector3f a(gpuPoints[i].position), b(cpuPoints[i].position);
-        if ((a - b).norm() < 1e-3f && gpuPoints[i].level == cpuPoints[i].level) ++close;
-    }
-    CHECK(double(close) >= 0.99 * double(gpuPoints.size()));
-    gpu.requireNoValidationErrors();
-}
-
 TEST_CASE("gpu: the bunny renders as dots on white paper") {
     GpuFixture gpu;
     ink::Model model = bunny(200);
     ink::RefineOptions options;
     options.levels = 2;
-    ink::GpuRefinement r;
-    ink::createRefinement(gpu.ctx, r, model.hrbf, options);
-    ink::runRefinement(gpu.ctx, r);
-    ink::RgbaImage image;
-    {
-        ink::OffscreenRenderer renderer(gpu.ctx, 256, 256, ink::RenderStyle{}, {&r});
-        image = renderer.render(ink::Camera{});
-    }
-    ink::destroyRefinement(gpu.ctx, r);
+    Refinement refined(gpu.ctx, model.hrbf, options);
+    ink::OffscreenRenderer renderer(gpu.ctx, 256, 256, ink::RenderStyle{}, {&refined.r});
+    ink::RgbaImage image = renderer.render(ink::Camera{});
     REQUIRE(image.width == 256);
     size_t dark = 0, white = 0;
     for (size_t i = 0; i < image.pixels.size(); i += 4) {
@@ -111,24 +71,17 @@ TEST_CASE("gpu: each pixel takes the ink once — paper, ink or hidden ink over 
     ink::Model model = ink::fitModel(ink::torusPoints(24, 12), {});
     ink::RefineOptions options;
     options.levels = 3;
-    ink::GpuRefinement r;
-    ink::createRefinement(gpu.ctx, r, model.hrbf, options);
-    ink::runRefinement(gpu.ctx, r);
+    Refinement refined(gpu.ctx, model.hrbf, options);
     ink::RenderStyle style;
     style.supersample = 1;
     style.hiddenLines = true;
     style.frontSize = style.hiddenSize = 3.0f;  // large dots overlap a lot
     ink::Camera camera;
     camera.elevationDeg = 35.0f;
-    ink::RgbaImage first, second;
-    uint32_t dots = 0;
-    {
-        ink::OffscreenRenderer renderer(gpu.ctx, 200, 200, style, {&r});
-        first = renderer.render(camera);
-        dots = renderer.drawnDots();
-        second = renderer.render(camera);
-    }
-    ink::destroyRefinement(gpu.ctx, r);
+    ink::OffscreenRenderer renderer(gpu.ctx, 200, 200, style, {&refined.r});
+    ink::RgbaImage first = renderer.render(camera);
+    uint32_t dots = renderer.drawnDots();
+    ink::RgbaImage second = renderer.render(camera);
     CHECK(first.pixels == second.pixels);
     // Blending the hidden ink once over white paper gives exactly this grey.
     const int grey = int(std::lround(255.0 * (1.0 - double(style.hiddenInk.a))));
