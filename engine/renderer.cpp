@@ -132,7 +132,7 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
         viewInfo.range = VK_WHOLE_SIZE;
         VkBufferView texels;
         VK_CHECK(vkCreateBufferView(ctx.device, &viewInfo, nullptr, &texels));
-        sets_.push_back({r, dots, texels, {}, splatSpacing(*r), draw[0], draw[2]});
+        sets_.push_back({dots, texels, {}, splatSpacing(*r), draw[0], draw[2]});
     }
     bindDescriptors();
     layout_ = createPipelineLayout(ctx, sets_.front().descriptors.layout, sizeof(Push), kStages);

@@ -74,7 +74,6 @@ public:
 
 private:
     struct Set {
-        const GpuRefinement* refinement;
         Buffer dots;  // `DotList`: the dots that may show this frame, and stamp.comp's indirect dispatch
         VkBufferView texels = VK_NULL_HANDLE;  // the points as RGBA32F texels, 2 a point (vectorized loads)
         DescriptorSet descriptors;

@@ -1,4 +1,4 @@
-// HRBF evaluation shared by every shader (report eq. 6, ψ = r³). The CPU twin is engine/hrbf.cpp.
+// The HRBF evaluation on the device (report eq. 6, ψ = r³), used by refine.comp. The CPU twin is engine/hrbf.cpp.
 //   f(x)  = Σ_j [ α_j ψ(d) − ⟨β_j, ∇ψ(d)⟩ ] + ⟨a, x⟩ + b,   d = x − p_j, r = ‖d‖
 //   ∇f(x) = Σ_j [ 3 α_j r d − 3 (r β_j + d ⟨d, β_j⟩ / r) ] + a
 // Coordinates are the model's normalized ones (bounding-box diagonal 1).
