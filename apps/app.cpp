@@ -1,6 +1,7 @@
 #include "app.h"
 
 #include "image.h"
+#include "spacing.h"
 
 #include <cmath>
 #include <fstream>
@@ -25,7 +26,8 @@ void addDeviceOptions(CLI::App* cmd, Options& o) {
 void addRefineOptions(CLI::App* cmd, Options& o) {
     ink::RefineOptions& r = o.refine;
     cmd->add_option("--levels", r.levels, "Refinement levels after the seeds")->capture_default_str();
-    cmd->add_option("--passes", r.passes, "Independent refinement passes")->capture_default_str();
+    cmd->add_option("--passes", r.passes,
+                    "Independent sets of children of the seeds (default: 1 for blue-noise stipples, else the report's 2)");
     cmd->add_option("--direction", o.direction, "Direction field of direction sampling")
         ->check(CLI::IsMember({"axis", "curvature-min", "curvature-max"}))
         ->capture_default_str();
@@ -35,7 +37,18 @@ void addRefineOptions(CLI::App* cmd, Options& o) {
         ->capture_default_str();
     cmd->add_option("--grid", r.grid, "Grid cells along the longest side for --seeds grid")->capture_default_str();
     cmd->add_option("--rho", r.rho0, "ρ₀ as a fraction of the bounding-box diagonal (default: half the seed spacing)");
+    cmd->add_option("--rho-divisor", r.rhoDivisor,
+                    "ρ of a level over the next's (default: 2 for blue-noise stipples, else the report's 3)");
     cmd->add_option("--seed", r.seed, "Random seed")->capture_default_str();
+    cmd->add_option("--distribution", o.distribution,
+                    "Stipples: selected from the refined points with blue-noise spacing and progressive ranks, or "
+                    "every refined point with a random tone value (the report's look)")
+        ->check(CLI::IsMember({"blue-noise", "refinement"}))
+        ->capture_default_str();
+    cmd->add_option("--candidates-per-stipple", r.candidatesPerStipple,
+                    "Blue-noise selection: keep about one refined point in this many (2-16)")
+        ->check(CLI::Range(2.0f, 16.0f))
+        ->capture_default_str();
     cmd->add_option("--keep-levels", o.keepLevels, "Keep all levels or only the last")
         ->check(CLI::IsMember({"all", "last"}))
         ->capture_default_str();
@@ -57,8 +70,12 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--tau", s.tau, "Silhouette threshold τ on |n·v|")->capture_default_str();
     cmd->add_option("--tone", s.toneGamma, "Tone curve exponent γ; 0 draws every front dot")->capture_default_str();
     cmd->add_option("--ink-density", s.inkDensity, "Scales how many dots the tone draws")->capture_default_str();
-    cmd->add_option("--light", o.light, "Direction towards the light in view space, X Y Z (x right, y up, z out)")
+    cmd->add_option("--light", o.light,
+                    "Direction towards the light, X Y Z as seen from the default camera (x right, y up, z out); "
+                    "it stays fixed to the model")
         ->expected(3);
+    cmd->add_flag("--light-follows-camera", s.lightFollowsCamera,
+                  "Keep the light fixed to the camera instead (the shading, and the dots, change as it moves)");
     cmd->add_flag("--hidden-lines", s.hiddenLines, "Draw occluded silhouettes faint");
     cmd->add_flag("!--no-occlusion", s.occlusion, "Skip the splat depth pre-pass (dots behind the surface show)");
     cmd->add_option("--supersample", s.supersample, "Render this many times larger and filter down (1-4)")
@@ -128,6 +145,7 @@ void finishOptions(Options& o) {
     if (!o.axis.empty()) o.refine.axis = Eigen::Vector3d(o.axis[0], o.axis[1], o.axis[2]);
     if (!(o.refine.axis.norm() > 0) || !o.refine.axis.allFinite()) throw ink::Error("--axis must be a non-zero vector");
     o.refine.keepAllLevels = o.keepLevels == "all";
+    o.refine.distribution = o.distribution == "refinement" ? ink::Distribution::Refinement : ink::Distribution::BlueNoise;
     o.render.ink = parseColour(o.ink, "ink");
     o.render.paper = parseColour(o.paper, "paper");
     o.render.hiddenInk = glm::vec4(glm::vec3(o.render.ink), ink::RenderStyle{}.hiddenInk.a);
@@ -246,6 +264,21 @@ json levelsJson(const std::vector<ink::LevelStats>& levels) {
 
 json deviceJson(const ink::Context& ctx) {
     return {{"device", ctx.properties.deviceName}, {"driver", ctx.driverInfo}};
+}
+
+json spacingJson(const std::vector<ink::PointRecord>& points) {
+    double area = ink::estimateSurfaceArea(points);
+    json list = json::array();
+    for (double fraction : {1.0, 0.5, 0.25, 0.125}) {
+        ink::SpacingStats s = ink::measureSpacing(points, fraction, area);
+        list.push_back({{"fraction", fraction},
+                        {"points", s.points},
+                        {"r_max", s.rMax},
+                        {"mean_nn_over_r_max", s.meanNearest},
+                        {"min_nn_over_r_max", s.minNearest},
+                        {"clumped_fraction", s.clumped}});
+    }
+    return {{"area_estimate", area}, {"prefixes", list}};
 }
 
 void writeJson(const std::string& path, const json& j) {

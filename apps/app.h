@@ -24,7 +24,6 @@ inline double secondsSince(Clock::time_point t) { return std::chrono::duration<d
 enum class DrawStyle { Stipple, Direction, Both };
 
 struct Options {
-    Options() { refine.passes = 2; }  // the report's two stippling passes
     std::string model;
     size_t controlPoints = 0;
     std::string device;
@@ -35,6 +34,7 @@ struct Options {
     std::string keepLevels = "all";
     std::vector<double> axis;
     std::string direction = "axis", seeds = "control", sampling = "stipple", styleName = "stipple";
+    std::string distribution = "blue-noise";
     // Rendering
     DrawStyle style = DrawStyle::Stipple;
     ink::RenderStyle render;
@@ -81,6 +81,8 @@ struct Scene {
 json fitJson(const ink::Model& m);
 json levelsJson(const std::vector<ink::LevelStats>& levels);
 json deviceJson(const ink::Context& ctx);
+// Spacing of a ranked point set: the whole set and its prefixes 1/2, 1/4, 1/8, the area estimated from it.
+json spacingJson(const std::vector<ink::PointRecord>& points);
 // Writes JSON atomically; does nothing for an empty path.
 void writeJson(const std::string& path, const json& j);
 

@@ -1,6 +1,7 @@
 // bench: the report's workloads (ALGORITHM.md §7) timed end to end, side by side with the CPU reference.
 #include "commands.h"
 #include "image.h"
+#include "select.h"
 #include "shapes.h"
 
 #include <algorithm>
@@ -50,13 +51,13 @@ double peakMemoryMb() {
     return double(usage.ru_maxrss) / 1024.0;
 }
 
-json runWorkload(Session& session, const Workload& w, uint32_t frames) {
+json runWorkload(Session& session, const Workload& w, ink::Distribution distribution, uint32_t frames) {
     auto start = Clock::now();
     ink::Model model = w.model.empty() ? ink::fitModel(ink::sphereAxisPoints(), {})
                                        : ink::loadModel(w.model == "bunny" ? bunnyPath() : w.model, {w.controlPoints});
     ink::RefineOptions options;
     options.levels = w.levels;
-    options.passes = 2;
+    options.distribution = distribution;  // the passes follow it: 1 for blue-noise stipples, the report's 2 else
     ink::GpuRefinement r;
     json out;
     try {
@@ -91,6 +92,9 @@ json runWorkload(Session& session, const Workload& w, uint32_t frames) {
         auto cpuStart = Clock::now();
         ink::refineOnCpu(model.hrbf, options, r.plan);
         double cpuRefine = secondsSince(cpuStart);
+        uint64_t stipples = 0;
+        if (r.selection)
+            for (uint32_t added : ink::readStageCounts(session.ctx, *r.selection)) stipples += added;
 
         uint64_t candidates = 0, points = 0;
         json levelMs = json::array();
@@ -104,6 +108,9 @@ json runWorkload(Session& session, const Workload& w, uint32_t frames) {
                {"levels", w.levels},
                {"candidates", candidates},
                {"points", points},
+               {"distribution", distribution == ink::Distribution::BlueNoise ? "blue-noise" : "refinement"},
+               {"stipples", stipples},
+               {"select_ms", ink::selectionMs(session.ctx, r)},
                {"fit_seconds", model.fit.seconds},
                {"refine_seconds", refineSeconds},
                {"preprocess_seconds", preprocess},
@@ -140,6 +147,7 @@ json medianOf(const std::vector<json>& runs) {
 
 int runBench(Options& o, const std::vector<std::string>& names, const std::string& jsonPath, uint32_t repeat,
              uint32_t frames) {
+    finishOptions(o);
     std::vector<Workload> workloads;
     for (const std::string& name : names) {
         auto it = std::find_if(builtinWorkloads().begin(), builtinWorkloads().end(),
@@ -162,13 +170,14 @@ int runBench(Options& o, const std::vector<std::string>& names, const std::strin
     json results = json::array();
     for (const Workload& w : workloads) {
         std::vector<json> runs;
-        for (uint32_t i = 0; i < repeat; ++i) runs.push_back(runWorkload(session, w, frames));
+        for (uint32_t i = 0; i < repeat; ++i) runs.push_back(runWorkload(session, w, o.refine.distribution, frames));
         json m = medianOf(runs);
         m["device_seconds"] = deviceSeconds;  // creating the Vulkan device, once per process, not in preprocess
-        std::printf("%-10s %8llu points  fit %6.3f s  refine %6.3f s (cpu %6.3f s, %.2fx)  preprocess %6.3f s  "
-                    "frame %7.2f ms (%5.1f fps)\n",
-                    w.name.c_str(), (unsigned long long)m["points"].get<uint64_t>(), m["fit_seconds"].get<double>(),
-                    m["refine_seconds"].get<double>(), m["cpu_refine_seconds"].get<double>(),
+        std::printf("%-10s %8llu points %7llu stipples  fit %6.3f s  refine %6.3f s (select %5.0f ms; cpu refine %6.3f s, "
+                    "%.2fx)  preprocess %6.3f s  frame %7.2f ms (%5.1f fps)\n",
+                    w.name.c_str(), (unsigned long long)m["points"].get<uint64_t>(),
+                    (unsigned long long)m["stipples"].get<uint64_t>(), m["fit_seconds"].get<double>(),
+                    m["refine_seconds"].get<double>(), m["select_ms"].get<double>(), m["cpu_refine_seconds"].get<double>(),
                     m["gpu_over_cpu_refine"].get<double>(), m["preprocess_seconds"].get<double>(),
                     m["frame_ms_median"].get<double>(), m["fps"].get<double>());
         results.push_back(m);
@@ -193,6 +202,11 @@ void addBenchCommand(CLI::App& cli, Options& o, Commands& commands) {
     bench->add_option("--json", *jsonPath, "Write the results as JSON");
     bench->add_option("--repeat", *repeat, "Runs per workload; numbers are medians")->capture_default_str();
     bench->add_option("--frames", *frames, "Frames timed per run")->capture_default_str();
+    bench->add_option("--distribution", o.distribution,
+                      "What is drawn: blue-noise stipples selected from the refined points, or every refined point "
+                      "(the report's look and workload)")
+        ->check(CLI::IsMember({"blue-noise", "refinement"}))
+        ->capture_default_str();
     addDeviceOptions(bench, o);
     commands.emplace_back(bench, [&o, names, jsonPath, repeat, frames] {
         return runBench(o, *names, *jsonPath, *repeat, *frames);

@@ -59,7 +59,9 @@ ordered parametersJson(const Options& o, const Scene& scene, const CaptureOption
     const ink::RenderStyle& s = o.render;
     return {{"control_points", scene.model.fit.controlPoints},
             {"levels", r.levels},
-            {"passes", r.passes},
+            {"passes", scene.sets.front()->plan.passes},
+            {"distribution", o.distribution},
+            {"candidates_per_stipple", shortest(r.candidatesPerStipple)},
             {"style", styleName(o.style)},
             {"direction", directionName(r.direction)},
             {"axis", {r.axis.x(), r.axis.y(), r.axis.z()}},
@@ -80,7 +82,8 @@ ordered parametersJson(const Options& o, const Scene& scene, const CaptureOption
             {"occlusion", s.occlusion},
             {"ink", o.ink},
             {"paper", o.paper},
-            {"light", vec3Json(s.light)}};
+            {"light", vec3Json(s.light)},
+            {"light_follows_camera", s.lightFollowsCamera}};
 }
 
 ordered cameraJson(const ink::Camera& c) {

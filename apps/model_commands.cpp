@@ -3,6 +3,7 @@
 #include "export.h"
 #include "hrbf_io.h"
 #include "image.h"
+#include "select.h"
 
 #include <cstdio>
 
@@ -40,6 +41,15 @@ static int runSample(Options& o, const std::string& pointsPath) {
         auto start = Clock::now();
         ink::RefinePlan plan = ink::planRefinement(model.hrbf, o.refine, UINT32_MAX);
         points = ink::refineOnCpu(model.hrbf, o.refine, plan, &levels);
+        if (o.refine.selects()) {
+            ink::SelectPlan selectPlan = ink::planSelection(model.hrbf, plan, ink::selectOptions(o.refine));
+            std::vector<uint32_t> counts;
+            stats["select"]["candidates"] = points.size();
+            points = ink::selectOnCpu(points, selectPlan, &counts);
+            stats["select"]["radius"] = selectPlan.radius0;
+            stats["select"]["area_estimate"] = selectPlan.areaEstimate;
+            stats["select"]["stage_added"] = counts;
+        }
         stats["refine"]["seconds"] = secondsSince(start);
         stats["device"] = "cpu";
     } else {
@@ -49,8 +59,15 @@ static int runSample(Options& o, const std::string& pointsPath) {
             auto start = Clock::now();
             ink::runRefinement(session->ctx, r);
             stats["refine"]["seconds"] = secondsSince(start);
-            points = ink::readPoints(session->ctx, r);
             levels = ink::readLevelStats(session->ctx, r);
+            if (r.selection) {
+                stats["select"]["candidates"] = ink::readPoints(session->ctx, r).size();
+                stats["select"]["radius"] = r.selection->plan.radius0;
+                stats["select"]["area_estimate"] = r.selection->plan.areaEstimate;
+                stats["select"]["stage_added"] = ink::readStageCounts(session->ctx, *r.selection);
+                stats["select"]["gpu_ms"] = ink::selectionMs(session->ctx, r);
+            }
+            points = ink::readDrawnPoints(session->ctx, r);
         } catch (...) {
             ink::destroyRefinement(session->ctx, r);
             throw;
@@ -61,6 +78,7 @@ static int runSample(Options& o, const std::string& pointsPath) {
     }
     stats["refine"]["points"] = points.size();
     stats["refine"]["levels"] = levelsJson(levels);
+    stats["spacing"] = spacingJson(points);
     ink::writePointsPly(pointsPath, points, model.hrbf.frame);
     writeJson(o.statsPath, stats);
     std::printf("%s: %zu control points, %zu points -> %s\n", o.model.c_str(), model.fit.controlPoints, points.size(),

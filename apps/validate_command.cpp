@@ -23,7 +23,6 @@ void checkScene(ink::Context& ctx, const std::string& name, const ink::Model& mo
         ink::RefineOptions options;
         options.style = style;
         options.levels = 3;
-        options.passes = 2;
         std::string label = name + (style == ink::SampleStyle::Stipple ? " stipple" : " direction");
         ink::GpuRefinement r;
         try {
@@ -50,6 +49,16 @@ void checkScene(ink::Context& ctx, const std::string& name, const ink::Model& mo
             }
             check.require(off == 0, label + ": " + std::to_string(off) + " points off the surface");
             check.points += points.size();
+            if (r.selection) {
+                // The stipples: a subset of the points, each ranked in [0, 1).
+                auto stipples = ink::readDrawnPoints(ctx, r);
+                size_t badRanks = 0;
+                for (const auto& p : stipples) badRanks += !(p.tone >= 0.0f && p.tone < 1.0f);
+                check.require(!stipples.empty() && stipples.size() < points.size(),
+                              label + ": " + std::to_string(stipples.size()) + " stipples selected from " +
+                                  std::to_string(points.size()) + " points");
+                check.require(badRanks == 0, label + ": " + std::to_string(badRanks) + " stipples ranked outside [0, 1)");
+            }
 
             ink::RgbaImage image;
             {

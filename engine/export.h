@@ -1,4 +1,5 @@
-// Writing refined points: binary little-endian PLY with float x y z nx ny nz in the input's units.
+// Writing point sets: binary little-endian PLY with float x y z nx ny nz in the input's units, the refinement
+// level and the rank (PointRecord::tone: the point is in the prefix set of fraction t when rank < t).
 #pragma once
 
 #include "hrbf.h"

@@ -2,6 +2,7 @@
 
 #include "common.h"
 #include "random.h"
+#include "select.h"
 
 #include <algorithm>
 #include <cmath>
@@ -37,18 +38,18 @@ RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& o, uint64_t max
     if (o.levels >= kMaxLevels)  // written so that a huge --levels cannot overflow
         throw Error("--levels " + std::to_string(o.levels) + " is too many: at most " +
                     std::to_string(kMaxLevels - 1) + " refinement levels");
-    if (o.passes < 1 || o.passes > 64) throw Error("--passes must be between 1 and 64");
+    if (o.passes > 64) throw Error("--passes must be between 1 and 64");
     if (!(o.eps1 > 0) || !(o.delta > 0 && o.delta < 1) || !(o.phi > 0 && o.phi < 0.5))
         throw Error("projection parameters out of range: need ε₁ > 0, δ in (0,1), φ in (0,½)");
 
     RefinePlan plan;
     plan.levelCount = o.levels + 1;
+    plan.passes = o.passes > 0 ? o.passes : (o.selects() ? 1 : 2);
     std::vector<Eigen::Vector3d> base;
     if (o.seeds == SeedMode::ControlPoints) {
         base = hrbf.centers;
         plan.seedJumpLimit = 1e-3f;  // control points already lie on f = 0
-        for (uint32_t pass = 0; pass < o.passes; ++pass)
-            for (const auto& c : hrbf.centers) plan.seeds.push_back(c.cast<float>());
+        for (const auto& c : hrbf.centers) plan.seeds.push_back(c.cast<float>());
     } else {
         if (o.grid < 2 || o.grid > 512) throw Error("--grid must be between 2 and 512 cells");
         Eigen::Vector3d lo = hrbf.centers[0], hi = hrbf.centers[0];
@@ -60,40 +61,48 @@ RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& o, uint64_t max
         lo.array() -= cell;
         Eigen::Vector3i n = ((hi - lo).array() / cell).ceil().cast<int>() + 1;
         uint64_t cells = uint64_t(n.x()) * uint64_t(n.y()) * uint64_t(n.z());
-        if (cells * o.passes > maxPoints)
-            throw Error("--grid " + std::to_string(o.grid) + " makes " + std::to_string(cells * o.passes) +
+        if (cells > maxPoints)
+            throw Error("--grid " + std::to_string(o.grid) + " makes " + std::to_string(cells) +
                         " seeds, more than fit (" + std::to_string(maxPoints) + ")");
         plan.seedJumpLimit = float(std::sqrt(3.0) * cell);  // the cell's neighbourhood
-        for (uint32_t pass = 0; pass < o.passes; ++pass)
-            for (int z = 0; z < n.z(); ++z)
-                for (int y = 0; y < n.y(); ++y)
-                    for (int x = 0; x < n.x(); ++x) {
-                        uint32_t id = uint32_t((z * n.y() + y) * n.x() + x);
-                        auto u = unitFloats(pcg4d({o.seed, 0xFFFF0000u + pass, id, 0u}));
-                        Eigen::Vector3d c = lo + cell * Eigen::Vector3d(x + u[0], y + u[1], z + u[2]);
-                        plan.seeds.push_back(c.cast<float>());
-                    }
+        plan.gridCell = cell;
+        for (int z = 0; z < n.z(); ++z)
+            for (int y = 0; y < n.y(); ++y)
+                for (int x = 0; x < n.x(); ++x) {
+                    uint32_t id = uint32_t((z * n.y() + y) * n.x() + x);
+                    auto u = unitFloats(pcg4d({o.seed, 0xFFFF0000u, id, 0u}));
+                    Eigen::Vector3d c = lo + cell * Eigen::Vector3d(x + u[0], y + u[1], z + u[2]);
+                    plan.seeds.push_back(c.cast<float>());
+                }
         // ρ₀ follows the grid: projected seeds are about one cell apart.
         base.clear();
     }
     double spacing = base.empty() ? (o.seeds == SeedMode::Grid ? double(plan.seedJumpLimit) / std::sqrt(3.0) : 0.1)
                                   : meanSpacing(base);
     plan.rho0 = o.rho0 > 0 ? o.rho0 : 0.5 * spacing;
+    plan.rhoDivisor = o.rhoDivisor > 0 ? o.rhoDivisor : (o.selects() ? 2.0 : 3.0);
+    if (!(plan.rhoDivisor >= 1.5 && plan.rhoDivisor <= 4.0)) throw Error("--rho-divisor must be between 1.5 and 4");
 
     uint32_t children = o.style == SampleStyle::Stipple ? 4 : 2;
     uint64_t candidates = plan.seeds.size();
+    // Passes are independent sets of children of the seeds: the seeds themselves are written once.
     for (uint32_t level = 0; level < plan.levelCount; ++level) {
-        plan.childCount.push_back(level == 0 ? 1 : children);
-        if (level > 0) candidates *= children;
+        plan.childCount.push_back(level == 0 ? 1 : level == 1 ? children * plan.passes : children);
+        if (level > 0) candidates *= plan.childCount[level];
         plan.maxCandidates.push_back(candidates);
         plan.maxPoints += candidates;
     }
     if (plan.maxPoints > maxPoints)
         throw Error("the refinement asks for up to " + std::to_string(plan.maxPoints) + " points (" +
                     std::to_string(plan.seeds.size()) + " seeds, " + std::to_string(o.levels) + " levels of " +
-                    std::to_string(children) + " children), but at most " + std::to_string(maxPoints) +
+                    std::to_string(children) + " children, " + std::to_string(plan.passes) +
+                    (plan.passes == 1 ? " pass" : " passes") + "), but at most " + std::to_string(maxPoints) +
                     " fit: use fewer levels, passes or control points");
     return plan;
+}
+
+double levelRho(const RefinePlan& plan, uint32_t level) {
+    return level == 0 ? 0.0 : plan.rho0 / std::pow(plan.rhoDivisor, double(level) - 1.0);
 }
 
 LevelParams levelParams(const RefinePlan& plan, const RefineOptions& o, uint32_t level) {
@@ -102,7 +111,7 @@ LevelParams levelParams(const RefinePlan& plan, const RefineOptions& o, uint32_t
     p.axis[0] = float(axis.x());
     p.axis[1] = float(axis.y());
     p.axis[2] = float(axis.z());
-    double rho = plan.rho0 / std::pow(3.0, double(level) - 1.0);  // level 1 uses ρ₀, then ρ/3 per level
+    double rho = levelRho(plan, level);
     p.rho = level == 0 ? 0.0f : float(rho);
     p.jumpLimit = level == 0 ? plan.seedJumpLimit : float(o.jumpFactor * rho);
     p.eps1 = float(o.eps1);
@@ -115,6 +124,7 @@ LevelParams levelParams(const RefinePlan& plan, const RefineOptions& o, uint32_t
     p.level = level;
     p.seed = o.seed;
     p.childCount = plan.childCount[level];
+    p.passChildren = level == 0 ? 1u : (o.style == SampleStyle::Stipple ? 4u : 2u);
     p.nextChildCount = level + 1 < plan.levelCount ? plan.childCount[level + 1] : 0u;
     p.keepAll = o.keepAllLevels ? 1u : 0u;
     // Levels share [0,1) in proportion to their (worst-case) point counts, coarse first: tone thresholds then
@@ -191,8 +201,8 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const Re
     r.flags = createBuffer(ctx, maxCandidates * 4, storage, MemoryUse::Device);
     r.blocks = createBuffer(ctx, (maxCandidates + kGroupSize - 1) / kGroupSize * 4, storage, MemoryUse::Device);
     r.levels = createBuffer(ctx, kMaxLevels * 32, storage, MemoryUse::Device);
-    r.indirect = createBuffer(ctx, GpuRefinement::kDrawOffset + 16, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
-                              MemoryUse::Device);
+    r.indirect = createBuffer(ctx, GpuRefinement::kSelectedDrawOffset + 16,
+                              storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryUse::Device);
     std::vector<Eigen::Vector4f> seeds(plan.seeds.size());
     for (size_t i = 0; i < seeds.size(); ++i) seeds[i] << plan.seeds[i], float(i);
     r.seeds = createBuffer(ctx, seeds.size() * 16, storage, MemoryUse::Device);
@@ -218,12 +228,24 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const Re
 
     VkQueryPoolCreateInfo query{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     query.queryType = VK_QUERY_TYPE_TIMESTAMP;
-    query.queryCount = plan.levelCount + 1;
+    query.queryCount = plan.levelCount + 2;  // the start, each level's end, the selection's end
     VK_CHECK(vkCreateQueryPool(ctx.device, &query, nullptr, &r.timestamps));
+
+    if (options.selects()) {
+        r.selection = new GpuSelection;
+        createSelection(ctx, *r.selection, hrbf, plan, selectOptions(options), r.points, r.indirect);
+    }
 }
+
+const Buffer& GpuRefinement::drawnPoints() const { return selection ? selection->stipples : points; }
 
 void destroyRefinement(Context& ctx, GpuRefinement& r) {
     if (!ctx.device) return;
+    if (r.selection) {
+        destroySelection(ctx, *r.selection);
+        delete r.selection;
+        r.selection = nullptr;
+    }
     vkDestroyQueryPool(ctx.device, r.timestamps, nullptr);
     for (VkPipeline p : {r.refine, r.scan, r.compact}) vkDestroyPipeline(ctx.device, p, nullptr);
     vkDestroyPipelineLayout(ctx.device, r.layout, nullptr);
@@ -252,7 +274,7 @@ void recordRefinement(Context&, VkCommandBuffer cmd, GpuRefinement& r) {
     stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute | indirectStage,
                  rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
 
-    vkCmdResetQueryPool(cmd, r.timestamps, 0, plan.levelCount + 1);
+    vkCmdResetQueryPool(cmd, r.timestamps, 0, plan.levelCount + 2);
     vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, r.timestamps, 0);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r.layout, 0, 1, &r.descriptors.set, 0, nullptr);
     for (uint32_t level = 0; level < plan.levelCount; ++level) {
@@ -273,11 +295,14 @@ void recordRefinement(Context&, VkCommandBuffer cmd, GpuRefinement& r) {
         stageBarrier(cmd, compute, rw, compute, rw);
         vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, r.timestamps, level + 1);
     }
-    // The renderer reads the points in vertex shaders and the draw arguments as an indirect command.
+    if (r.selection) recordSelection(cmd, *r.selection);
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, r.timestamps, plan.levelCount + 1);
+    // The renderer reads the points in compute shaders (as texels) and copies, and the draw arguments as an
+    // indirect command.
     stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | indirectStage | VK_PIPELINE_STAGE_2_COPY_BIT,
-                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT |
-                     VK_ACCESS_2_TRANSFER_READ_BIT);
+                 compute | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | indirectStage | VK_PIPELINE_STAGE_2_COPY_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT |
+                     VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
 // One submission for all levels. While it runs, the CPU only polls the per-level timestamps (never waits
@@ -285,8 +310,8 @@ void recordRefinement(Context&, VkCommandBuffer cmd, GpuRefinement& r) {
 void runRefinement(Context& ctx, GpuRefinement& r) {
     VkCommandBuffer cmd = beginOneTime(ctx);
     recordRefinement(ctx, cmd, r);
-    Progress progress("refine", r.plan.levelCount);
-    const uint32_t queries = r.plan.levelCount + 1;
+    Progress progress("refine", r.plan.levelCount + 1);  // the levels, then the selection
+    const uint32_t queries = r.plan.levelCount + 2;
     std::vector<uint64_t> available(2 * queries);
     endOneTime(ctx, cmd, [&] {
         if (vkGetQueryPoolResults(ctx.device, r.timestamps, 0, queries, available.size() * 8, available.data(), 16,
@@ -296,7 +321,16 @@ void runRefinement(Context& ctx, GpuRefinement& r) {
         while (done + 1 < queries && available[2 * (done + 1) + 1]) ++done;
         progress.update(done);
     });
-    progress.update(r.plan.levelCount);
+    progress.update(r.plan.levelCount + 1);
+}
+
+double selectionMs(Context& ctx, GpuRefinement& r) {
+    uint64_t ticks[2] = {};
+    if (!r.selection || vkGetQueryPoolResults(ctx.device, r.timestamps, r.plan.levelCount, 2, sizeof(ticks), ticks,
+                                              sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) !=
+                            VK_SUCCESS)
+        return 0;
+    return double(ticks[1] - ticks[0]) * ctx.properties.limits.timestampPeriod * 1e-6;
 }
 
 std::vector<LevelStats> readLevelStats(Context& ctx, GpuRefinement& r) {
@@ -319,6 +353,15 @@ std::vector<LevelStats> readLevelStats(Context& ctx, GpuRefinement& r) {
             stats[level].gpuMs = double(ticks[level + 1] - ticks[level]) * ctx.properties.limits.timestampPeriod * 1e-6;
     }
     return stats;
+}
+
+std::vector<PointRecord> readDrawnPoints(Context& ctx, GpuRefinement& r) {
+    if (!r.selection) return readPoints(ctx, r);
+    uint32_t draw[4];
+    downloadBuffer(ctx, r.indirect, GpuRefinement::kSelectedDrawOffset, draw, sizeof(draw));
+    std::vector<PointRecord> points(draw[0]);
+    downloadBuffer(ctx, r.selection->stipples, 0, points.data(), points.size() * sizeof(PointRecord));
+    return points;
 }
 
 std::vector<PointRecord> readPoints(Context& ctx, GpuRefinement& r) {

@@ -18,15 +18,24 @@ namespace ink {
 enum class SampleStyle { Stipple, Direction };
 enum class DirectionField { Axis, CurvatureMin, CurvatureMax };
 enum class SeedMode { ControlPoints, Grid };
+// What a stippling refinement draws: the stipples selected from its points with blue-noise spacing and
+// progressive ranks (select.h), or all its points with the report's random tone values.
+enum class Distribution { BlueNoise, Refinement };
 
 struct RefineOptions {
     SampleStyle style = SampleStyle::Stipple;
     DirectionField direction = DirectionField::Axis;
     Eigen::Vector3d axis = Eigen::Vector3d::UnitY();  // for DirectionField::Axis, in model coordinates
     uint32_t levels = 4;   // refinement levels after the seed level (level 0)
-    uint32_t passes = 1;   // independent passes, each from its own copy of the seeds
+    // Independent sets of level-1 children of the seeds (the seeds are not repeated); 0: the default, 1 for the
+    // blue-noise selection's candidates, the report's 2 otherwise.
+    uint32_t passes = 0;
     uint32_t seed = 1;
     double rho0 = 0;       // ρ₀ in normalized units (diagonal 1); 0 = half the mean seed spacing
+    // ρ of each level over the next's: the report's 3, or 0 for the default: 3 for the report's look, 2 for the
+    // blue-noise selection's candidates (four children at half the spacing keep an even density; a third leaves
+    // gaps that no later level fills, see docs/algorithm.md).
+    double rhoDivisor = 0;
     SeedMode seeds = SeedMode::ControlPoints;
     uint32_t grid = 32;    // cells along the longest box side for SeedMode::Grid
     double eps1 = 1e-5;    // ε₁, as a fraction of the diagonal
@@ -36,6 +45,9 @@ struct RefineOptions {
     uint32_t maxIterations = 32;
     double jumpFactor = 3.0;  // drop a child that ends farther than jumpFactor·ρ from its parent
     bool keepAllLevels = true;
+    Distribution distribution = Distribution::BlueNoise;  // stippling only; direction sampling draws its points
+    float candidatesPerStipple = 4.0f;  // for BlueNoise: the selection keeps about one candidate in this many
+    bool selects() const { return style == SampleStyle::Stipple && distribution == Distribution::BlueNoise; }
 };
 
 constexpr uint32_t kMaxLevels = 16;  // MAX_LEVELS in common.glsl: seeds + 15 refinement levels
@@ -63,9 +75,12 @@ struct LevelStats {
 
 // Seed positions (normalized) and the per-level plan derived from the options.
 struct RefinePlan {
-    std::vector<Eigen::Vector3f> seeds;  // passes × seeds, pass-major
+    std::vector<Eigen::Vector3f> seeds;
     float seedJumpLimit = 0;             // level 0: how far a seed may move while projected
+    double gridCell = 0;                 // the seed grid's cell side for SeedMode::Grid, else 0
     double rho0 = 0;                     // resolved ρ₀
+    double rhoDivisor = 3;               // ρ of level k+1 is ρ of level k over this
+    uint32_t passes = 1;                 // resolved RefineOptions::passes
     uint32_t levelCount = 0;             // seed level + refinement levels
     std::vector<uint32_t> childCount;    // per level: 1 for seeds, 4 stippling, 2 direction
     std::vector<uint64_t> maxCandidates; // per level, worst case
@@ -81,11 +96,16 @@ struct LevelParams {
     float rho, jumpLimit, eps1, eps2, delta, phi;
     uint32_t maxIterations, mode, direction, level, seed, childCount, nextChildCount, keepAll;
     float toneOffset, toneScale;  // this level's share of [0,1) for the tone value, coarse levels first
+    uint32_t passChildren;        // children of one pass: childCount / passChildren passes at level 1
 };
-static_assert(sizeof(LevelParams) == 80);
+static_assert(sizeof(LevelParams) == 84);
 LevelParams levelParams(const RefinePlan& plan, const RefineOptions& options, uint32_t level);
+double levelRho(const RefinePlan& plan, uint32_t level);  // ρ of a level: 0 for the seeds, ρ₀ for level 1
 
-// Device resources of one refinement. The point buffer and the draw arguments are what the renderer reads.
+struct GpuSelection;  // select.h
+
+// Device resources of one refinement, and of the stipple selection that follows it when the options select
+// (RefineOptions::selects). drawnPoints() and drawOffset() are what the renderer reads.
 struct GpuRefinement {
     RefinePlan plan;
     RefineOptions options;
@@ -94,7 +114,13 @@ struct GpuRefinement {
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline refine = VK_NULL_HANDLE, scan = VK_NULL_HANDLE, compact = VK_NULL_HANDLE;
     VkQueryPool timestamps = VK_NULL_HANDLE;
-    static constexpr VkDeviceSize kDrawOffset = 16 * kMaxLevels;  // VkDrawIndirectCommand in `indirect`
+    GpuSelection* selection = nullptr;  // owned; null when every refined point is drawn
+    static constexpr VkDeviceSize kDrawOffset = 16 * kMaxLevels;  // the refinement's VkDrawIndirectCommand
+    static constexpr VkDeviceSize kSelectedDrawOffset = kDrawOffset + 16;  // the selection's
+
+    // The points drawn: the selected stipples (rank in `tone`), or the refined points.
+    const Buffer& drawnPoints() const;
+    VkDeviceSize drawOffset() const { return selection ? kSelectedDrawOffset : kDrawOffset; }
 };
 
 void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const RefineOptions& options);
@@ -105,8 +131,12 @@ void recordRefinement(Context& ctx, VkCommandBuffer cmd, GpuRefinement& r);
 // Records, submits and waits: the whole refinement in one submission.
 void runRefinement(Context& ctx, GpuRefinement& r);
 std::vector<LevelStats> readLevelStats(Context& ctx, GpuRefinement& r);
-// The points the renderer draws (all levels, or the last), in point-buffer order.
+// Milliseconds the stipple selection took on the device (timestamps); 0 without one.
+double selectionMs(Context& ctx, GpuRefinement& r);
+// The refined points (all levels, or the last), in point-buffer order: the selection's candidates.
 std::vector<PointRecord> readPoints(Context& ctx, GpuRefinement& r);
+// The points the renderer draws: the selected stipples in candidate order, or the refined points.
+std::vector<PointRecord> readDrawnPoints(Context& ctx, GpuRefinement& r);
 
 // The CPU reference backend: the same plan, rules and random numbers, on all hardware threads.
 std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& options, const RefinePlan& plan,

@@ -132,8 +132,8 @@ Vector3f perpendicular(const Vector3f& n) {
     return {1.0f + s * n.x() * n.x() * a, s * n.x() * n.y() * a, -s * n.x()};
 }
 
-void randomFrame(const LevelParams& pc, const Vector3f& n, uint32_t parent, Vector3f& r, Vector3f& u) {
-    auto q = unitFloats(pcg4d({pc.seed, pc.level, parent, 0xFFFFFFFFu}));
+void randomFrame(const LevelParams& pc, const Vector3f& n, uint32_t parent, uint32_t pass, Vector3f& r, Vector3f& u) {
+    auto q = unitFloats(pcg4d({pc.seed, pc.level, parent, 0xFFFFFFFFu - pass}));
     float z = 1.0f - 2.0f * q[0], phi = 6.28318530718f * q[1], theta = 6.28318530718f * q[2];
     float s = std::sqrt(std::max(0.0f, 1.0f - z * z));
     Vector3f axis(s * std::cos(phi), s * std::sin(phi), z);
@@ -188,6 +188,7 @@ std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& opti
         auto work = [&](size_t begin, size_t end) {
             for (size_t i = begin; i < end; ++i) {
                 uint32_t parentIndex = uint32_t(i / pc.childCount), child = uint32_t(i % pc.childCount);
+                uint32_t pass = child / pc.passChildren, sub = child % pc.passChildren;
                 auto rnd = unitFloats(pcg4d({pc.seed, level, parentIndex, child}));
                 Vector3f origin, start;
                 if (pc.mode == 0) {
@@ -198,14 +199,15 @@ std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& opti
                     origin = Vector3f(parent.position[0], parent.position[1], parent.position[2]);
                     Vector3f n(parent.normal[0], parent.normal[1], parent.normal[2]);
                     Vector3f r, u;
-                    randomFrame(pc, n, parentIndex, r, u);
+                    randomFrame(pc, n, parentIndex, pass, r, u);
                     if (pc.mode == 1) {
-                        float si = (child & 1u) ? 1.0f : -1.0f, sj = (child & 2u) ? 1.0f : -1.0f;
+                        float si = (sub & 1u) ? 1.0f : -1.0f, sj = (sub & 2u) ? 1.0f : -1.0f;
                         float mi = 0.25f * rnd[0] - 0.125f, mj = 0.25f * rnd[1] - 0.125f;
                         start = origin + (si + mi) * pc.rho * r + (sj + mj) * pc.rho * u;
                     } else {
                         Vector3f d = tangentDirection(hrbf, pc, origin, n, r);
-                        start = origin + (child == 0 ? -pc.rho : pc.rho) * d;
+                        start = origin + (sub == 0 ? -pc.rho : pc.rho) * d;
+                        if (pass > 0) start += (2.0f * rnd[1] - 1.0f) * pc.rho * n.cross(d);
                     }
                 }
                 Vector3d p = start.cast<double>(), g = Vector3d::Zero();

@@ -1,6 +1,7 @@
 #include "renderer.h"
 
 #include "common.h"
+#include "select.h"
 
 #include <algorithm>
 #include <cmath>
@@ -82,9 +83,11 @@ VkPipeline createInkPipeline(Context& ctx, VkPipelineLayout layout, VkFormat col
 // The spacing the splats must cover: for stippling the finest level's ρ (the densest points); direction
 // sampling makes lines about ρ₀ apart, so its splats must bridge the gaps between lines.
 float splatSpacing(const GpuRefinement& r) {
+    // Every candidate lies within R₀ of a selected stipple: disks of radius R₀ cover the surface the candidates do.
+    if (r.selection) return float(0.5 * r.selection->plan.radius0);
     uint32_t last = r.plan.levelCount - 1;
     if (last == 0 || r.options.style == SampleStyle::Direction) return float(r.plan.rho0);
-    return float(r.plan.rho0 / std::pow(3.0, double(last) - 1.0));
+    return float(levelRho(r.plan, last));
 }
 
 constexpr VkShaderStageFlags kStages =
@@ -122,12 +125,13 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
     coverage_ = createBuffer(ctx, 4, storage, MemoryUse::Device);
     for (const GpuRefinement* r : sets) {
         uint32_t draw[4];
-        downloadBuffer(ctx, r->indirect, GpuRefinement::kDrawOffset, draw, sizeof(draw));
+        downloadBuffer(ctx, r->indirect, r->drawOffset(), draw, sizeof(draw));
         // `DotList`: the indirect dispatch, then up to one 16-byte `Dot` a point.
         Buffer dots = createBuffer(ctx, 16 + 16 * VkDeviceSize(std::max(1u, draw[0])),
-                                   storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryUse::Device);
+                                   storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                   MemoryUse::Device);
         VkBufferViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
-        viewInfo.buffer = r->points.buffer;
+        viewInfo.buffer = r->drawnPoints().buffer;
         viewInfo.format = VK_FORMAT_R32G32B32A32_SFLOAT;
         viewInfo.range = VK_WHOLE_SIZE;
         VkBufferView texels;
@@ -183,7 +187,10 @@ void PointRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pi
     b.color[1] = s.hiddenInk;
     b.size = glm::vec4(s.silhouetteSize * pixelScale, s.frontSize * pixelScale, s.hiddenSize * pixelScale, s.tau);
     glm::vec3 l = glm::length(s.light) > 0 ? glm::normalize(s.light) : glm::vec3(0, 0, 1);
+    // A light fixed to the model is given as seen from the default camera, and turned into model space there.
+    if (!s.lightFollowsCamera) l = glm::transpose(glm::mat3(Camera{}.view())) * l;
     b.light = glm::vec4(l, s.toneGamma);
+    b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, 0.0f, 0.0f, 0.0f);
     b.tone = glm::vec4(s.inkDensity, s.ambient, 1.0f, kMaxDotPixels * pixelScale);
     vkCmdUpdateBuffer(cmd, styleBuffer_.buffer, 0, sizeof(b), &b);
     stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
@@ -307,6 +314,22 @@ uint32_t PointRenderer::drawnDots() const {
     uint32_t dots = 0;
     downloadBuffer(ctx_, drawn_, 0, &dots, sizeof(dots));
     return dots;
+}
+
+std::vector<uint32_t> PointRenderer::drawnPoints(size_t set) const {
+    vkDeviceWaitIdle(ctx_.device);
+    uint32_t header[4];
+    downloadBuffer(ctx_, sets_.at(set).dots, 0, header, sizeof(header));
+    std::vector<uint32_t> dots(4 * size_t(header[3]));
+    if (!dots.empty()) downloadBuffer(ctx_, sets_[set].dots, 16, dots.data(), dots.size() * 4);
+    constexpr uint32_t kBack = 2;  // BACK in render_common.glsl
+    std::vector<uint32_t> points;
+    for (size_t i = 0; i < header[3]; ++i) {
+        uint32_t cls = dots[4 * i + 3];
+        if (((cls >> 2) & 3u) != kBack) points.push_back(cls >> 4);
+    }
+    std::sort(points.begin(), points.end());
+    return points;
 }
 
 OffscreenRenderer::OffscreenRenderer(Context& ctx, uint32_t width, uint32_t height, const RenderStyle& style,

@@ -19,13 +19,16 @@ struct RenderStyle {
     glm::vec4 ink{0.0f, 0.0f, 0.0f, 1.0f};
     glm::vec4 paper{1.0f, 1.0f, 1.0f, 1.0f};
     glm::vec4 hiddenInk{0.0f, 0.0f, 0.0f, 0.45f};  // blended over the paper once: a grey line
-    float frontSize = 1.6f;       // dot diameter in output pixels
+    float frontSize = 2.0f;       // dot diameter in output pixels
     float silhouetteSize = 2.4f;
     float hiddenSize = 1.4f;
     float tau = 0.1f;             // τ of the silhouette test (report §5)
     bool hiddenLines = false;     // draw occluded silhouettes faint
     bool occlusion = true;        // the splat depth pre-pass; off: every front-facing dot shows
-    glm::vec3 light{-0.5f, 0.6f, 0.65f};  // towards the light, in view space (x right, y up, z to the viewer)
+    // Towards the light, in view space (x right, y up, z to the viewer) as seen from the default camera. The light
+    // stays fixed to the model as the camera moves (so do the dots tone draws), unless it follows the camera.
+    glm::vec3 light{-0.5f, 0.6f, 0.65f};
+    bool lightFollowsCamera = false;
     // Tone: a front dot is drawn when its fixed random value is below
     //   (ambient + (1 − max(0, n·l))^γ) · inkDensity · k,
     // k scaling the expected ink coverage of fully dark regions to about 60% at any zoom and point count.
@@ -42,6 +45,7 @@ struct StyleBlock {
     glm::vec4 size;
     glm::vec4 light;
     glm::vec4 tone;
+    glm::vec4 options;
 };
 
 // Draws one or more refinements (e.g. stippling and direction sampling together) into a colour target.
@@ -71,6 +75,9 @@ public:
     Timings timings() const;
     // Dots the last frame drew, over all sets (reads a counter back; waits for the device).
     uint32_t drawnDots() const;
+    // The points of set `set` whose dots the last frame drew, as indices into its drawn points (reads the dot
+    // list back; waits for the device).
+    std::vector<uint32_t> drawnPoints(size_t set) const;
 
 private:
     struct Set {
@@ -118,6 +125,7 @@ public:
     void draw(const Camera& camera);
     PointRenderer::Timings timings() const { return renderer_.timings(); }
     uint32_t drawnDots() const { return renderer_.drawnDots(); }
+    std::vector<uint32_t> drawnPoints(size_t set) const { return renderer_.drawnPoints(set); }
 
 private:
     void record(VkCommandBuffer cmd, const Camera& camera, bool readback);

@@ -81,8 +81,9 @@ vec3 perpendicular(vec3 n) {
 }
 
 // The report's random frame: r′ = R n for a random rotation R (axis, angle); u = n × r′, r = n × u.
-void randomFrame(vec3 n, uint parent, out vec3 r, out vec3 u) {
-    vec4 q = unitFloats(pcg4d(uvec4(pc.seed, pc.level, parent, 0xFFFFFFFFu)));
+// Each pass of children (level 1) turns its own frame.
+void randomFrame(vec3 n, uint parent, uint pass, out vec3 r, out vec3 u) {
+    vec4 q = unitFloats(pcg4d(uvec4(pc.seed, pc.level, parent, 0xFFFFFFFFu - pass)));
     float z = 1.0 - 2.0 * q.x, phi = 6.28318530718 * q.y, theta = 6.28318530718 * q.z;
     vec3 axis = vec3(sqrt(max(0.0, 1.0 - z * z)) * vec2(cos(phi), sin(phi)), z);
     // Rodrigues' rotation of n about axis by theta.
@@ -126,6 +127,7 @@ void main() {
     vec4 rnd = vec4(0.0);
     if (inRange) {
         uint parentIndex = i / pc.childCount, child = i % pc.childCount;
+        uint pass = child / pc.passChildren, sub = child % pc.passChildren;
         rnd = unitFloats(pcg4d(uvec4(pc.seed, L, parentIndex, child)));
         if (pc.mode == 0u) {
             origin = seeds[i].xyz;
@@ -134,16 +136,18 @@ void main() {
             Point parent = points[levels[L].parentOffset + parentIndex];
             origin = parent.position;
             vec3 r, u;
-            randomFrame(parent.normal, parentIndex, r, u);
+            randomFrame(parent.normal, parentIndex, pass, r, u);
             if (pc.mode == 1u) {
                 // Stippling: p + iρ r + jρ u with i, j ∈ {±1 + m}, m ∈ [−⅛, ⅛] fresh for each.
-                float si = (child & 1u) != 0u ? 1.0 : -1.0, sj = (child & 2u) != 0u ? 1.0 : -1.0;
+                float si = (sub & 1u) != 0u ? 1.0 : -1.0, sj = (sub & 2u) != 0u ? 1.0 : -1.0;
                 float mi = 0.25 * rnd.x - 0.125, mj = 0.25 * rnd.y - 0.125;
                 start = origin + (si + mi) * pc.rho * r + (sj + mj) * pc.rho * u;
             } else {
-                // Direction sampling: p ± ρ d along a smooth tangent field.
+                // Direction sampling: p ± ρ d along a smooth tangent field; a further pass starts a line
+                // beside it, shifted across the field by up to ρ.
                 vec3 d = tangentDirection(origin, parent.normal, r);
-                start = origin + (child == 0u ? -pc.rho : pc.rho) * d;
+                start = origin + (sub == 0u ? -pc.rho : pc.rho) * d;
+                if (pass > 0u) start += (2.0 * rnd.y - 1.0) * pc.rho * cross(parent.normal, d);
             }
         }
     }

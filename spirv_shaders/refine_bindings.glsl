@@ -34,6 +34,7 @@ layout(push_constant) uniform Params {
     uint keepAll;        // 1: draw every level; 0: only the last
     float toneOffset;    // the tone value is toneOffset + toneScale·u, u uniform in [0,1): levels take
     float toneScale;     // consecutive shares of [0,1), coarse first, so that tone thins fine levels first
+    uint passChildren;   // children of one pass; level 1 makes childCount / passChildren passes of them
 } pc;
 
 const uint GROUP_SIZE = 256u;

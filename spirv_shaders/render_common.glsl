@@ -10,8 +10,10 @@
 layout(std140, binding = 1) uniform Style {
     vec4 color[2];  // ink (silhouette and front dots), hidden ink (occluded silhouettes)
     vec4 size;      // dot diameter in pixels: silhouette, front, hidden silhouette; w: τ
-    vec4 light;     // xyz: unit direction towards the light in view space; w: tone gamma (0: no tone)
+    vec4 light;     // xyz: unit direction towards the light, in view space or (options.x) model space; w: tone
+                    // gamma (0: no tone)
     vec4 tone;      // x: ink density, y: ambient darkness, zw: dot diameter range in pixels
+    vec4 options;   // x: 1 when the light is fixed to the model
 } style;
 
 // Per frame and set: the dots that passed class, tone and frustum (splat.comp), for stamp.comp to test for
@@ -19,7 +21,8 @@ layout(std140, binding = 1) uniform Style {
 struct Dot {
     vec2 pixel;  // the centre, in pixels
     float z;     // normalized depth
-    uint cls;    // SILHOUETTE or FRONT
+    uint cls;    // SILHOUETTE or FRONT | the point's index in its set << 2; stamp.comp then makes it the class
+                 // | the visible class (BACK: hidden) << 2 | the index << 4, for PointRenderer::drawnPoints
 };
 layout(std430, binding = 0) buffer DotList {
     uvec4 dispatch;  // workgroups, 1, 1, dots

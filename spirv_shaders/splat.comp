@@ -51,13 +51,15 @@ void splat(vec3 c, vec3 n) {
 
 // Whether the point's dot may show — its class is not BACK, its tone keeps it, it is in the frustum — and
 // that dot.
-bool selectDot(Point p, vec3 c, vec3 n, float nv, out Dot d) {
-    d.cls = classify(nv);
-    if (d.cls == BACK) return false;
-    if (d.cls == FRONT && style.light.w > 0.0) {
-        // Drawn when its fixed tone value is below the darkness: density follows shading, and a dot keeps its
-        // state while the light on it does not change.
-        float lit = max(0.0, dot(n, style.light.xyz));
+bool selectDot(Point p, uint index, vec3 c, vec3 n, float nv, out Dot d) {
+    uint cls = classify(nv);
+    d.cls = cls | (index << 2u);
+    if (cls == BACK) return false;
+    if (cls == FRONT && style.light.w > 0.0) {
+        // Drawn when its rank (or, for the report's look, its fixed random value) is below the darkness: the
+        // stipples of a tone are a prefix of the ranking, evenly spaced, a darker tone only adds dots, and a dot
+        // keeps its state while the light on it does not change (a light fixed to the model: as the camera moves).
+        float lit = max(0.0, dot(style.options.x != 0.0 ? p.normal : n, style.light.xyz));
         float darkness = (style.tone.y + pow(1.0 - lit, style.light.w)) * style.tone.x * cam.splat.z;
         if (p.tone >= darkness) return false;
     }
@@ -66,6 +68,13 @@ bool selectDot(Point p, vec3 c, vec3 n, float nv, out Dot d) {
     if (any(greaterThan(abs(ndc.xy), vec2(1.0))) || ndc.z > 1.0) return false;
     d.pixel = (ndc.xy * 0.5 + 0.5) * cam.viewport.xy;
     d.z = ndc.z;
+    if (cls == SILHOUETTE) {
+        // Near the outline the disks are edge-on and their depths jump from cell to cell: a silhouette dot is
+        // tested two push-backs nearer the camera, so that its own surface does not hide it in one frame and
+        // show it in the next.
+        vec4 nearer = project(c - normalize(c) * (2.0 * cam.splat.y));
+        d.z = nearer.z / nearer.w;
+    }
     return true;
 }
 
@@ -80,7 +89,7 @@ void main() {
     if (inFront && cam.splat.x > 0.0 && nv >= -0.2) splat(c, n);
 
     Dot d;
-    bool selected = inFront && selectDot(p, c, n, nv, d);
+    bool selected = inFront && selectDot(p, i, c, n, nv, d);
     // Appended a subgroup at a time: one atomic for the slots, one for the dispatch size.
     uvec4 ballot = subgroupBallot(selected);
     uint count = subgroupBallotBitCount(ballot), first = 0u;

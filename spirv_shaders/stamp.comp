@@ -32,11 +32,12 @@ ivec4 stamp(vec2 center, float diameter, uint bit) {
 
 // The dot's class once occlusion is known: as selected, HIDDEN, or BACK for a dot that does not show.
 uint visibleClass(Dot d) {
-    if (cam.splat.x <= 0.0) return d.cls;
+    uint cls = d.cls & 3u;
+    if (cam.splat.x <= 0.0) return cls;
     vec2 grid = cam.viewport.zw;
     ivec2 cell = clamp(ivec2(d.pixel / cam.viewport.xy * grid), ivec2(0), ivec2(grid) - 1);
-    if (d.z <= uintBitsToFloat(depth[cell.y * int(grid.x) + cell.x])) return d.cls;
-    return d.cls == SILHOUETTE && (cam.counts.y & 1u) != 0u ? HIDDEN : BACK;
+    if (d.z <= uintBitsToFloat(depth[cell.y * int(grid.x) + cell.x])) return cls;
+    return cls == SILHOUETTE && (cam.counts.y & 1u) != 0u ? HIDDEN : BACK;
 }
 
 void main() {
@@ -44,6 +45,7 @@ void main() {
     Dot d = list.dots[min(i, list.dispatch.w - 1u)];
     uint cls = i < list.dispatch.w ? visibleClass(d) : BACK;
     bool visible = cls != BACK;
+    if (i < list.dispatch.w) list.dots[i].cls = d.cls >> 2u << 4u | cls << 2u | (d.cls & 3u);
     ivec4 box = ivec4(0x7FFFFFFF, 0x7FFFFFFF, -1, -1);
     if (visible) {
         uint sizeSlot = cls == HIDDEN ? 2u : cls;

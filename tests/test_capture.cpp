@@ -28,8 +28,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A golden scene. Each is also `inkwell render MODEL --size 256 256 --passes 2 ...` with the same options
-// (the CLI's defaults are RenderStyle's), which is how docs/capture.md describes them.
+// A golden scene. Each is also `inkwell render MODEL --size 256 256 ...` with the same options (the CLI's
+// defaults are RenderStyle's and RefineOptions'), which is how docs/capture.md describes them.
 struct GoldenScene {
     const char* name;         // tests/golden/<name>.png
     const char* model;        // relative to the source directory
@@ -50,11 +50,11 @@ ink::Camera camera(float azimuthDeg, float elevationDeg, float distance) {
 
 constexpr uint32_t kGoldenSize = 256;
 
-const GoldenScene kBunnyStipple{"bunny-stipple", "assets/bunny.obj", 150, 2, ink::SampleStyle::Stipple,
+const GoldenScene kBunnyStipple{"bunny-stipple", "assets/bunny.obj", 150, 3, ink::SampleStyle::Stipple,
                                 ink::Camera{}, false};
 const GoldenScene kBunnyDirection{"bunny-direction", "assets/bunny.obj", 150, 4, ink::SampleStyle::Direction,
                                   camera(-60, 20, 1.5f), false};
-const GoldenScene kTorusHidden{"torus-hidden", "tests/golden/torus.pts", 0, 3, ink::SampleStyle::Stipple,
+const GoldenScene kTorusHidden{"torus-hidden", "tests/golden/torus.pts", 0, 4, ink::SampleStyle::Stipple,
                                camera(20, 20, 1.4f), true};
 
 std::string sourcePath(const std::string& relative) {
@@ -73,7 +73,6 @@ ink::RgbaImage renderScene(ink::Context& ctx, const GoldenScene& scene) {
     ink::Model model = ink::loadModel(sourcePath(scene.model), {scene.controlPoints});
     ink::RefineOptions options;
     options.levels = scene.levels;
-    options.passes = 2;  // the CLI's default
     options.style = scene.style;
     ink::RenderStyle style;
     style.hiddenLines = scene.hiddenLines;
@@ -302,7 +301,7 @@ TEST_CASE("capture: the manifest lists N frames with distinct azimuths, and vali
 TEST_CASE("capture: frame 0 of a capture matches the bunny-stipple golden") {
     // The command and the in-process golden render the same scene: capture is a way to remake a golden.
     TempDir dir("golden");
-    std::string golden = "capture " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 150 --levels 2 ";
+    std::string golden = "capture " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 150 --levels 3 ";
     REQUIRE(run(golden + "--size 256 256 --frames 2 -o " + dir / "g").status == 0);
     nlohmann::json m = nlohmann::json::parse(std::ifstream(dir / "g/manifest.json"));
     if (m["device"].get<std::string>().find("llvmpipe") == std::string::npos) {

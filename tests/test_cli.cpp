@@ -2,14 +2,17 @@
 #include "run_command.h"
 
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <vector>
+#include <set>
 #include <string>
+#include <vector>
 #include <sys/wait.h>
 
 namespace {
@@ -51,34 +54,60 @@ TEST_CASE("cli: render with validation writes the bunny PNG and reports its poin
     CHECK(std::filesystem::file_size(out) > 1000);
 }
 
-TEST_CASE("cli: sample writes a binary PLY in the input's units and stats with per-level counts") {
+TEST_CASE("cli: sample writes ranked stipples as a binary PLY in the input's units, and their spacing in stats") {
     std::string dir = std::filesystem::temp_directory_path().string();
     std::string ply = dir + "/inkwell-cli-sample.ply", stats = dir + "/inkwell-cli-sample.json";
-    Run r = run("sample " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 64 --levels 2 --passes 1 --points " +
-                ply + " --stats " + stats);
+    Run r = run("sample " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 64 --levels 3 --points " + ply +
+                " --stats " + stats);
     REQUIRE(r.status == 0);
     std::ifstream in(ply, std::ios::binary);
     std::string header, line;
     while (std::getline(in, line) && line != "end_header") header += line + "\n";
     CHECK(header.find("format binary_little_endian 1.0") != std::string::npos);
-    CHECK(header.find("property float nz") != std::string::npos);
+    CHECK(header.find("property float nz\nproperty int level\nproperty float rank\n") != std::string::npos);
     size_t at = header.find("element vertex ");
     REQUIRE(at != std::string::npos);
     size_t count = std::stoul(header.substr(at + 15));
-    std::vector<float> data(count * 6);
+    REQUIRE(count > 100);
+    std::vector<float> data(count * 8);
     in.read(reinterpret_cast<char*>(data.data()), std::streamsize(data.size() * 4));
     CHECK(in.gcount() == std::streamsize(data.size() * 4));
     // The bunny's own units: its y runs from about 3 to 15 (normalized coordinates would stay within ±0.5).
+    // Levels 0..3; ranks in [0, 1), a quarter of them below 0.25.
     float maxY = 0;
-    for (size_t i = 0; i < count; ++i) maxY = std::max(maxY, data[6 * i + 1]);
+    size_t quarter = 0;
+    std::set<int32_t> levels;
+    for (size_t i = 0; i < count; ++i) {
+        maxY = std::max(maxY, data[8 * i + 1]);
+        int32_t level;
+        std::memcpy(&level, &data[8 * i + 6], 4);
+        levels.insert(level);
+        float rank = data[8 * i + 7];
+        CHECK((rank >= 0.0f && rank < 1.0f));
+        quarter += rank < 0.25f;
+    }
     CHECK(maxY > 5.0f);
+    CHECK(*levels.begin() >= 0);
+    CHECK(*levels.rbegin() <= 3);
+    CHECK(double(quarter) / double(count) == doctest::Approx(0.25).epsilon(0.05));
 
     std::ifstream js(stats);
-    std::string text((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
-    for (const char* key : {"\"control_points\": 64", "\"refine\"", "\"levels\"", "\"candidates\"", "\"kept\"",
-                            "\"dropped\"", "\"seconds\"", "\"max_normal_angle_deg\"", "\"points\": " })
-        CHECK_MESSAGE(text.find(key) != std::string::npos, key);
-    CHECK(text.find("\"points\": " + std::to_string(count)) != std::string::npos);
+    nlohmann::json j = nlohmann::json::parse(js);
+    CHECK(j["control_points"] == 64);
+    CHECK(j["refine"]["points"] == count);
+    CHECK(j["refine"]["levels"].size() == 4);
+    CHECK(j["select"]["candidates"].get<size_t>() > 3 * count);
+    // The whole set and the prefixes 1/2, 1/4, 1/8, each with its size and spacing (estimated area).
+    const auto& prefixes = j["spacing"]["prefixes"];
+    REQUIRE(prefixes.size() == 4);
+    double fraction = 1.0;
+    for (const auto& p : prefixes) {
+        CHECK(p["fraction"].get<double>() == fraction);
+        CHECK(p["points"].get<double>() == doctest::Approx(fraction * double(count)).epsilon(0.1));
+        CHECK(p["mean_nn_over_r_max"].get<double>() > 0.65);
+        CHECK(p["min_nn_over_r_max"].get<double>() > 0.4);
+        fraction /= 2;
+    }
 }
 
 TEST_CASE("cli: absurd requests are refused up front, leaving no output") {
@@ -109,7 +138,9 @@ TEST_CASE("cli: bench runs the sphere workload and reports the documented keys")
     REQUIRE(r.status == 0);
     std::ifstream js(json);
     std::string text((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
-    for (const char* key : {"\"workload\": \"sphere\"", "\"candidates\": 65532", "\"points\"", "\"fit_seconds\"",
+    // The sphere's 6 seeds, 6 levels of 4 children, one pass: 6·(1 + 4 + … + 4⁶) candidates, stipples selected.
+    for (const char* key : {"\"workload\": \"sphere\"", "\"candidates\": 32766", "\"points\"", "\"fit_seconds\"",
+                            "\"distribution\": \"blue-noise\"", "\"stipples\"", "\"select_ms\"",
                             "\"refine_seconds\"", "\"preprocess_seconds\"", "\"frame_ms_median\"",
                             "\"cpu_refine_seconds\"", "\"peak_memory_mb\"", "\"device\"", "\"driver\"",
                             "\"level_gpu_ms\"", "\"frame_passes_ms_median\"", "\"stamp\"",

@@ -58,7 +58,7 @@ TEST_CASE("gpu: the bunny renders as dots on white paper") {
         if (image.pixels[i] < 128) ++dark;
         if (image.pixels[i] == 255) ++white;
     }
-    CHECK(dark > 500);              // there is a drawing
+    CHECK(dark > 250);              // there is a drawing (about 900 stipples of 4200 candidates)
     CHECK(white > 256 * 256 / 2);   // on mostly white paper
     // The corners are paper: the camera frames the model.
     CHECK(image.pixels[0] == 255);

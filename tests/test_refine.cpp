@@ -197,7 +197,7 @@ TEST_CASE("refine: requests that cannot fit are refused with the numbers") {
                          ink::Error);
     options.levels = 14;
     CHECK_THROWS_WITH_AS(ink::planRefinement(model.hrbf, options, 1u << 22),
-                         doctest::Contains("asks for up to 17895697050 points (50 seeds, 14 levels of 4 children), "
+                         doctest::Contains("asks for up to 17895697050 points (50 seeds, 14 levels of 4 children, 1 pass), "
                                            "but at most 4194304 fit"),
                          ink::Error);
 }

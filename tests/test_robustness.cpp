@@ -341,7 +341,7 @@ TEST_CASE("robust: absurd sizes, levels and control point counts are refused up 
     // any refinement buffer is made, with both numbers.
     Outcome levels = run(dir, "render " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 100 --levels 14 "
                               "-q -o " + (dir / "out.png"));
-    checkRefusal(levels, {"the refinement asks for up to ", " points (200 seeds, 14 levels of 4 children), but at most ",
+    checkRefusal(levels, {"the refinement asks for up to ", " points (100 seeds, 14 levels of 4 children, 1 pass), but at most ",
                           " fit: use fewer levels, passes or control points"});
     CHECK_FALSE(fs::exists(dir / "out.png"));
 

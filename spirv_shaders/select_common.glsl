@@ -1,0 +1,146 @@
+// The stipple selection's bindings and per-point arithmetic (engine/select.h explains the method). The C++
+// twin of the arithmetic is engine/select_math.h: every float expression that decides something is `precise`
+// and written in the same order, so that the CPU reference selects exactly the same points.
+#ifndef SELECT_COMMON_GLSL
+#define SELECT_COMMON_GLSL
+
+#include "common.glsl"
+
+const uint MAX_STAGES = 48u;  // kMaxSelectStages in select.h
+const uint GROUP_SIZE = 256u;
+
+struct Stage {
+    vec3 offset;            // grid shift
+    float cellScale;        // 1 / cell side
+    float radius2;          // R_s²
+    float previousRadius2;  // R_{s−1}²
+    float orderScale;       // 1 / (R_{s−1}² − R_s²)
+    uint poolThreshold;     // pool key below this: in the pool (0xFFFFFFFF: every candidate)
+    uint bucketsPerPhase;
+    uint seed;
+    uint pad[2];
+};
+
+layout(std430, binding = 0) readonly buffer StageBuffer { Stage stages[]; };
+// The refinement's points; the candidates are points[first + p], p < candidates.
+layout(std430, binding = 1) readonly buffer CandidateBuffer { Point points[]; };
+// The refinement's indirect arguments: its draw (count, 1, first, 0) at `draw`, the selection's after it.
+layout(std430, binding = 2) buffer IndirectBuffer {
+    uvec4 dispatches[MAX_LEVELS];
+    uvec4 draw;
+    uvec4 selectedDraw;
+};
+layout(std430, binding = 3) buffer StageOfBuffer { uint stageOf[]; };    // 1 + the stage that selected p; 0: not
+layout(std430, binding = 5) buffer OrderBuffer { float order[]; };       // u(p)
+layout(std430, binding = 6) buffer PoolBuffer { uint pool[]; };          // candidates by the stage they enter at
+// The pool's points by bucket: the point (its `level` holds the candidate index) and its stage state, copied
+// so that neighbour searches read memory in order.
+layout(std430, binding = 4) buffer EntryPointBuffer { Point entryPoints[]; };
+layout(std430, binding = 7) buffer EntryStateBuffer { uint entryStage[]; };
+layout(std430, binding = 8) buffer BucketCountBuffer { uint bucketCount[]; };  // also the scan's input
+layout(std430, binding = 9) buffer BucketStartBuffer { uint bucketStart[]; };  // the scan's output
+layout(std430, binding = 10) buffer BlockBuffer { uint blockSums[]; };
+layout(std430, binding = 13) buffer BackFillBuffer { uint backFill[]; };  // select_bucket's back cursors
+layout(std430, binding = 11) buffer CountBuffer {
+    uint candidates;
+    uint first;
+    uint total;  // points selected
+    uint pad;
+    uvec4 candidateDispatch;            // over the candidates
+    uvec4 poolDispatch[MAX_STAGES];     // over each stage's pool
+    uint entering[MAX_STAGES];          // candidates whose first pool is stage s
+    uint poolSize[MAX_STAGES];          // candidates in stage s's pool: pool[0 .. poolSize[s])
+    uint added[MAX_STAGES];             // points stage s selected
+    uint enterFill[MAX_STAGES];         // scatter cursors of the pool sort
+    uint before[MAX_STAGES];            // points the stages before s selected
+} counts;
+layout(std430, binding = 12) writeonly buffer StippleBuffer { Point stipples[]; };
+
+layout(push_constant) uniform Params {
+    uint stage;
+    uint phase;   // select_phase: the phase; scans: the pass; select_pool: 0 count, 1 scatter
+    uint count;   // scans: elements (0xFFFFFFFF: the candidates)
+    uint stageCount;
+    uint poolSeed;
+} pc;
+
+ivec3 cellOf(vec3 p, Stage s) {
+    precise vec3 x = (p + s.offset) * s.cellScale;
+    return ivec3(floor(x));
+}
+
+uint cellPhase(ivec3 c) { return (uint(c.x) & 1u) | ((uint(c.y) & 1u) << 1) | ((uint(c.z) & 1u) << 2); }
+
+// Buckets of phase k are [k·bucketsPerPhase, (k+1)·bucketsPerPhase); within a phase, the Morton code of the
+// 2×2×2 block holding the cell, so that neighbouring cells' buckets, and their points, lie close in memory.
+// Far cells may share a bucket (the code wraps): the passes check distances, and cells where they must.
+uint spreadBits(uint x) {
+    x &= 0x3FFu;
+    x = (x | (x << 16u)) & 0x030000FFu;
+    x = (x | (x << 8u)) & 0x0300F00Fu;
+    x = (x | (x << 4u)) & 0x030C30C3u;
+    x = (x | (x << 2u)) & 0x09249249u;
+    return x;
+}
+
+uint cellBucket(ivec3 c, Stage s) {
+    uvec3 block = uvec3(c >> 1);
+    uint morton = spreadBits(block.x) | (spreadBits(block.y) << 1u) | (spreadBits(block.z) << 2u);
+    return cellPhase(c) * s.bucketsPerPhase + (morton & (s.bucketsPerPhase - 1u));
+}
+
+// The same for the 27 cells around c, sharing the spread coordinates: bucket of c + (i, j, k) − 1.
+struct Neighbourhood {
+    uint x[3], y[3], z[3];     // spread block coordinates, shifted for y and z
+    uint px[3], py[3], pz[3];  // the phase bits
+};
+
+Neighbourhood neighbourhood(ivec3 c) {
+    Neighbourhood n;
+    for (int i = 0; i < 3; ++i) {
+        ivec3 d = c + (i - 1);
+        uvec3 block = uvec3(d >> 1);
+        n.x[i] = spreadBits(block.x);
+        n.y[i] = spreadBits(block.y) << 1u;
+        n.z[i] = spreadBits(block.z) << 2u;
+        n.px[i] = uint(d.x) & 1u;
+        n.py[i] = (uint(d.y) & 1u) << 1u;
+        n.pz[i] = (uint(d.z) & 1u) << 2u;
+    }
+    return n;
+}
+
+uint neighbourBucket(Neighbourhood n, uint i, uint j, uint k, Stage s) {
+    uint morton = n.x[i] | n.y[j] | n.z[k];
+    return (n.px[i] | n.py[j] | n.pz[k]) * s.bucketsPerPhase + (morton & (s.bucketsPerPhase - 1u));
+}
+
+uint stagePriority(Stage s, uint p) { return pcg4d(uvec4(s.seed, p, 0u, 0u)).x; }
+uint poolKey(uint seed, uint p) { return pcg4d(uvec4(seed, p, 0x9001u, 0u)).x; }
+bool inPool(uint key, Stage s) { return s.poolThreshold == 0xFFFFFFFFu || key < s.poolThreshold; }
+
+bool priorityBefore(uint pa, uint a, uint pb, uint b) { return pa > pb || (pa == pb && a < b); }
+
+// Squared distance of two points on the same side of the surface (normals less than 120° apart), else +inf.
+float sameSideDistance2(Point a, Point b) {
+    precise float facing = a.normal.x * b.normal.x + a.normal.y * b.normal.y + a.normal.z * b.normal.z;
+    if (!(facing > -0.5)) return uintBitsToFloat(0x7F800000u);
+    precise float dx = a.position.x - b.position.x;
+    precise float dy = a.position.y - b.position.y;
+    precise float dz = a.position.z - b.position.z;
+    precise float d2 = dx * dx + dy * dy + dz * dz;
+    return d2;
+}
+
+float additionOrder(Stage s, float d2) {
+    precise float u = (s.previousRadius2 - d2) * s.orderScale;
+    return u > 0.0 ? min(u, 0.99999994) : 0.0;
+}
+
+float firstStageOrder(Stage s, uint p) { return unitFloats(pcg4d(uvec4(s.seed, p, 0xFACEu, 0u))).x; }
+
+Point candidate(uint p) { return points[counts.first + p]; }
+
+
+
+#endif
