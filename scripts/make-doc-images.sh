@@ -6,7 +6,9 @@ ink=build/inkwell
 out=docs/images
 mkdir -p "$out"
 $ink -q render assets/bunny.obj --control-points 684 --size 640 640 -o $out/bunny-stipple.png
-$ink -q render assets/bunny.obj --control-points 684 --size 640 640 --hidden-lines --camera 120,25,1.6 \
+$ink -q render assets/bunny.obj --control-points 684 --size 640 640 --distribution refinement \
+  -o $out/bunny-stipple-refinement.png
+$ink -q render assets/bunny.obj --control-points 684 --size 640 640 --hidden-lines --camera 120,25,1.6 --light-follows-camera \
   -o $out/bunny-hidden-lines.png
 $ink -q render assets/bunny.obj --control-points 684 --preset assets/presets/engraving.json --size 640 640 \
   -o $out/bunny-engraving.png
@@ -14,10 +16,12 @@ $ink -q render assets/bunny.obj --control-points 684 --style direction --levels 
   --camera 150,20,1.6 -o $out/bunny-direction.png
 $ink -q render assets/bunny.obj --control-points 684 --style direction --direction curvature-max --levels 5 \
   --size 640 640 -o $out/bunny-curvature.png
-# Refinement levels 0-4, each level alone, without tone, for stippling and direction sampling.
+# Refinement levels 0-4 as the report makes them (ρ/3 a level), each level alone, without tone, for stippling
+# and direction sampling.
 for level in 0 1 2 3 4; do
   for style in stipple direction; do
     $ink -q render assets/bunny.obj --control-points 312 --passes 1 --style $style --levels $level \
-      --keep-levels last --tone 0 --no-occlusion --size 320 320 -o $out/levels-$style-$level.png
+      --distribution refinement --keep-levels last --tone 0 --no-occlusion --size 320 320 \
+      -o $out/levels-$style-$level.png
   done
 done
