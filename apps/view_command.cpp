@@ -27,7 +27,8 @@ constexpr VkExtent2D kDefaultWindow{1024, 768};  // fits a 1280×1024 screen wit
 constexpr uint32_t kMaxLevels = 8;               // the +/- keys stay in 0..8
 constexpr double kTitleInterval = 0.5;           // seconds between window title updates
 
-// Where the L key sends the light, in view space (x right, y up, z towards the viewer).
+// Where the L key sends the light, as seen from the default camera (x right, y up, z towards the viewer); it
+// stays fixed to the model unless --light-follows-camera.
 constexpr std::array<glm::vec3, 5> kLights{{
     {-0.5f, 0.6f, 0.65f},    // upper left: the default
     {0.5f, 0.6f, 0.65f},     // upper right
