@@ -1,28 +1,29 @@
 // Stipple selection: from the refinement's candidate points, a subset with blue-noise spacing on the surface,
-// each selected point carrying a progressive rank (docs/algorithm.md, "Stipple selection").
+// each selected point carrying a progressive rank (docs/algorithm.md §3).
 //
 // Stages s = 0..K−1 run from coarse to fine with radii R_s = R₀·g^(K−1−s), the last one R₀. Each adds to the
 // points selected so far a maximal set of new ones from its pool, no two points on the same side of the surface
-// closer than R_s: the greedy set in a random priority order, computed in parallel
-// with phase groups (Wei 2008): cells of side R_s, 8 phases by the parities of the cell's coordinates; cells of
-// one phase are more than R_s apart, so one thread per cell decides its candidates, highest priority first,
-// against the points already selected. A stage's pool is a fixed random subset of the candidates, about
-// `poolFactor` times the points it will hold (the whole pool at the last stage); pools are nested, so every
-// stage sees the points selected before it. The sets S_0 ⊂ S_1 ⊂ … ⊂ S_{K−1} each have blue-noise spacing at
-// their radius, and
+// closer than R_s: the greedy set in a random priority order, computed in parallel with phase groups (Wei
+// 2008): cells of side just above R_s, 8 phases by the parities of the cell's coordinates; cells of one phase
+// are more than R_s apart, so one invocation per cell decides its candidates, highest priority first, against
+// the points already selected. A stage's pool is a fixed random subset of the candidates, about `poolFactor`
+// times the points it will hold (every candidate at the last stage); pools are nested, so every stage sees the
+// points selected before it. The sets S_0 ⊂ S_1 ⊂ … ⊂ S_{K−1} each have blue-noise spacing at their radius, and
 //   rank(p) = (|S_{s−1}| + u(p)·(|S_s| − |S_{s−1}|)) / |S_{K−1}|    for p added at stage s,
 // u(p) ordering a stage's points by their distance to S_{s−1}, farthest first: the prefix {rank < t} is a
 // coarser set plus the points of the next one that fill its largest holes.
 #pragma once
 
+#include "pipelines.h"
 #include "refine.h"
 #include "resources.h"
-#include "pipelines.h"
 
 #include <cstdint>
 #include <vector>
 
 namespace ink {
+
+constexpr uint32_t kMaxSelectStages = 48;  // MAX_STAGES in select_common.glsl
 
 struct SelectOptions {
     float candidatesPerStipple = 4.0f;  // R₀ is chosen so that the selection keeps about one candidate in this many
@@ -67,8 +68,6 @@ SelectPlan planSelection(const Hrbf& hrbf, const RefinePlan& refine, const Selec
 // added in `added` when non-null. The reference of select_*.comp: the same decisions, bit for bit.
 std::vector<PointRecord> selectOnCpu(const std::vector<PointRecord>& candidates, const SelectPlan& plan,
                                      std::vector<uint32_t>* added = nullptr);
-
-constexpr uint32_t kMaxSelectStages = 48;  // MAX_STAGES in select_common.glsl
 
 // The device side: buffers and pipelines of one selection, run after the refinement in its command buffer.
 // `stipples` holds the selected points in candidate order, their draw (count, 1, 0, 0) follows the

@@ -51,7 +51,7 @@ SelectPlan planSelection(const Hrbf& hrbf, const RefinePlan& refine, const Selec
 
     // The coarsest stage holds a handful of points; then each holds about g² times more.
     std::vector<double> radii{plan.radius0};
-    while (radii.size() < 48 && kPacking * plan.areaEstimate / (radii.back() * radii.back()) > 16.0)
+    while (radii.size() < kMaxSelectStages && kPacking * plan.areaEstimate / (radii.back() * radii.back()) > 16.0)
         radii.push_back(radii.back() * o.growth);
     std::reverse(radii.begin(), radii.end());
     double previous = 0;
