@@ -27,7 +27,8 @@ void addRefineOptions(CLI::App* cmd, Options& o) {
     ink::RefineOptions& r = o.refine;
     cmd->add_option("--levels", r.levels, "Refinement levels after the seeds")->capture_default_str();
     cmd->add_option("--passes", r.passes,
-                    "Independent sets of children of the seeds (default: 1 for blue-noise stipples, else the report's 2)");
+                    "Independent sets of children of the seeds (default: 1 for blue-noise stipples, else the report's 2)")
+        ->check(CLI::Range(1u, 64u));
     cmd->add_option("--direction", o.direction, "Direction field of direction sampling")
         ->check(CLI::IsMember({"axis", "curvature-min", "curvature-max"}))
         ->capture_default_str();
