@@ -39,7 +39,8 @@ void addRefineOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--grid", r.grid, "Grid cells along the longest side for --seeds grid")->capture_default_str();
     cmd->add_option("--rho", r.rho0, "ρ₀ as a fraction of the bounding-box diagonal (default: half the seed spacing)");
     cmd->add_option("--rho-divisor", r.rhoDivisor,
-                    "ρ of a level over the next's (default: 2 for blue-noise stipples, else the report's 3)");
+                    "ρ of a level over the next's (default: 2 for blue-noise stipples, else the report's 3)")
+        ->check(CLI::Range(1.5, 4.0));
     cmd->add_option("--seed", r.seed, "Random seed")->capture_default_str();
     cmd->add_option("--distribution", o.distribution,
                     "Stipples: selected from the refined points with blue-noise spacing and progressive ranks, or "
