@@ -8,6 +8,7 @@
 #include <algorithm>
 
 #include "select_bucket.comp.h"
+#include "select_cover.comp.h"
 #include "select_output.comp.h"
 #include "select_phase.comp.h"
 #include "select_pool.comp.h"
@@ -81,13 +82,14 @@ void createSelection(Context& ctx, GpuSelection& s, const Hrbf& hrbf, const Refi
     s.bucket = createComputePipeline(ctx, s.layout, spv_select_bucket_comp);
     s.scan = createComputePipeline(ctx, s.layout, spv_select_scan_comp);
     s.sort = createComputePipeline(ctx, s.layout, spv_select_sort_comp);
+    s.cover = createComputePipeline(ctx, s.layout, spv_select_cover_comp);
     s.phase = createComputePipeline(ctx, s.layout, spv_select_phase_comp);
     s.output = createComputePipeline(ctx, s.layout, spv_select_output_comp);
 }
 
 void destroySelection(Context& ctx, GpuSelection& s) {
     if (!ctx.device) return;
-    for (VkPipeline p : {s.setup, s.poolSort, s.bucket, s.scan, s.sort, s.phase, s.output})
+    for (VkPipeline p : {s.setup, s.poolSort, s.bucket, s.scan, s.sort, s.cover, s.phase, s.output})
         vkDestroyPipeline(ctx.device, p, nullptr);
     vkDestroyPipelineLayout(ctx.device, s.layout, nullptr);
     if (s.descriptors.pool) destroyDescriptorSet(ctx, s.descriptors);
@@ -166,6 +168,8 @@ void recordSelection(VkCommandBuffer cmd, const GpuSelection& s) {
         dispatchIndirect(s.bucket, push, poolDispatch(k));  // scatter
         passBarrier();
         dispatch(s.sort, push, groups(buckets, kGroup));
+        passBarrier();
+        dispatchIndirect(s.cover, push, poolDispatch(k));
         passBarrier();
         for (uint32_t phase = 0; phase < 8; ++phase) {
             push.phase = phase;

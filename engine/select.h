@@ -79,7 +79,7 @@ struct GpuSelection {
     DescriptorSet descriptors;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline setup = VK_NULL_HANDLE, poolSort = VK_NULL_HANDLE, bucket = VK_NULL_HANDLE, scan = VK_NULL_HANDLE,
-               sort = VK_NULL_HANDLE, phase = VK_NULL_HANDLE, output = VK_NULL_HANDLE;
+               sort = VK_NULL_HANDLE, cover = VK_NULL_HANDLE, phase = VK_NULL_HANDLE, output = VK_NULL_HANDLE;
 };
 
 // `points` and `indirect` are the refinement's (GpuRefinement), read on the device; `maxCandidates` bounds

@@ -37,6 +37,7 @@ layout(std430, binding = 6) buffer PoolBuffer { uint pool[]; };          // cand
 // so that neighbour searches read memory in order.
 layout(std430, binding = 4) buffer EntryPointBuffer { Point entryPoints[]; };
 layout(std430, binding = 7) buffer EntryStateBuffer { uint entryStage[]; };
+const uint COVERED = 0xFFFFFFFFu;  // entryStage of a point within R_s of an earlier stage's (select_cover)
 layout(std430, binding = 8) buffer BucketCountBuffer { uint bucketCount[]; };  // also the scan's input
 layout(std430, binding = 9) buffer BucketStartBuffer { uint bucketStart[]; };  // the scan's output
 layout(std430, binding = 10) buffer BlockBuffer { uint blockSums[]; };

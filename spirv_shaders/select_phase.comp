@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // One phase of stage pc.stage: one invocation per bucket of the phase decides the bucket's unselected points,
-// highest priority first, against the points selected so far, and gives each point it selects its order u.
+// highest priority first, against the points selected so far.
 // Every bucket keeps its selected points first (select_bucket puts them there), bucketCount[b] of them, so a
 // search reads only those. The cells of a phase are more than R_s apart and the buckets of a phase hold only its cells, so the
 // invocations never read what another one writes.
@@ -16,36 +16,30 @@ void main() {
     uint b = pc.phase * s.bucketsPerPhase + local;
     uint begin = bucketStart[b], end = bucketStart[b + 1u];
     uint selectedEnd = begin + bucketCount[b];
-    // The unselected points follow, sorted by priority (select_sort).
+    // The unselected points follow, sorted by priority (select_sort); select_cover marked those an earlier
+    // stage's point covers, so only this stage's points can stop the others.
     for (uint e = selectedEnd; e < end; ++e) {
+        if (entryStage[e] != 0u) continue;
         Point a = entryPoints[e];
         ivec3 c = cellOf(a.position, s);
         bool free = true;
-        float nearest = uintBitsToFloat(0x7F800000u);  // squared distance to the earlier stages' points
-        // The own cell first: a conflict, the usual outcome, ends the search early.
         for (uint n = 0u; free && n < 27u; ++n) {
             uint m = (n + 13u) % 27u;
-            uvec3 o = uvec3(m % 3u, (m / 3u) % 3u, m / 9u);
-            ivec3 cell = c + ivec3(o) - 1;
+            ivec3 cell = c + ivec3(m % 3u, (m / 3u) % 3u, m / 9u) - 1;
             uint nb = cellBucket(cell, s);
             uint first = bucketStart[nb], last = nb == b ? selectedEnd : first + bucketCount[nb];
-            for (uint f = first; free && f < last; ++f) {
-                Point other = entryPoints[f];
-                float d2 = sameSideDistance2(a, other);
-                if (d2 < s.radius2) free = false;
-                // Another cell's point in the same bucket is not among the 27 cells the reference reads.
-                else if (d2 < nearest && entryStage[f] <= pc.stage && cellOf(other.position, s) == cell) nearest = d2;
-            }
+            for (uint f = first; free && f < last; ++f)
+                if (entryStage[f] == pc.stage + 1u && sameSideDistance2(a, entryPoints[f]) < s.radius2) free = false;
         }
         if (free) {
-            // Into the selected prefix; the rejected point there (decided already) takes this one's place.
+            // Into the selected prefix; the point there (decided already) takes this one's place.
             uint p = a.level;
             entryPoints[e] = entryPoints[selectedEnd];
+            entryStage[e] = entryStage[selectedEnd];
             entryPoints[selectedEnd] = a;
             entryStage[selectedEnd] = pc.stage + 1u;
             ++selectedEnd;
             stageOf[p] = pc.stage + 1u;
-            order[p] = pc.stage == 0u ? firstStageOrder(s, p) : additionOrder(s, nearest);
             atomicAdd(counts.added[pc.stage], 1u);
         }
     }
