@@ -29,7 +29,8 @@ struct RenderStyle {
     // stays fixed to the model as the camera moves (so do the dots tone draws), unless it follows the camera.
     glm::vec3 light{-0.5f, 0.6f, 0.65f};
     bool lightFollowsCamera = false;
-    // Tone: a front dot is drawn when its fixed random value is below
+    // Tone: a front dot is drawn when its rank (PointRecord::tone: a selected stipple's rank, a refined point's
+    // fixed random value) is below
     //   (ambient + (1 − max(0, n·l))^γ) · inkDensity · k,
     // k scaling the expected ink coverage of fully dark regions to about 60% at any zoom and point count.
     float toneGamma = 1.5f;       // 0: no tone, every front dot is drawn

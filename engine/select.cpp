@@ -1,5 +1,5 @@
-// The stipple selection on the device (select.h): the pool sort, then per stage the hash buckets, the
-// priorities, eight phases and the order of the points added, then the ranked output. Every count lives on the
+// The stipple selection on the device (select.h): the pool sort, then per stage the buckets (count, scan,
+// scatter, sort), the covered points ruled out with their orders u, and eight phases, then the ranked output. Every count lives on the
 // device; passes over a pool run as indirect dispatches, so nothing returns to the CPU between stages.
 #include "select.h"
 

@@ -1,5 +1,5 @@
 // The stipple selection's per-point arithmetic, twin of spirv_shaders/select_common.glsl: cells, phases,
-// buckets, priorities, distances and ranks, written operation for operation as the shaders so that both
+// priorities, pools, distances and orders, written operation for operation as the shaders so that both
 // backends decide the same (no fused multiply-adds on either side: see select_cpu.cpp).
 #pragma once
 
@@ -7,12 +7,6 @@
 #include "select.h"
 
 #include <cmath>
-
-
-
-
-
-
 
 namespace ink {
 
@@ -33,6 +27,7 @@ inline uint32_t cellPhase(const CellKey& c) {
     return (uint32_t(c.x) & 1u) | ((uint32_t(c.y) & 1u) << 1) | ((uint32_t(c.z) & 1u) << 2);
 }
 
+// For the reference's hash map only (the device orders its buckets by Morton code: select_common.glsl).
 inline uint32_t cellHash(const CellKey& c) {
     uint32_t h = (uint32_t(c.x) * 73856093u) ^ (uint32_t(c.y) * 19349663u) ^ (uint32_t(c.z) * 83492791u);
     h ^= h >> 16;
@@ -41,18 +36,12 @@ inline uint32_t cellHash(const CellKey& c) {
     return h;
 }
 
-// Buckets of phase k are [k·bucketsPerPhase, (k+1)·bucketsPerPhase).
-inline uint32_t cellBucket(const CellKey& c, const SelectStage& s) {
-    return cellPhase(c) * s.bucketsPerPhase + (cellHash(c) & (s.bucketsPerPhase - 1u));
-}
-
 inline uint32_t stagePriority(const SelectStage& s, uint32_t point) { return pcg4d({s.seed, point, 0u, 0u})[0]; }
 
 // Whether a candidate is in the pool of a stage: its pool key under the stage's threshold. Keys are fixed per
 // candidate, so the pools are nested, and a finer stage's pool holds every point the coarser ones selected.
 inline uint32_t poolKey(uint32_t seed, uint32_t point) { return pcg4d({seed, point, 0x9001u, 0u})[0]; }
 inline bool inPool(uint32_t key, const SelectStage& s) { return s.poolThreshold == 0xFFFFFFFFu || key < s.poolThreshold; }
-
 
 // Higher priority first; equal priorities by candidate index.
 inline bool priorityBefore(uint32_t pa, uint32_t a, uint32_t pb, uint32_t b) { return pa > pb || (pa == pb && a < b); }

@@ -59,7 +59,7 @@ layout(std430, binding = 12) writeonly buffer StippleBuffer { Point stipples[]; 
 
 layout(push_constant) uniform Params {
     uint stage;
-    uint phase;   // select_phase: the phase; scans: the pass; select_pool: 0 count, 1 scatter
+    uint phase;   // select_phase: the phase; select_scan: the pass; the other passes: which of their steps
     uint count;   // scans: elements (0xFFFFFFFF: the candidates)
     uint stageCount;
     uint poolSeed;
@@ -88,32 +88,6 @@ uint cellBucket(ivec3 c, Stage s) {
     uvec3 block = uvec3(c >> 1);
     uint morton = spreadBits(block.x) | (spreadBits(block.y) << 1u) | (spreadBits(block.z) << 2u);
     return cellPhase(c) * s.bucketsPerPhase + (morton & (s.bucketsPerPhase - 1u));
-}
-
-// The same for the 27 cells around c, sharing the spread coordinates: bucket of c + (i, j, k) − 1.
-struct Neighbourhood {
-    uint x[3], y[3], z[3];     // spread block coordinates, shifted for y and z
-    uint px[3], py[3], pz[3];  // the phase bits
-};
-
-Neighbourhood neighbourhood(ivec3 c) {
-    Neighbourhood n;
-    for (int i = 0; i < 3; ++i) {
-        ivec3 d = c + (i - 1);
-        uvec3 block = uvec3(d >> 1);
-        n.x[i] = spreadBits(block.x);
-        n.y[i] = spreadBits(block.y) << 1u;
-        n.z[i] = spreadBits(block.z) << 2u;
-        n.px[i] = uint(d.x) & 1u;
-        n.py[i] = (uint(d.y) & 1u) << 1u;
-        n.pz[i] = (uint(d.z) & 1u) << 2u;
-    }
-    return n;
-}
-
-uint neighbourBucket(Neighbourhood n, uint i, uint j, uint k, Stage s) {
-    uint morton = n.x[i] | n.y[j] | n.z[k];
-    return (n.px[i] | n.py[j] | n.pz[k]) * s.bucketsPerPhase + (morton & (s.bucketsPerPhase - 1u));
 }
 
 uint stagePriority(Stage s, uint p) { return pcg4d(uvec4(s.seed, p, 0u, 0u)).x; }

@@ -1,10 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // One phase of stage pc.stage: one invocation per bucket of the phase decides the bucket's unselected points,
-// highest priority first, against the points selected so far.
-// Every bucket keeps its selected points first (select_bucket puts them there), bucketCount[b] of them, so a
-// search reads only those. The cells of a phase are more than R_s apart and the buckets of a phase hold only its cells, so the
-// invocations never read what another one writes.
+// highest priority first, against the points selected so far. Every bucket keeps its selected points first,
+// bucketCount[b] of them, so a search reads only those. The cells of a phase are more than R_s apart and the
+// buckets of a phase hold only its cells, so the invocations never read what another one writes.
 #include "select_common.glsl"
 
 layout(local_size_x = 64) in;
