@@ -26,6 +26,14 @@ static int runFit(Options& o, const std::string& output) {
     return 0;
 }
 
+// The selection's figures, alike from both backends.
+static json selectJson(const ink::SelectPlan& plan, size_t candidates, const std::vector<uint32_t>& added) {
+    return {{"candidates", candidates},
+            {"radius", plan.radius0},
+            {"area_estimate", plan.areaEstimate},
+            {"stage_added", added}};
+}
+
 static int runSample(Options& o, const std::string& pointsPath) {
     finishOptions(o);
     ink::checkWritable(pointsPath);
@@ -41,16 +49,16 @@ static int runSample(Options& o, const std::string& pointsPath) {
         auto start = Clock::now();
         ink::RefinePlan plan = ink::planRefinement(model.hrbf, o.refine, UINT32_MAX);
         points = ink::refineOnCpu(model.hrbf, o.refine, plan, &levels);
-        if (o.refine.selects()) {
-            ink::SelectPlan selectPlan = ink::planSelection(model.hrbf, plan, ink::selectOptions(o.refine));
-            std::vector<uint32_t> counts;
-            stats["select"]["candidates"] = points.size();
-            points = ink::selectOnCpu(points, selectPlan, &counts);
-            stats["select"]["radius"] = selectPlan.radius0;
-            stats["select"]["area_estimate"] = selectPlan.areaEstimate;
-            stats["select"]["stage_added"] = counts;
-        }
         stats["refine"]["seconds"] = secondsSince(start);
+        if (o.refine.selects()) {
+            start = Clock::now();
+            ink::SelectPlan selectPlan = ink::planSelection(model.hrbf, plan, ink::selectOptions(o.refine));
+            std::vector<uint32_t> added;
+            size_t candidates = points.size();
+            points = ink::selectOnCpu(points, selectPlan, &added);
+            stats["select"] = selectJson(selectPlan, candidates, added);
+            stats["select"]["seconds"] = secondsSince(start);
+        }
         stats["device"] = "cpu";
     } else {
         ink::GpuRefinement r;
@@ -61,10 +69,8 @@ static int runSample(Options& o, const std::string& pointsPath) {
             stats["refine"]["seconds"] = secondsSince(start);
             levels = ink::readLevelStats(session->ctx, r);
             if (r.selection) {
-                stats["select"]["candidates"] = ink::readPoints(session->ctx, r).size();
-                stats["select"]["radius"] = r.selection->plan.radius0;
-                stats["select"]["area_estimate"] = r.selection->plan.areaEstimate;
-                stats["select"]["stage_added"] = ink::readStageCounts(session->ctx, *r.selection);
+                stats["select"] = selectJson(r.selection->plan, ink::readPointCount(session->ctx, r),
+                                             ink::readStageCounts(session->ctx, *r.selection));
                 stats["select"]["gpu_ms"] = ink::selectionMs(session->ctx, r);
             }
             points = ink::readDrawnPoints(session->ctx, r);
@@ -78,7 +84,7 @@ static int runSample(Options& o, const std::string& pointsPath) {
     }
     stats["refine"]["points"] = points.size();
     stats["refine"]["levels"] = levelsJson(levels);
-    stats["spacing"] = spacingJson(points);
+    if (!o.statsPath.empty()) stats["spacing"] = spacingJson(points);  // nearest neighbours: only when asked
     ink::writePointsPly(pointsPath, points, model.hrbf.frame);
     writeJson(o.statsPath, stats);
     std::printf("%s: %zu control points, %zu points -> %s\n", o.model.c_str(), model.fit.controlPoints, points.size(),

@@ -364,6 +364,12 @@ std::vector<PointRecord> readDrawnPoints(Context& ctx, GpuRefinement& r) {
     return points;
 }
 
+uint32_t readPointCount(Context& ctx, GpuRefinement& r) {
+    uint32_t count = 0;
+    downloadBuffer(ctx, r.indirect, GpuRefinement::kDrawOffset, &count, sizeof(count));
+    return count;
+}
+
 std::vector<PointRecord> readPoints(Context& ctx, GpuRefinement& r) {
     uint32_t draw[4];
     downloadBuffer(ctx, r.indirect, GpuRefinement::kDrawOffset, draw, sizeof(draw));

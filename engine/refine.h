@@ -135,6 +135,7 @@ std::vector<LevelStats> readLevelStats(Context& ctx, GpuRefinement& r);
 double selectionMs(Context& ctx, GpuRefinement& r);
 // The refined points (all levels, or the last), in point-buffer order: the selection's candidates.
 std::vector<PointRecord> readPoints(Context& ctx, GpuRefinement& r);
+uint32_t readPointCount(Context& ctx, GpuRefinement& r);  // how many, without reading them
 // The points the renderer draws: the selected stipples in candidate order, or the refined points.
 std::vector<PointRecord> readDrawnPoints(Context& ctx, GpuRefinement& r);
 
