@@ -19,18 +19,20 @@ const char* dropReasonName(uint32_t reason) {
     return reason < DropReasonCount ? names[reason] : "?";
 }
 
+double nearestSquaredDistance(const std::vector<Eigen::Vector3d>& points, size_t i) {
+    double best = INFINITY;
+    for (size_t j = 0; j < points.size(); ++j)
+        if (j != i) best = std::min(best, (points[i] - points[j]).squaredNorm());
+    return best;
+}
+
 // Mean distance from a seed to its nearest other seed; at most 2000 seeds are measured, against all.
 static double meanSpacing(const std::vector<Eigen::Vector3d>& p) {
     if (p.size() < 2) return 0.1;
     size_t stride = std::max<size_t>(1, p.size() / 2000);
     double sum = 0;
     size_t count = 0;
-    for (size_t i = 0; i < p.size(); i += stride, ++count) {
-        double best = INFINITY;
-        for (size_t j = 0; j < p.size(); ++j)
-            if (j != i) best = std::min(best, (p[i] - p[j]).squaredNorm());
-        sum += std::sqrt(best);
-    }
+    for (size_t i = 0; i < p.size(); i += stride, ++count) sum += std::sqrt(nearestSquaredDistance(p, i));
     return sum / double(count);
 }
 

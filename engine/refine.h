@@ -87,6 +87,10 @@ struct RefinePlan {
     uint64_t maxPoints = 0;              // all levels, worst case
 };
 
+// The squared distance from points[i] to the nearest other point (a brute-force scan: for the few thousand
+// control points).
+double nearestSquaredDistance(const std::vector<Eigen::Vector3d>& points, size_t i);
+
 // Throws ink::Error when the request is out of bounds (levels, a point count that cannot fit `maxPoints`).
 RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& options, uint64_t maxPoints);
 

@@ -16,12 +16,7 @@ namespace {
 double estimateArea(const std::vector<Eigen::Vector3d>& centers) {
     if (centers.size() < 2) return 1.0;
     double sum = 0;
-    for (size_t i = 0; i < centers.size(); ++i) {
-        double best = INFINITY;
-        for (size_t j = 0; j < centers.size(); ++j)
-            if (j != i) best = std::min(best, (centers[i] - centers[j]).squaredNorm());
-        sum += best;
-    }
+    for (size_t i = 0; i < centers.size(); ++i) sum += nearestSquaredDistance(centers, i);
     return 1.2 * sum;
 }
 
