@@ -1,6 +1,7 @@
 // The stipple selection on the device (select.h): the pool sort, then per stage the buckets (count, scan,
-// scatter, sort), the covered points ruled out with their orders u, and eight phases, then the ranked output. Every count lives on the
-// device; passes over a pool run as indirect dispatches, so nothing returns to the CPU between stages.
+// scatter), the covered points ruled out with their orders u, the open points sorted, and eight phases, then
+// the ranked output. Every count lives on the device; passes over a pool run as indirect dispatches, so
+// nothing returns to the CPU between stages.
 #include "select.h"
 
 #include "common.h"
@@ -167,9 +168,9 @@ void recordSelection(VkCommandBuffer cmd, const GpuSelection& s) {
         push.phase = 1;
         dispatchIndirect(s.bucket, push, poolDispatch(k));  // scatter
         passBarrier();
-        dispatch(s.sort, push, groups(buckets, kGroup));
-        passBarrier();
         dispatchIndirect(s.cover, push, poolDispatch(k));
+        passBarrier();
+        dispatch(s.sort, push, groups(buckets, kGroup));
         passBarrier();
         for (uint32_t phase = 0; phase < 8; ++phase) {
             push.phase = phase;

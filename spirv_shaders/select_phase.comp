@@ -18,7 +18,7 @@ void main() {
     // The unselected points follow, sorted by priority (select_sort); select_cover marked those an earlier
     // stage's point covers, so only this stage's points can stop the others.
     for (uint e = selectedEnd; e < end; ++e) {
-        if (entryStage[e] != 0u) continue;
+        if (entryStage[e] != 0u) break;  // the covered points, after the open ones (select_sort)
         Point a = entryPoints[e];
         ivec3 c = cellOf(a.position, s);
         bool free = true;
