@@ -25,6 +25,8 @@ void main() {
         for (uint n = 0u; free && n < 27u; ++n) {
             uint m = (n + 13u) % 27u;
             ivec3 cell = c + ivec3(m % 3u, (m / 3u) % 3u, m / 9u) - 1;
+            // Cells of later phases hold no point of this stage yet.
+            if (cellPhase(cell) > pc.phase) continue;
             uint nb = cellBucket(cell, s);
             uint first = bucketStart[nb], last = nb == b ? selectedEnd : first + bucketCount[nb];
             for (uint f = first; free && f < last; ++f)
