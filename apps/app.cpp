@@ -19,15 +19,17 @@ void addModelOptions(CLI::App* cmd, Options& o) {
 }
 
 void addDeviceOptions(CLI::App* cmd, Options& o) {
-    cmd->add_option("--device", o.device, "Vulkan device: an index or part of its name (default: a GPU, else lavapipe)");
+    cmd->add_option("--device", o.device,
+                    "Vulkan device: an index or part of its name (default: a GPU, else lavapipe)");
     cmd->add_flag("--validation", o.validation, "Enable Vulkan validation and synchronization validation");
 }
 
 void addRefineOptions(CLI::App* cmd, Options& o) {
     ink::RefineOptions& r = o.refine;
     cmd->add_option("--levels", r.levels, "Refinement levels after the seeds")->capture_default_str();
-    cmd->add_option("--passes", r.passes,
-                    "Independent sets of children of the seeds (default: 1 for blue-noise stipples, else the report's 2)")
+    cmd->add_option(
+           "--passes", r.passes,
+           "Independent sets of children of the seeds (default: 1 for blue-noise stipples, else the report's 2)")
         ->check(CLI::Range(1u, 64u));
     cmd->add_option("--direction", o.direction, "Direction field of direction sampling")
         ->check(CLI::IsMember({"axis", "curvature-min", "curvature-max"}))
@@ -108,22 +110,36 @@ static void applyPreset(Options& o) {
     auto given = [&](const char* option) { return o.command && o.command->count(option) > 0; };
     try {
         for (auto& [key, value] : j.items()) {
-            if (key == "style" && !given("--style")) o.styleName = value.get<std::string>();
-            else if (key == "ink" && !given("--ink")) o.ink = value.get<std::string>();
-            else if (key == "paper" && !given("--paper")) o.paper = value.get<std::string>();
-            else if (key == "dot_size" && !given("--dot-size")) o.render.frontSize = value.get<float>();
-            else if (key == "silhouette_size" && !given("--silhouette-size")) o.render.silhouetteSize = value.get<float>();
-            else if (key == "tau" && !given("--tau")) o.render.tau = value.get<float>();
-            else if (key == "tone" && !given("--tone")) o.render.toneGamma = value.get<float>();
-            else if (key == "ink_density" && !given("--ink-density")) o.render.inkDensity = value.get<float>();
-            else if (key == "hidden_lines" && !given("--hidden-lines")) o.render.hiddenLines = value.get<bool>();
-            else if (key == "light" && !given("--light")) o.light = value.get<std::vector<float>>();
-            else if (key == "levels" && !given("--levels")) o.refine.levels = value.get<uint32_t>();
-            else if (key == "passes" && !given("--passes")) o.refine.passes = value.get<uint32_t>();
-            else if (key == "direction" && !given("--direction")) o.direction = value.get<std::string>();
-            else if (key != "style" && key != "ink" && key != "paper" && key != "dot_size" && key != "silhouette_size" &&
-                       key != "tau" && key != "tone" && key != "ink_density" && key != "hidden_lines" &&
-                       key != "light" && key != "levels" && key != "passes" && key != "direction")
+            if (key == "style" && !given("--style"))
+                o.styleName = value.get<std::string>();
+            else if (key == "ink" && !given("--ink"))
+                o.ink = value.get<std::string>();
+            else if (key == "paper" && !given("--paper"))
+                o.paper = value.get<std::string>();
+            else if (key == "dot_size" && !given("--dot-size"))
+                o.render.frontSize = value.get<float>();
+            else if (key == "silhouette_size" && !given("--silhouette-size"))
+                o.render.silhouetteSize = value.get<float>();
+            else if (key == "tau" && !given("--tau"))
+                o.render.tau = value.get<float>();
+            else if (key == "tone" && !given("--tone"))
+                o.render.toneGamma = value.get<float>();
+            else if (key == "ink_density" && !given("--ink-density"))
+                o.render.inkDensity = value.get<float>();
+            else if (key == "hidden_lines" && !given("--hidden-lines"))
+                o.render.hiddenLines = value.get<bool>();
+            else if (key == "light" && !given("--light"))
+                o.light = value.get<std::vector<float>>();
+            else if (key == "levels" && !given("--levels"))
+                o.refine.levels = value.get<uint32_t>();
+            else if (key == "passes" && !given("--passes"))
+                o.refine.passes = value.get<uint32_t>();
+            else if (key == "direction" && !given("--direction"))
+                o.direction = value.get<std::string>();
+            else if (key != "style" && key != "ink" && key != "paper" && key != "dot_size" &&
+                     key != "silhouette_size" && key != "tau" && key != "tone" && key != "ink_density" &&
+                     key != "hidden_lines" && key != "light" && key != "levels" && key != "passes" &&
+                     key != "direction")
                 throw ink::Error("preset '" + o.preset + "': unknown key '" + key + "'");
         }
     } catch (const json::exception& e) {
@@ -134,33 +150,44 @@ static void applyPreset(Options& o) {
 void finishOptions(Options& o) {
     ink::checkModelOptions({o.controlPoints});
     if (!o.preset.empty()) applyPreset(o);
-    if (o.styleName == "stipple") o.style = DrawStyle::Stipple;
-    else if (o.styleName == "direction") o.style = DrawStyle::Direction;
-    else if (o.styleName == "both") o.style = DrawStyle::Both;
-    else throw ink::Error("style '" + o.styleName + "' is not stipple, direction or both");
-    if (o.direction == "axis") o.refine.direction = ink::DirectionField::Axis;
-    else if (o.direction == "curvature-min") o.refine.direction = ink::DirectionField::CurvatureMin;
-    else if (o.direction == "curvature-max") o.refine.direction = ink::DirectionField::CurvatureMax;
-    else throw ink::Error("direction '" + o.direction + "' is not axis, curvature-min or curvature-max");
+    if (o.styleName == "stipple")
+        o.style = DrawStyle::Stipple;
+    else if (o.styleName == "direction")
+        o.style = DrawStyle::Direction;
+    else if (o.styleName == "both")
+        o.style = DrawStyle::Both;
+    else
+        throw ink::Error("style '" + o.styleName + "' is not stipple, direction or both");
+    if (o.direction == "axis")
+        o.refine.direction = ink::DirectionField::Axis;
+    else if (o.direction == "curvature-min")
+        o.refine.direction = ink::DirectionField::CurvatureMin;
+    else if (o.direction == "curvature-max")
+        o.refine.direction = ink::DirectionField::CurvatureMax;
+    else
+        throw ink::Error("direction '" + o.direction + "' is not axis, curvature-min or curvature-max");
     o.refine.seeds = o.seeds == "grid" ? ink::SeedMode::Grid : ink::SeedMode::ControlPoints;
     o.refine.style = o.sampling == "direction" ? ink::SampleStyle::Direction : ink::SampleStyle::Stipple;
     if (!o.axis.empty()) o.refine.axis = Eigen::Vector3d(o.axis[0], o.axis[1], o.axis[2]);
     if (!(o.refine.axis.norm() > 0) || !o.refine.axis.allFinite()) throw ink::Error("--axis must be a non-zero vector");
     o.refine.keepAllLevels = o.keepLevels == "all";
-    o.refine.distribution = o.distribution == "refinement" ? ink::Distribution::Refinement : ink::Distribution::BlueNoise;
+    o.refine.distribution =
+        o.distribution == "refinement" ? ink::Distribution::Refinement : ink::Distribution::BlueNoise;
     o.render.ink = parseColour(o.ink, "ink");
     o.render.paper = parseColour(o.paper, "paper");
     o.render.hiddenInk = glm::vec4(glm::vec3(o.render.ink), ink::RenderStyle{}.hiddenInk.a);
     if (!o.light.empty()) {
         glm::vec3 l(o.light[0], o.light[1], o.light[2]);
-        if (!(glm::length(l) > 0) || !std::isfinite(glm::length(l))) throw ink::Error("--light must be a non-zero vector");
+        if (!(glm::length(l) > 0) || !std::isfinite(glm::length(l)))
+            throw ink::Error("--light must be a non-zero vector");
         o.render.light = l;
     }
     for (float v : {o.render.frontSize, o.render.silhouetteSize})
         if (!(v > 0 && v <= 64)) throw ink::Error("dot sizes must be in (0, 64] pixels");
     if (!(o.render.tau >= 0 && o.render.tau < 1)) throw ink::Error("--tau must be in [0, 1)");
     if (!(o.render.toneGamma >= 0 && o.render.toneGamma <= 16)) throw ink::Error("--tone must be in [0, 16]");
-    if (!(o.render.inkDensity >= 0 && o.render.inkDensity <= 100)) throw ink::Error("--ink-density must be in [0, 100]");
+    if (!(o.render.inkDensity >= 0 && o.render.inkDensity <= 100))
+        throw ink::Error("--ink-density must be in [0, 100]");
     // The device-independent limit here, before any work; what fits the device is checked once it is known.
     if (o.refine.levels >= ink::kMaxLevels)
         throw ink::Error("--levels " + std::to_string(o.refine.levels) + " is too many: at most " +
@@ -202,8 +229,8 @@ Session::~Session() { ink::destroyContext(ctx); }
 
 void Session::checkValidation() const {
     if (ctx.validationErrors)
-        throw ink::Error(std::to_string(ctx.validationErrors.load()) + " Vulkan validation error(s); first: " +
-                         ctx.firstValidationMessage);
+        throw ink::Error(std::to_string(ctx.validationErrors.load()) +
+                         " Vulkan validation error(s); first: " + ctx.firstValidationMessage);
 }
 
 Scene::Scene(ink::Context& c, const Options& o) : ctx(c) {
@@ -258,15 +285,16 @@ json levelsJson(const std::vector<ink::LevelStats>& levels) {
     for (const auto& s : levels) {
         json dropped;
         for (uint32_t k = 0; k < ink::DropReasonCount; ++k) dropped[ink::dropReasonName(k)] = s.dropped[k];
-        list.push_back({{"level", s.level}, {"candidates", s.candidates}, {"kept", s.kept}, {"dropped", dropped},
+        list.push_back({{"level", s.level},
+                        {"candidates", s.candidates},
+                        {"kept", s.kept},
+                        {"dropped", dropped},
                         {"gpu_ms", s.gpuMs}});
     }
     return list;
 }
 
-json deviceJson(const ink::Context& ctx) {
-    return {{"device", ctx.properties.deviceName}, {"driver", ctx.driverInfo}};
-}
+json deviceJson(const ink::Context& ctx) { return {{"device", ctx.properties.deviceName}, {"driver", ctx.driverInfo}}; }
 
 json spacingJson(const std::vector<ink::PointRecord>& points) {
     double area = ink::estimateSurfaceArea(points);

@@ -4,12 +4,12 @@
 #include "select.h"
 #include "shapes.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
 #include <algorithm>
 #include <climits>
 #include <cstdio>
 #include <filesystem>
-#include <sys/resource.h>
-#include <unistd.h>
 
 namespace app {
 
@@ -23,9 +23,8 @@ struct Workload {
 };
 
 const std::vector<Workload>& builtinWorkloads() {
-    static const std::vector<Workload> w = {{"sphere", "", 6, 6},
-                                            {"bunny-312", "bunny", 312, 4},
-                                            {"bunny-684", "bunny", 684, 4}};
+    static const std::vector<Workload> w = {
+        {"sphere", "", 6, 6}, {"bunny-312", "bunny", 312, 4}, {"bunny-684", "bunny", 684, 4}};
     return w;
 }
 
@@ -34,8 +33,8 @@ const std::vector<Workload>& builtinWorkloads() {
 std::string bunnyPath() {
     std::error_code ec;
     std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    for (std::filesystem::path p : {exe.parent_path().parent_path() / "assets/bunny.obj",
-                                    std::filesystem::path("assets/bunny.obj")})
+    for (std::filesystem::path p :
+         {exe.parent_path().parent_path() / "assets/bunny.obj", std::filesystem::path("assets/bunny.obj")})
         if (!ec && std::filesystem::exists(p)) return p.string();
     throw ink::Error("cannot find assets/bunny.obj: run bench from the repository root");
 }
@@ -157,8 +156,8 @@ int runBench(Options& o, const std::vector<std::string>& names, const std::strin
         workloads.push_back(*it);
     }
     if (!o.model.empty())
-        workloads.push_back({std::filesystem::path(o.model).filename().string(), o.model, o.controlPoints,
-                             o.refine.levels});
+        workloads.push_back(
+            {std::filesystem::path(o.model).filename().string(), o.model, o.controlPoints, o.refine.levels});
     if (workloads.empty()) workloads = builtinWorkloads();
     if (repeat < 1 || repeat > 100) throw ink::Error("--repeat must be between 1 and 100");
     if (frames < 1 || frames > 10000) throw ink::Error("--frames must be between 1 and 10000");
@@ -173,13 +172,14 @@ int runBench(Options& o, const std::vector<std::string>& names, const std::strin
         for (uint32_t i = 0; i < repeat; ++i) runs.push_back(runWorkload(session, w, o.refine.distribution, frames));
         json m = medianOf(runs);
         m["device_seconds"] = deviceSeconds;  // creating the Vulkan device, once per process, not in preprocess
-        std::printf("%-10s %8llu points %7llu stipples  fit %6.3f s  refine %6.3f s (select %5.0f ms; cpu refine %6.3f s, "
-                    "%.2fx)  preprocess %6.3f s  frame %7.2f ms (%5.1f fps)\n",
-                    w.name.c_str(), (unsigned long long)m["points"].get<uint64_t>(),
-                    (unsigned long long)m["stipples"].get<uint64_t>(), m["fit_seconds"].get<double>(),
-                    m["refine_seconds"].get<double>(), m["select_ms"].get<double>(), m["cpu_refine_seconds"].get<double>(),
-                    m["gpu_over_cpu_refine"].get<double>(), m["preprocess_seconds"].get<double>(),
-                    m["frame_ms_median"].get<double>(), m["fps"].get<double>());
+        std::printf(
+            "%-10s %8llu points %7llu stipples  fit %6.3f s  refine %6.3f s (select %5.0f ms; cpu refine %6.3f s, "
+            "%.2fx)  preprocess %6.3f s  frame %7.2f ms (%5.1f fps)\n",
+            w.name.c_str(), (unsigned long long)m["points"].get<uint64_t>(),
+            (unsigned long long)m["stipples"].get<uint64_t>(), m["fit_seconds"].get<double>(),
+            m["refine_seconds"].get<double>(), m["select_ms"].get<double>(), m["cpu_refine_seconds"].get<double>(),
+            m["gpu_over_cpu_refine"].get<double>(), m["preprocess_seconds"].get<double>(),
+            m["frame_ms_median"].get<double>(), m["fps"].get<double>());
         results.push_back(m);
     }
     session.checkValidation();
@@ -202,15 +202,15 @@ void addBenchCommand(CLI::App& cli, Options& o, Commands& commands) {
     bench->add_option("--json", *jsonPath, "Write the results as JSON");
     bench->add_option("--repeat", *repeat, "Runs per workload; numbers are medians")->capture_default_str();
     bench->add_option("--frames", *frames, "Frames timed per run")->capture_default_str();
-    bench->add_option("--distribution", o.distribution,
-                      "What is drawn: blue-noise stipples selected from the refined points, or every refined point "
-                      "(the report's look and workload)")
+    bench
+        ->add_option("--distribution", o.distribution,
+                     "What is drawn: blue-noise stipples selected from the refined points, or every refined point "
+                     "(the report's look and workload)")
         ->check(CLI::IsMember({"blue-noise", "refinement"}))
         ->capture_default_str();
     addDeviceOptions(bench, o);
-    commands.emplace_back(bench, [&o, names, jsonPath, repeat, frames] {
-        return runBench(o, *names, *jsonPath, *repeat, *frames);
-    });
+    commands.emplace_back(
+        bench, [&o, names, jsonPath, repeat, frames] { return runBench(o, *names, *jsonPath, *repeat, *frames); });
 }
 
 }  // namespace app

@@ -110,8 +110,7 @@ public:
     explicit CaptureOutput(const std::string& path) {
         namespace fs = std::filesystem;
         std::error_code error;
-        for (fs::path p = fs::path(path).lexically_normal(); !p.empty() && !fs::exists(p, error);
-             p = p.parent_path()) {
+        for (fs::path p = fs::path(path).lexically_normal(); !p.empty() && !fs::exists(p, error); p = p.parent_path()) {
             created_.push_back(p);
             if (p == p.parent_path()) break;
         }
@@ -197,16 +196,17 @@ int runCapture(Options& o, const CaptureOptions& c) {
                             {"driver", session.ctx.driverInfo}});
     output.commit();
     std::printf("%s: %zu control points, %llu points, %u frames, %.2f s -> %s\n", o.model.c_str(),
-                scene.model.fit.controlPoints, (unsigned long long)points, c.frames, seconds,
-                manifestPath.c_str());
+                scene.model.fit.controlPoints, (unsigned long long)points, c.frames, seconds, manifestPath.c_str());
     return 0;
 }
 
 // readPng, but a missing file gets the system's reason as the model loaders give it (stb says "can't fopen").
 ink::RgbaImage readImage(const std::string& path) {
     errno = 0;
-    if (std::FILE* f = std::fopen(path.c_str(), "rb")) std::fclose(f);
-    else throw ink::Error("cannot open '" + path + "': " + std::strerror(errno));
+    if (std::FILE* f = std::fopen(path.c_str(), "rb"))
+        std::fclose(f);
+    else
+        throw ink::Error("cannot open '" + path + "': " + std::strerror(errno));
     return ink::readPng(path);
 }
 
@@ -245,17 +245,15 @@ void addCaptureCommands(CLI::App& cli, Options& o, Commands& commands) {
     addRefineOptions(cap, o);
     addRenderOptions(cap, o);
     addDeviceOptions(cap, o);
-    cap->add_option("--frames", capture->frames, "Frames to render")
-        ->required()
-        ->check(CLI::Range(1u, kMaxFrames));
+    cap->add_option("--frames", capture->frames, "Frames to render")->required()->check(CLI::Range(1u, kMaxFrames));
     cap->add_option("--orbit", capture->orbitDeg, "Degrees of azimuth the frames span: frame i at orbit·i/N")
         ->capture_default_str();
     cap->add_option("-o,--output", capture->directory, "Output directory (created if missing)")->required();
     commands.emplace_back(cap, [&o, capture] { return runCapture(o, *capture); });
 
     auto compare = std::make_shared<CompareOptions>();
-    CLI::App* cmp = cli.add_subcommand(
-        "compare", "Compare two PNGs: exit 0 if within tolerance, 1 if not (writing a diff image)");
+    CLI::App* cmp =
+        cli.add_subcommand("compare", "Compare two PNGs: exit 0 if within tolerance, 1 if not (writing a diff image)");
     cmp->add_option("a", compare->a, "Reference PNG")->required();
     cmp->add_option("b", compare->b, "PNG to check")->required();
     cmp->add_option("--tolerance", compare->threshold,

@@ -5,8 +5,9 @@
 #include <cstdio>
 
 int main(int argc, char** argv) {
-    CLI::App cli{"inkwell: pen-and-ink drawings (stipples and hatches) of Hermite RBF implicit surfaces, "
-                 "fitted to meshes or oriented points and refined on the GPU with Vulkan"};
+    CLI::App cli{
+        "inkwell: pen-and-ink drawings (stipples and hatches) of Hermite RBF implicit surfaces, "
+        "fitted to meshes or oriented points and refined on the GPU with Vulkan"};
     cli.require_subcommand(1);
     cli.fallthrough();  // -q may follow the subcommand
     cli.set_version_flag("--version", "inkwell 0.1.0");

@@ -36,8 +36,8 @@ void checkScene(ink::Context& ctx, const std::string& name, const ink::Model& mo
                 uint64_t accounted = l.kept;
                 for (uint32_t d : l.dropped) accounted += d;
                 check.require(accounted == l.candidates, label + ": level " + std::to_string(l.level) +
-                                                              " loses candidates (" + std::to_string(accounted) +
-                                                              " of " + std::to_string(l.candidates) + ")");
+                                                             " loses candidates (" + std::to_string(accounted) +
+                                                             " of " + std::to_string(l.candidates) + ")");
             }
             check.require(kept == points.size(), label + ": drawn points differ from the kept count");
             check.require(levels.back().kept > levels.front().kept, label + ": the last level added no points");
@@ -57,7 +57,8 @@ void checkScene(ink::Context& ctx, const std::string& name, const ink::Model& mo
                 check.require(!stipples.empty() && stipples.size() < points.size(),
                               label + ": " + std::to_string(stipples.size()) + " stipples selected from " +
                                   std::to_string(points.size()) + " points");
-                check.require(badRanks == 0, label + ": " + std::to_string(badRanks) + " stipples ranked outside [0, 1)");
+                check.require(badRanks == 0,
+                              label + ": " + std::to_string(badRanks) + " stipples ranked outside [0, 1)");
             }
 
             ink::RgbaImage image;
@@ -90,7 +91,8 @@ int runValidate(Options& o) {
     std::vector<SceneSource> scenes;
     scenes.push_back({"sphere", ink::fitModel(ink::spherePoints(64), {})});
     scenes.push_back({"torus", ink::fitModel(ink::torusPoints(24, 12), {})});
-    if (!o.model.empty()) scenes.push_back({o.model, ink::loadModel(o.model, {o.controlPoints ? o.controlPoints : 200})});
+    if (!o.model.empty())
+        scenes.push_back({o.model, ink::loadModel(o.model, {o.controlPoints ? o.controlPoints : 200})});
 
     size_t failures = 0, points = 0;
     for (auto& s : scenes) {

@@ -68,8 +68,9 @@ struct GlfwLibrary {
         const char* display = std::getenv("DISPLAY");
         const char* wayland = std::getenv("WAYLAND_DISPLAY");
         if ((!display || !*display) && (!wayland || !*wayland))
-            throw ink::Error("cannot open a window: no display (set DISPLAY, or run under xvfb-run); "
-                             "use 'inkwell render' for headless output");
+            throw ink::Error(
+                "cannot open a window: no display (set DISPLAY, or run under xvfb-run); "
+                "use 'inkwell render' for headless output");
         if (!glfwInit()) {
             const char* why = nullptr;
             glfwGetError(&why);
@@ -117,8 +118,8 @@ struct Surface {
     Surface(VkInstance i, GLFWwindow* window) : instance(i) {
         VkResult r = glfwCreateWindowSurface(instance, window, nullptr, &surface);
         if (r != VK_SUCCESS)
-            throw ink::Error(std::string("cannot create a Vulkan surface for the window (") +
-                             ink::vkResultName(r) + ")");
+            throw ink::Error(std::string("cannot create a Vulkan surface for the window (") + ink::vkResultName(r) +
+                             ")");
     }
     ~Surface() { vkDestroySurfaceKHR(instance, surface, nullptr); }
     Surface(const Surface&) = delete;
@@ -145,8 +146,7 @@ void pan(ink::Camera& c, double dx, double dy, uint32_t height) {
 
 class Viewer {
 public:
-    Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene, GLFWwindow* window,
-           VkSurfaceKHR surface);
+    Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene, GLFWwindow* window, VkSurfaceKHR surface);
     ~Viewer() { release(); }
     Viewer(const Viewer&) = delete;
     Viewer& operator=(const Viewer&) = delete;
@@ -199,8 +199,16 @@ Viewer& viewerOf(GLFWwindow* w) { return *static_cast<Viewer*>(glfwGetWindowUser
 
 Viewer::Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene, GLFWwindow* window,
                VkSurfaceKHR surface)
-    : o_(o), v_(v), ctx_(ctx), scene_(scene), window_(window), surface_(surface), camera_(cameraFrom(o)),
-      home_(camera_), appliedStyle_(o.style), appliedLevels_(o.refine.levels),
+    : o_(o),
+      v_(v),
+      ctx_(ctx),
+      scene_(scene),
+      window_(window),
+      surface_(surface),
+      camera_(cameraFrom(o)),
+      home_(camera_),
+      appliedStyle_(o.style),
+      appliedLevels_(o.refine.levels),
       toneGamma_(o.render.toneGamma > 0 ? o.render.toneGamma : 1.5f) {
     try {
         format_ = ink::chooseSurfaceFormat(ctx, surface);
@@ -220,17 +228,14 @@ Viewer::Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene
             VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
             VK_CHECK(vkCreateSemaphore(ctx.device, &semaphoreInfo, nullptr, &f.acquired));
         }
-        renderer_ =
-            std::make_unique<ink::PointRenderer>(ctx, scene.pointers(), format_.format);
+        renderer_ = std::make_unique<ink::PointRenderer>(ctx, scene.pointers(), format_.format);
         points_ = scene.points();
     } catch (...) {
         release();
         throw;
     }
     glfwSetWindowUserPointer(window, this);
-    glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) {
-        viewerOf(w).onKey(key, action);
-    });
+    glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) { viewerOf(w).onKey(key, action); });
     glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) { viewerOf(w).onCursor(x, y); });
     glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) { viewerOf(w).onScroll(dy); });
     glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int, int) { viewerOf(w).onResize(); });
@@ -262,36 +267,65 @@ void Viewer::onKey(int key, int action) {
     if (!press && !(repeat && (key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET))) return;
     ink::RenderStyle& s = o_.render;
     switch (key) {
-    case GLFW_KEY_ESCAPE:
-    case GLFW_KEY_Q: quit_ = true; break;
-    case GLFW_KEY_1: o_.style = DrawStyle::Stipple; break;
-    case GLFW_KEY_2: o_.style = DrawStyle::Direction; break;
-    case GLFW_KEY_3: o_.style = DrawStyle::Both; break;
-    case GLFW_KEY_EQUAL:  // '+' is shift+'=' on most layouts; '=' alone counts too
-    case GLFW_KEY_KP_ADD: o_.refine.levels = std::min(o_.refine.levels + 1, kMaxLevels); break;
-    case GLFW_KEY_MINUS:
-    case GLFW_KEY_KP_SUBTRACT: o_.refine.levels = o_.refine.levels > 0 ? o_.refine.levels - 1 : 0; break;
-    case GLFW_KEY_LEFT_BRACKET: s.tau = std::max(0.0f, s.tau - 0.02f); restyle_ = true; break;
-    case GLFW_KEY_RIGHT_BRACKET: s.tau = std::min(0.9f, s.tau + 0.02f); restyle_ = true; break;
-    case GLFW_KEY_T:
-        if (s.toneGamma > 0) {
-            toneGamma_ = s.toneGamma;
-            s.toneGamma = 0;  // every front dot
-        } else {
-            s.toneGamma = toneGamma_;
-        }
-        restyle_ = true;
-        break;
-    case GLFW_KEY_H: s.hiddenLines = !s.hiddenLines; restyle_ = true; break;
-    case GLFW_KEY_O: s.occlusion = !s.occlusion; restyle_ = true; break;
-    case GLFW_KEY_L:
-        light_ = (light_ + 1) % kLights.size();
-        s.light = kLights[light_];
-        restyle_ = true;
-        break;
-    case GLFW_KEY_S: screenshotKey_ = true; break;
-    case GLFW_KEY_R: camera_ = home_; break;
-    default: break;
+        case GLFW_KEY_ESCAPE:
+        case GLFW_KEY_Q:
+            quit_ = true;
+            break;
+        case GLFW_KEY_1:
+            o_.style = DrawStyle::Stipple;
+            break;
+        case GLFW_KEY_2:
+            o_.style = DrawStyle::Direction;
+            break;
+        case GLFW_KEY_3:
+            o_.style = DrawStyle::Both;
+            break;
+        case GLFW_KEY_EQUAL:  // '+' is shift+'=' on most layouts; '=' alone counts too
+        case GLFW_KEY_KP_ADD:
+            o_.refine.levels = std::min(o_.refine.levels + 1, kMaxLevels);
+            break;
+        case GLFW_KEY_MINUS:
+        case GLFW_KEY_KP_SUBTRACT:
+            o_.refine.levels = o_.refine.levels > 0 ? o_.refine.levels - 1 : 0;
+            break;
+        case GLFW_KEY_LEFT_BRACKET:
+            s.tau = std::max(0.0f, s.tau - 0.02f);
+            restyle_ = true;
+            break;
+        case GLFW_KEY_RIGHT_BRACKET:
+            s.tau = std::min(0.9f, s.tau + 0.02f);
+            restyle_ = true;
+            break;
+        case GLFW_KEY_T:
+            if (s.toneGamma > 0) {
+                toneGamma_ = s.toneGamma;
+                s.toneGamma = 0;  // every front dot
+            } else {
+                s.toneGamma = toneGamma_;
+            }
+            restyle_ = true;
+            break;
+        case GLFW_KEY_H:
+            s.hiddenLines = !s.hiddenLines;
+            restyle_ = true;
+            break;
+        case GLFW_KEY_O:
+            s.occlusion = !s.occlusion;
+            restyle_ = true;
+            break;
+        case GLFW_KEY_L:
+            light_ = (light_ + 1) % kLights.size();
+            s.light = kLights[light_];
+            restyle_ = true;
+            break;
+        case GLFW_KEY_S:
+            screenshotKey_ = true;
+            break;
+        case GLFW_KEY_R:
+            camera_ = home_;
+            break;
+        default:
+            break;
     }
     if (o_.style != appliedStyle_ || o_.refine.levels != appliedLevels_) rerefine_ = true;
 }
@@ -322,8 +356,7 @@ bool Viewer::ensureSwapchain() {
     if (swapchain_.swapchain && !resized_) return true;
     int width = 0, height = 0;
     glfwGetFramebufferSize(window_, &width, &height);
-    if (!ink::createSwapchain(ctx_, swapchain_, surface_, format_, {uint32_t(width), uint32_t(height)}))
-        return false;
+    if (!ink::createSwapchain(ctx_, swapchain_, surface_, format_, {uint32_t(width), uint32_t(height)})) return false;
     resized_ = false;
     if (!v_.screenshot.empty() && !swapchain_.copyable)
         throw ink::Error("this window system's images cannot be copied, so --screenshot cannot work");
@@ -347,8 +380,7 @@ void Viewer::refine() {
     }
     appliedStyle_ = o_.style;
     appliedLevels_ = o_.refine.levels;
-    renderer_ =
-        std::make_unique<ink::PointRenderer>(ctx_, scene_.pointers(), format_.format);
+    renderer_ = std::make_unique<ink::PointRenderer>(ctx_, scene_.pointers(), format_.format);
     points_ = scene_.points();
     restyle_ = true;  // the new renderer's style block is empty
 }
@@ -364,8 +396,7 @@ void Viewer::record(Frame& f, uint32_t index, bool capture) {
         const VkPipelineStageFlags2 readers = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT |
                                               VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
                                               VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
-        ink::stageBarrier(cmd, readers, 0, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
-                          VK_ACCESS_2_TRANSFER_WRITE_BIT);
+        ink::stageBarrier(cmd, readers, 0, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
         renderer_->setStyle(cmd, o_.render, 1.0f);
         restyle_ = false;
     }
@@ -414,11 +445,10 @@ void Viewer::recordCapture(VkCommandBuffer cmd, VkImage image, const ink::Buffer
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {swapchain_.extent.width, swapchain_.extent.height, 1};
     vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer.buffer, 1, &region);
-    ink::stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                      VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+    ink::stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                      VK_ACCESS_2_HOST_READ_BIT);
     ink::imageBarrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                      VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_2_COPY_BIT, 0,
-                      VK_PIPELINE_STAGE_2_NONE, 0);
+                      VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_2_COPY_BIT, 0, VK_PIPELINE_STAGE_2_NONE, 0);
 }
 
 void Viewer::submitAndPresent(Frame& f, uint32_t index, bool suboptimal) {
@@ -458,8 +488,8 @@ bool Viewer::drawFrame(const std::string& screenshot) {
     Frame& f = frames_[current_];
     VK_CHECK(vkWaitForFences(ctx_.device, 1, &f.done, VK_TRUE, UINT64_MAX));
     uint32_t index = 0;
-    VkResult acquired = vkAcquireNextImageKHR(ctx_.device, swapchain_.swapchain, UINT64_MAX, f.acquired,
-                                              VK_NULL_HANDLE, &index);
+    VkResult acquired =
+        vkAcquireNextImageKHR(ctx_.device, swapchain_.swapchain, UINT64_MAX, f.acquired, VK_NULL_HANDLE, &index);
     if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
         resized_ = true;
         return false;
@@ -471,8 +501,7 @@ bool Viewer::drawFrame(const std::string& screenshot) {
     bool capture = !screenshot.empty();
     if (capture) {
         VkDeviceSize bytes = VkDeviceSize(swapchain_.extent.width) * swapchain_.extent.height * 4;
-        f.capture =
-            ink::createBuffer(ctx_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, ink::MemoryUse::Readback);
+        f.capture = ink::createBuffer(ctx_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, ink::MemoryUse::Readback);
     }
     record(f, index, capture);
     submitAndPresent(f, index, acquired == VK_SUBOPTIMAL_KHR);
@@ -566,8 +595,7 @@ ViewResult Viewer::run() {
             std::printf("view: saved %s\n", v_.screenshot.c_str());
             savedLast = true;
         }
-    if (!v_.screenshot.empty() && !savedLast)
-        ink::note("no frame to save to " + v_.screenshot + " (minimized?)");
+    if (!v_.screenshot.empty() && !savedLast) ink::note("no frame to save to " + v_.screenshot + " (minimized?)");
     VK_CHECK(vkDeviceWaitIdle(ctx_.device));
     result.extent = swapchain_.extent;
     result.points = points_;
@@ -604,8 +632,8 @@ int runView(Options& o, const ViewOptions& v) {
                   {"control_points", result.controlPoints}};
     stats.update(deviceJson(session.ctx));
     writeJson(o.statsPath, stats);
-    std::printf("view: %u frames, median %.2f ms (%ux%u, %llu points)\n", result.frames, medianMs,
-                result.extent.width, result.extent.height, (unsigned long long)result.points);
+    std::printf("view: %u frames, median %.2f ms (%ux%u, %llu points)\n", result.frames, medianMs, result.extent.width,
+                result.extent.height, (unsigned long long)result.points);
     return 0;
 }
 
@@ -613,8 +641,7 @@ int runView(Options& o, const ViewOptions& v) {
 
 void addViewCommand(CLI::App& cli, Options& o, Commands& commands) {
     auto v = std::make_shared<ViewOptions>();
-    CLI::App* view =
-        cli.add_subcommand("view", "Open a window and view a model interactively (docs/viewer.md)");
+    CLI::App* view = cli.add_subcommand("view", "Open a window and view a model interactively (docs/viewer.md)");
     addModelOptions(view, o);
     addRefineOptions(view, o);
     addRenderOptions(view, o);

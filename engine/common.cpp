@@ -1,9 +1,9 @@
 #include "common.h"
 
+#include <unistd.h>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <unistd.h>
 
 namespace ink {
 
@@ -46,8 +46,7 @@ void note(const std::string& line) {
 
 void setNotesEnabled(bool enabled) { g_notes = enabled; }
 
-Progress::Progress(const char* what, size_t total)
-    : what_(what), total_(total), enabled_(isatty(STDERR_FILENO) != 0) {}
+Progress::Progress(const char* what, size_t total) : what_(what), total_(total), enabled_(isatty(STDERR_FILENO) != 0) {}
 
 Progress::~Progress() {
     if (enabled_ && lastPercent_ >= 0) std::fprintf(stderr, "\r%s: done%-10s\n", what_, "");

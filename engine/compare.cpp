@@ -11,8 +11,7 @@ namespace {
 // The largest per-channel difference of the pixels at byte offsets i of a and j of b.
 uint32_t pixelDiff(const RgbaImage& a, size_t i, const RgbaImage& b, size_t j) {
     uint32_t d = 0;
-    for (size_t c = 0; c < 4; ++c)
-        d = std::max(d, uint32_t(std::abs(int(a.pixels[i + c]) - int(b.pixels[j + c]))));
+    for (size_t c = 0; c < 4; ++c) d = std::max(d, uint32_t(std::abs(int(a.pixels[i + c]) - int(b.pixels[j + c]))));
     return d;
 }
 

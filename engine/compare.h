@@ -15,11 +15,11 @@ constexpr uint8_t kCompareThreshold = 8;        // a pixel differs if any channe
 constexpr double kCompareMaxFraction = 0.0025;  // at most this fraction of the pixels may differ
 
 struct CompareResult {
-    uint32_t maxAbsDiff = 0;          // largest per-channel difference, over all pixels and channels (RGBA)
-    double differingFraction = 0;     // differingPixels / pixels
+    uint32_t maxAbsDiff = 0;       // largest per-channel difference, over all pixels and channels (RGBA)
+    double differingFraction = 0;  // differingPixels / pixels
     size_t differingPixels = 0;
-    size_t pixels = 0;                // of the images, or of the larger one when their sizes differ
-    bool sameSize = true;             // when false, every pixel counts as differing (fraction 1, diff 255)
+    size_t pixels = 0;     // of the images, or of the larger one when their sizes differ
+    bool sameSize = true;  // when false, every pixel counts as differing (fraction 1, diff 255)
 };
 
 CompareResult compareImages(const RgbaImage& a, const RgbaImage& b, uint8_t threshold);

@@ -11,7 +11,8 @@ namespace ink {
 const char* vkResultName(VkResult result) {
     switch (result) {
 #define INK_RESULT(r) \
-    case r: return #r;
+    case r:           \
+        return #r;
         INK_RESULT(VK_SUCCESS)
         INK_RESULT(VK_NOT_READY)
         INK_RESULT(VK_TIMEOUT)
@@ -31,7 +32,8 @@ const char* vkResultName(VkResult result) {
         INK_RESULT(VK_ERROR_SURFACE_LOST_KHR)
         INK_RESULT(VK_ERROR_OUT_OF_DATE_KHR)
 #undef INK_RESULT
-    default: return "VK_ERROR_(unknown)";
+        default:
+            return "VK_ERROR_(unknown)";
     }
 }
 
@@ -72,11 +74,16 @@ static bool hasLayer(const char* name) {
 
 static int typeRank(VkPhysicalDeviceType type) {
     switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
-    default: return 4;
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return 0;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return 1;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return 2;
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return 3;
+        default:
+            return 4;
     }
 }
 
@@ -193,8 +200,9 @@ static VkPhysicalDevice pickDevice(VkInstance instance, const std::string& wante
 void createContext(Context& ctx, const ContextOptions& options) {
     ctx.validation = options.validation;
     if (options.validation && !hasLayer("VK_LAYER_KHRONOS_validation"))
-        throw Error("validation was requested but VK_LAYER_KHRONOS_validation is not installed "
-                    "(apt-get install vulkan-validationlayers)");
+        throw Error(
+            "validation was requested but VK_LAYER_KHRONOS_validation is not installed "
+            "(apt-get install vulkan-validationlayers)");
     VkDebugUtilsMessengerCreateInfoEXT messengerInfo{};
     ctx.instance = createInstance(options, options.validation, &ctx, &messengerInfo);
     if (options.validation) {
@@ -267,8 +275,8 @@ void createContext(Context& ctx, const ContextOptions& options) {
     info.ppEnabledExtensionNames = extensions.data();
     VkResult result = vkCreateDevice(ctx.physicalDevice, &info, nullptr, &ctx.device);
     if (result == VK_ERROR_FEATURE_NOT_PRESENT || result == VK_ERROR_EXTENSION_NOT_PRESENT)
-        throw Error(std::string(ctx.properties.deviceName) + " lacks a feature Inkwell needs (" +
-                    vkResultName(result) + ")");
+        throw Error(std::string(ctx.properties.deviceName) + " lacks a feature Inkwell needs (" + vkResultName(result) +
+                    ")");
     VK_CHECK(result);
     vkGetDeviceQueue(ctx.device, ctx.queueFamily, 0, &ctx.queue);
 

@@ -12,10 +12,10 @@
 #include <vector>
 
 // For programmer errors (a call that can only fail through a bug or an out-of-memory driver).
-#define VK_CHECK(call)                                                                                   \
-    do {                                                                                                 \
-        VkResult vkCheckResult_ = (call);                                                                \
-        if (vkCheckResult_ != VK_SUCCESS) ::ink::vkFail(#call, vkCheckResult_, __FILE__, __LINE__);     \
+#define VK_CHECK(call)                                                                              \
+    do {                                                                                            \
+        VkResult vkCheckResult_ = (call);                                                           \
+        if (vkCheckResult_ != VK_SUCCESS) ::ink::vkFail(#call, vkCheckResult_, __FILE__, __LINE__); \
     } while (0)
 
 namespace ink {
@@ -24,8 +24,8 @@ namespace ink {
 const char* vkResultName(VkResult result);
 
 struct ContextOptions {
-    bool validation = false;  // validation + synchronization validation (needs vulkan-validationlayers)
-    std::string device;       // "" = best; else an index ("0") or a case-insensitive substring of the name
+    bool validation = false;    // validation + synchronization validation (needs vulkan-validationlayers)
+    std::string device;         // "" = best; else an index ("0") or a case-insensitive substring of the name
     bool presentation = false;  // enable the surface/swapchain extensions for the viewer
     std::vector<const char*> instanceExtensions;  // extra ones (e.g. from glfwGetRequiredInstanceExtensions)
 };

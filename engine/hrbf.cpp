@@ -31,8 +31,8 @@ Frame Frame::unitDiagonal(const std::vector<Vector3d>& points) {
     if (!std::isfinite(diagonal) || !std::isfinite(1.0 / diagonal)) {
         char text[32];
         std::snprintf(text, sizeof text, "%g", diagonal);
-        throw Error(std::string("the points' bounding box is too large or too small to normalize (diagonal ") +
-                    text + ")");
+        throw Error(std::string("the points' bounding box is too large or too small to normalize (diagonal ") + text +
+                    ")");
     }
     frame.scale = 1.0 / diagonal;
     return frame;
@@ -64,8 +64,8 @@ double Hrbf::eval(const Vector3d& x, Vector3d& gradient, Matrix3d* hessian) cons
             // α Hψ(d) − ∂(Hψ(d) β)/∂x; the third derivative of ψ contracted with β.
             Matrix3d ddT = d * d.transpose();
             h += 3.0 * alpha[j] * (r * Matrix3d::Identity() + ddT / r);
-            h -= (3.0 / r) * (beta[j] * d.transpose() + d * beta[j].transpose() +
-                              db * Matrix3d::Identity() - ddT * (db / (r * r)));
+            h -= (3.0 / r) *
+                 (beta[j] * d.transpose() + d * beta[j].transpose() + db * Matrix3d::Identity() - ddT * (db / (r * r)));
         }
     }
     gradient = g;
@@ -102,9 +102,9 @@ void assemble(const std::vector<Vector3d>& points, const std::vector<Vector3d>& 
             A.block<4, 4>(row, col) = K;
             A.block<4, 4>(col, row) = K.transpose();
         }
-        A(row, poly) = A(poly, row) = 1.0;                              // b;  Σ α_j = 0            (eq. 9)
-        A.block<1, 3>(row, poly + 1) = points[i].transpose();           // ⟨a, p_i⟩
-        A.block<3, 1>(poly + 1, row) = points[i];                       // Σ α_j p_j + β_j = 0      (eq. 10)
+        A(row, poly) = A(poly, row) = 1.0;                     // b;  Σ α_j = 0            (eq. 9)
+        A.block<1, 3>(row, poly + 1) = points[i].transpose();  // ⟨a, p_i⟩
+        A.block<3, 1>(poly + 1, row) = points[i];              // Σ α_j p_j + β_j = 0      (eq. 10)
         A.block<3, 3>(row + 1, poly + 1) = A.block<3, 3>(poly + 1, row + 1) = Matrix3d::Identity();  // a; β_j
         B.segment<3>(row + 1) = normals[i];
     }
@@ -114,16 +114,14 @@ void assemble(const std::vector<Vector3d>& points, const std::vector<Vector3d>& 
 
 // LAPACK (Fortran ABI; the trailing argument is the hidden length of `uplo`). Declared here rather than
 // taken from lapacke.h so that any LAPACK will do, reference or OpenBLAS, without another -dev package.
-extern "C" void dsysv_(const char* uplo, const int* n, const int* nrhs, double* a, const int* lda, int* ipiv,
-                       double* b, const int* ldb, double* work, const int* lwork, int* info, size_t uploLength);
+extern "C" void dsysv_(const char* uplo, const int* n, const int* nrhs, double* a, const int* lda, int* ipiv, double* b,
+                       const int* ldb, double* work, const int* lwork, int* info, size_t uploLength);
 
 Hrbf fitHrbf(const std::vector<Vector3d>& points, const std::vector<Vector3d>& normals, FitStats* stats) {
     const size_t m = points.size();
-    if (m < 2)
-        throw Error("too few distinct points to fit a surface: need at least 2, got " + std::to_string(m));
+    if (m < 2) throw Error("too few distinct points to fit a surface: need at least 2, got " + std::to_string(m));
     if (normals.size() != m)
-        throw Error("cannot fit: " + std::to_string(m) + " points but " + std::to_string(normals.size()) +
-                    " normals");
+        throw Error("cannot fit: " + std::to_string(m) + " points but " + std::to_string(normals.size()) + " normals");
     for (size_t i = 0; i < m; ++i) {
         if (!points[i].allFinite() || !normals[i].allFinite())
             throw Error("cannot fit: control point " + std::to_string(i) + " has a NaN or infinite coordinate");
@@ -147,8 +145,7 @@ Hrbf fitHrbf(const std::vector<Vector3d>& points, const std::vector<Vector3d>& n
     dsysv_("L", &n, &one, A.data(), &n, pivots.data(), x.data(), &n, &bestWork, &lwork, &info, 1);
     lwork = std::max(1, int(bestWork));
     std::vector<double> work(static_cast<size_t>(lwork));
-    if (info == 0)
-        dsysv_("L", &n, &one, A.data(), &n, pivots.data(), x.data(), &n, work.data(), &lwork, &info, 1);
+    if (info == 0) dsysv_("L", &n, &one, A.data(), &n, pivots.data(), x.data(), &n, work.data(), &lwork, &info, 1);
     if (info < 0) throw std::logic_error("dsysv: argument " + std::to_string(-info) + " is invalid");
     if (info > 0)
         throw Error("the HRBF system is singular (zero pivot " + std::to_string(info) +

@@ -25,10 +25,10 @@ struct Frame {
 };
 
 struct Hrbf {
-    std::vector<Eigen::Vector3d> centers;  // p_j (normalized)
-    std::vector<double> alpha;             // α_j
-    std::vector<Eigen::Vector3d> beta;     // β_j
-    std::vector<Eigen::Vector3d> normals;  // n_j, the unit normals the fit interpolates (∇f(p_j) = n_j)
+    std::vector<Eigen::Vector3d> centers;         // p_j (normalized)
+    std::vector<double> alpha;                    // α_j
+    std::vector<Eigen::Vector3d> beta;            // β_j
+    std::vector<Eigen::Vector3d> normals;         // n_j, the unit normals the fit interpolates (∇f(p_j) = n_j)
     Eigen::Vector3d a = Eigen::Vector3d::Zero();  // linear term (eq. 6)
     double b = 0.0;
     Frame frame;
@@ -42,9 +42,9 @@ struct Hrbf {
 struct FitStats {
     size_t controlPoints = 0;
     double seconds = 0;
-    double relativeResidual = 0;  // ‖A x − B‖ / ‖B‖ of eq. 5
-    double maxDistance = 0;       // max_i |f(p_i)| / ‖∇f(p_i)‖, normalized units (= fraction of the diagonal)
-    double maxNormalAngleDeg = 0; // max_i ∠(∇f(p_i), n_i)
+    double relativeResidual = 0;   // ‖A x − B‖ / ‖B‖ of eq. 5
+    double maxDistance = 0;        // max_i |f(p_i)| / ‖∇f(p_i)‖, normalized units (= fraction of the diagonal)
+    double maxNormalAngleDeg = 0;  // max_i ∠(∇f(p_i), n_i)
 };
 
 // Solves eq. 5 with the linear term (eq. 7–10) for points and unit normals given in normalized

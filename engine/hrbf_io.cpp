@@ -4,8 +4,8 @@
 #include "image.h"
 #include "model.h"
 
-#include <charconv>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -78,11 +78,10 @@ public:
 
     // A `key n1 n2 ...` line with `count` numbers; `usage` spells it for the message.
     void expectKey(const char* key, size_t numbers, const char* usage) const {
-        if (fields[0] != key)
-            fail("expected '" + std::string(usage) + "', found " + quoted(fields[0]));
+        if (fields[0] != key) fail("expected '" + std::string(usage) + "', found " + quoted(fields[0]));
         if (this->count != numbers + 1)
-            fail("expected " + std::to_string(numbers) + " numbers after '" + key + "' (" + usage +
-                 "), found " + std::to_string(this->count - 1));
+            fail("expected " + std::to_string(numbers) + " numbers after '" + key + "' (" + usage + "), found " +
+                 std::to_string(this->count - 1));
     }
 
     std::vector<std::string_view> fields;
@@ -125,15 +124,16 @@ void saveHrbf(const std::string& path, const Hrbf& model) {
     const size_t m = model.size();
     if (model.alpha.size() != m || model.beta.size() != m || model.normals.size() != m)
         throw Error("cannot save '" + path + "': the model is incomplete (" + std::to_string(m) + " centres, " +
-                    std::to_string(model.alpha.size()) + " alpha, " + std::to_string(model.beta.size()) +
-                    " beta, " + std::to_string(model.normals.size()) + " normals)");
+                    std::to_string(model.alpha.size()) + " alpha, " + std::to_string(model.beta.size()) + " beta, " +
+                    std::to_string(model.normals.size()) + " normals)");
     if (m < 2 || m > kMaxControlPoints)
         throw Error("cannot save '" + path + "': " + std::to_string(m) + " centres (a .hrbf file holds 2 to " +
                     std::to_string(kMaxControlPoints) + ")");
 
     std::string text = std::string(kMagic) + " " + std::to_string(kVersion) + "\n";
-    text += "# Inkwell HRBF model (docs/hrbf-format.md); coordinates are normalized: x_normalized = "
-            "(x_input - center) * scale\n";
+    text +=
+        "# Inkwell HRBF model (docs/hrbf-format.md); coordinates are normalized: x_normalized = "
+        "(x_input - center) * scale\n";
     text += "centers " + std::to_string(m) + "\n";
     text += "frame ";
     put(text, model.frame.center);
@@ -176,13 +176,11 @@ Hrbf loadHrbf(const std::string& path) { return parseHrbf(readFile(path), path);
 Hrbf parseHrbf(const std::string& bytes, const std::string& name) {
     Lines lines(bytes, name);
     const std::string magicLine = std::string(kMagic) + " " + std::to_string(kVersion);
-    if (!lines.next())
-        fail(name, "empty file: not an Inkwell HRBF model (expected '" + magicLine + "' on line 1)");
+    if (!lines.next()) fail(name, "empty file: not an Inkwell HRBF model (expected '" + magicLine + "' on line 1)");
     if (lines.line() != 1)
         fail(name, "line 1: not an Inkwell HRBF model (expected '" + magicLine + "' as the first line)");
     if (lines.fields[0] != kMagic)
-        lines.fail("not an Inkwell HRBF model (expected '" + magicLine + "', found " +
-                   quoted(lines.fields[0]) + ")");
+        lines.fail("not an Inkwell HRBF model (expected '" + magicLine + "', found " + quoted(lines.fields[0]) + ")");
     if (lines.count != 2 || lines.fields[1] != std::to_string(kVersion))
         lines.fail("unsupported version " + (lines.count > 1 ? quoted(lines.fields[1]) : "(none)") +
                    " (this build reads version " + std::to_string(kVersion) + ")");
@@ -221,14 +219,12 @@ Hrbf parseHrbf(const std::string& bytes, const std::string& name) {
     model.beta.reserve(m);
     for (uint64_t j = 0; j < m; ++j) {
         if (!lines.next())
-            fail(name, "truncated: " + std::to_string(j) + " of " + std::to_string(m) +
-                           " centre lines, no 'end'");
+            fail(name, "truncated: " + std::to_string(j) + " of " + std::to_string(m) + " centre lines, no 'end'");
         if (lines.fields[0] == "end")
-            lines.fail("'end' after " + std::to_string(j) + " of the " + std::to_string(m) +
-                       " centres declared");
+            lines.fail("'end' after " + std::to_string(j) + " of the " + std::to_string(m) + " centres declared");
         if (lines.count != kCenterFields)
-            lines.fail("expected 10 numbers (x y z nx ny nz alpha bx by bz), found " +
-                       std::to_string(lines.count) + " fields");
+            lines.fail("expected 10 numbers (x y z nx ny nz alpha bx by bz), found " + std::to_string(lines.count) +
+                       " fields");
         model.centers.push_back(lines.vector(0));
         model.normals.push_back(lines.vector(3));
         model.alpha.push_back(lines.real(6));

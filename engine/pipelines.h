@@ -15,9 +15,9 @@ struct DescriptorBinding {
     uint32_t binding;
     VkDescriptorType type;
     VkBuffer buffer;
-    uint32_t count = 1;       // an array of `count` descriptors...
-    VkDeviceSize stride = 0;  // ...element k at offset k·stride, range stride (0: the whole buffer)
-    uint32_t filled = 0;      // elements past this many repeat element 0 (0: all are distinct)
+    uint32_t count = 1;                  // an array of `count` descriptors...
+    VkDeviceSize stride = 0;             // ...element k at offset k·stride, range stride (0: the whole buffer)
+    uint32_t filled = 0;                 // elements past this many repeat element 0 (0: all are distinct)
     VkBufferView view = VK_NULL_HANDLE;  // for texel buffer descriptors (then `buffer` is unused)
 };
 

@@ -115,8 +115,7 @@ void rejectBinary(std::string_view text, const std::string& name, size_t firstLi
     size_t nul = text.find('\0');
     if (nul == std::string_view::npos) return;
     Lines lines(text.substr(0, nul + 1), 0, firstLine);
-    for (std::string_view line; lines.next(line);) {
-    }
+    for (std::string_view line; lines.next(line);) {}
     fail(name, "line " + std::to_string(lines.number()) + ": binary data (a NUL byte) in a text file");
 }
 
@@ -129,16 +128,15 @@ struct Polygons {
 // Adds each polygon's area vector to its vertices. For a fan-triangulated polygon the sum of the fan's
 // edge cross products is twice its area times its normal, so big faces weigh more than slivers, and
 // non-convex polygons still come out right.
-void addAreaNormals(const std::vector<Vector3d>& positions, const Polygons& polygons,
-                    std::vector<Vector3d>& sums, std::vector<char>& used) {
+void addAreaNormals(const std::vector<Vector3d>& positions, const Polygons& polygons, std::vector<Vector3d>& sums,
+                    std::vector<char>& used) {
     size_t offset = 0;
     for (uint32_t size : polygons.sizes) {
         const uint32_t* idx = polygons.indices.data() + offset;
         offset += size;
         const Vector3d& p0 = positions[idx[0]];
         Vector3d area = Vector3d::Zero();
-        for (uint32_t k = 1; k + 1 < size; ++k)
-            area += (positions[idx[k]] - p0).cross(positions[idx[k + 1]] - p0);
+        for (uint32_t k = 1; k + 1 < size; ++k) area += (positions[idx[k]] - p0).cross(positions[idx[k + 1]] - p0);
         for (uint32_t k = 0; k < size; ++k) {
             sums[idx[k]] += area;
             used[idx[k]] = 1;
@@ -283,8 +281,7 @@ ObjScan scanObj(const std::string& bytes, const std::string& name) {
             Vector3d p;
             for (size_t k = 0; k < fields.size(); ++k) {
                 double value;
-                if (!toDouble(fields[k], value))
-                    fail(name, where() + ": " + quoted(fields[k]) + " is not a number");
+                if (!toDouble(fields[k], value)) fail(name, where() + ": " + quoted(fields[k]) + " is not a number");
                 if (k < 3) p[Eigen::Index(k)] = value;
             }
             if (!p.allFinite())
@@ -298,19 +295,17 @@ ObjScan scanObj(const std::string& bytes, const std::string& name) {
         }
 
         if (fields.size() < 3)
-            fail(name, where() + ": face has " + std::to_string(fields.size()) +
-                           " vertices; at least 3 are needed");
+            fail(name, where() + ": face has " + std::to_string(fields.size()) + " vertices; at least 3 are needed");
         // tinyobjloader keeps polygon sizes in an unsigned char.
         if (fields.size() > 255)
-            fail(name, where() + ": face has " + std::to_string(fields.size()) +
-                           " vertices; at most 255 are supported");
+            fail(name,
+                 where() + ": face has " + std::to_string(fields.size()) + " vertices; at most 255 are supported");
         for (std::string_view corner : fields) {
             int64_t index[3];
             size_t count;
             if (!splitCorner(corner, index, count))
-                fail(name,
-                     where() + ": " + quoted(corner) +
-                         " is not a face vertex (v, v/vt, v/vt/vn or v//vn; indices are nonzero integers)");
+                fail(name, where() + ": " + quoted(corner) +
+                               " is not a face vertex (v, v/vt, v/vt/vn or v//vn; indices are nonzero integers)");
             for (int slot : {0, 2}) {
                 if (slot == 2 && count < 3) break;
                 bool isNormal = slot == 2;
@@ -319,15 +314,14 @@ ObjScan scanObj(const std::string& bytes, const std::string& name) {
                 const char* what = isNormal ? "normal" : "vertex";
                 if (i < 0 && i + have < 0)
                     fail(name, where() + ": face " + what + " index " + std::to_string(i) +
-                                   " reaches before the first " + what + " (only " + std::to_string(have) +
-                                   " so far)");
+                                   " reaches before the first " + what + " (only " + std::to_string(have) + " so far)");
                 if (i > have) pending.push_back({lines.number(), i, isNormal});
             }
             // The texture coordinate index is not used, but tinyobjloader reads it into an int.
             constexpr int64_t kMaxInt = std::numeric_limits<int>::max();
             if (count >= 2 && (index[1] > kMaxInt || index[1] < -kMaxInt))
-                fail(name, where() + ": face texture coordinate index " + std::to_string(index[1]) +
-                               " is out of range");
+                fail(name,
+                     where() + ": face texture coordinate index " + std::to_string(index[1]) + " is out of range");
         }
         keep();
         ++scan.faces;
@@ -336,8 +330,8 @@ ObjScan scanObj(const std::string& bytes, const std::string& name) {
         size_t have = p.normal ? scan.vn.size() : scan.v.size();
         if (uint64_t(p.index) > have)
             fail(name, lineName(p.line) + ": face " + (p.normal ? "normal" : "vertex") + " index " +
-                           std::to_string(p.index) + " is out of range (the file has " +
-                           std::to_string(have) + " " + (p.normal ? "normals" : "vertices") + ")");
+                           std::to_string(p.index) + " is out of range (the file has " + std::to_string(have) + " " +
+                           (p.normal ? "normals" : "vertices") + ")");
     }
     return scan;
 }
@@ -395,13 +389,12 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
         // A point cloud written as OBJ: normals can only pair with vertices one to one, in order.
         if (scan.vn.empty()) fail(name, "has no faces and no normals: cannot orient points");
         if (scan.vn.size() != scan.v.size())
-            fail(name, "has no faces, and its " + std::to_string(scan.vn.size()) +
-                           " normals do not pair up with its " + std::to_string(scan.v.size()) + " vertices");
+            fail(name, "has no faces, and its " + std::to_string(scan.vn.size()) + " normals do not pair up with its " +
+                           std::to_string(scan.v.size()) + " vertices");
         out.positions = scan.v;
         out.normals = scan.vn;
-        finish(out, name, [&](size_t i) {
-            return "vertex " + std::to_string(i + 1) + " (" + lineName(scan.vLine[i]) + ")";
-        });
+        finish(out, name,
+               [&](size_t i) { return "vertex " + std::to_string(i + 1) + " (" + lineName(scan.vLine[i]) + ")"; });
         return out;
     }
 
@@ -462,13 +455,17 @@ bool plyType(std::string_view s, PlyType& t) {
 size_t sizeOf(PlyType t) {
     switch (t) {
         case PlyType::Int8:
-        case PlyType::UInt8: return 1;
+        case PlyType::UInt8:
+            return 1;
         case PlyType::Int16:
-        case PlyType::UInt16: return 2;
+        case PlyType::UInt16:
+            return 2;
         case PlyType::Int32:
         case PlyType::UInt32:
-        case PlyType::Float32: return 4;
-        case PlyType::Float64: return 8;
+        case PlyType::Float32:
+            return 4;
+        case PlyType::Float64:
+            return 8;
     }
     return 8;
 }
@@ -560,9 +557,7 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& name) {
                 auto [end, ec] = std::from_chars(f[2].data(), f[2].data() + f[2].size(), count);
                 ok = ec == std::errc() && end == f[2].data() + f[2].size();
             }
-            if (!ok)
-                fail(name,
-                     where() + ": bad element line " + quoted(line) + " (expected 'element NAME COUNT')");
+            if (!ok) fail(name, where() + ": bad element line " + quoted(line) + " (expected 'element NAME COUNT')");
             if (count > kMaxElements)
                 fail(name, where() + ": element '" + std::string(f[1]) + "' claims " + std::to_string(count) +
                                " entries; the limit is " + std::to_string(kMaxElements));
@@ -574,8 +569,7 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& name) {
             PlyProperty p;
             bool ok;
             if (f.size() >= 2 && f[1] == "list") {
-                ok = f.size() == 5 && plyType(f[2], p.countType) && isInteger(p.countType) &&
-                     plyType(f[3], p.type);
+                ok = f.size() == 5 && plyType(f[2], p.countType) && isInteger(p.countType) && plyType(f[3], p.type);
                 p.list = true;
             } else {
                 ok = f.size() == 3 && plyType(f[1], p.type);
@@ -585,8 +579,7 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& name) {
                                " (expected 'property TYPE NAME' or 'property list INTTYPE TYPE NAME')");
             p.name = std::string(f.back());
             PlyElement& e = header.elements.back();
-            if (e.find(p.name) >= 0)
-                fail(name, where() + ": a second property '" + p.name + "' in '" + e.name + "'");
+            if (e.find(p.name) >= 0) fail(name, where() + ": a second property '" + p.name + "' in '" + e.name + "'");
             e.properties.push_back(std::move(p));
         } else {
             fail(name, where() + ": unknown header keyword " + quoted(f[0]));
@@ -624,9 +617,8 @@ public:
             entry_ = left / size;
             truncated();
         }
-        fail(name_, "truncated: the header declares " + std::to_string(e.count) + " " + plural() +
-                        " of at least " + std::to_string(size) + " bytes, but only " + std::to_string(left) +
-                        " bytes are left");
+        fail(name_, "truncated: the header declares " + std::to_string(e.count) + " " + plural() + " of at least " +
+                        std::to_string(size) + " bytes, but only " + std::to_string(left) + " bytes are left");
     }
 
     void beginEntry(uint64_t entry) {
@@ -644,8 +636,8 @@ public:
 
     void endEntry() {
         if (format_ == PlyFormat::Ascii && field_ != fields_.size())
-            fail(name_, where() + ": " + std::to_string(fields_.size() - field_) +
-                            " more values than the header declares");
+            fail(name_,
+                 where() + ": " + std::to_string(fields_.size() - field_) + " more values than the header declares");
     }
 
     double scalar(PlyType t) {
@@ -654,8 +646,7 @@ public:
             std::string_view s = fields_[field_++];
             double v;
             if (!toDouble(s, v)) fail(name_, where() + ": " + quoted(s) + " is not a number");
-            if (isInteger(t) && v != std::floor(v))
-                fail(name_, where() + ": " + quoted(s) + " is not an integer");
+            if (isInteger(t) && v != std::floor(v)) fail(name_, where() + ": " + quoted(s) + " is not an integer");
             return v;
         }
         size_t n = sizeOf(t);
@@ -670,14 +661,22 @@ public:
             return double(v);
         };
         switch (t) {
-            case PlyType::Int8: return get(int8_t());
-            case PlyType::UInt8: return get(uint8_t());
-            case PlyType::Int16: return get(int16_t());
-            case PlyType::UInt16: return get(uint16_t());
-            case PlyType::Int32: return get(int32_t());
-            case PlyType::UInt32: return get(uint32_t());
-            case PlyType::Float32: return get(float());
-            case PlyType::Float64: return get(double());
+            case PlyType::Int8:
+                return get(int8_t());
+            case PlyType::UInt8:
+                return get(uint8_t());
+            case PlyType::Int16:
+                return get(int16_t());
+            case PlyType::UInt16:
+                return get(uint16_t());
+            case PlyType::Int32:
+                return get(int32_t());
+            case PlyType::UInt32:
+                return get(uint32_t());
+            case PlyType::Float32:
+                return get(float());
+            case PlyType::Float64:
+                return get(double());
         }
         return 0;
     }
@@ -686,12 +685,11 @@ public:
     uint64_t listCount(const PlyProperty& p) {
         double v = scalar(p.countType);
         if (v < 0) fail(name_, where() + ": negative list length " + num(v));
-        uint64_t left =
-            format_ == PlyFormat::Ascii ? fields_.size() - field_ : (bytes_.size() - pos_) / sizeOf(p.type);
+        uint64_t left = format_ == PlyFormat::Ascii ? fields_.size() - field_ : (bytes_.size() - pos_) / sizeOf(p.type);
         if (v > double(left)) {
             if (format_ == PlyFormat::Ascii)
-                fail(name_, where() + ": list '" + p.name + "' claims " + num(v) +
-                                " items but the line has " + std::to_string(left) + " more values");
+                fail(name_, where() + ": list '" + p.name + "' claims " + num(v) + " items but the line has " +
+                                std::to_string(left) + " more values");
             truncated();
         }
         return uint64_t(v);
@@ -719,14 +717,12 @@ public:
     }
 
     [[noreturn]] void truncated() const {
-        fail(name_, "truncated: expected " + std::to_string(element_->count) + " " + plural() +
-                        ", file ends in " + element_->name + " " + std::to_string(entry_));
+        fail(name_, "truncated: expected " + std::to_string(element_->count) + " " + plural() + ", file ends in " +
+                        element_->name + " " + std::to_string(entry_));
     }
 
 private:
-    std::string plural() const {
-        return element_->name == "vertex" ? "vertices" : "'" + element_->name + "' entries";
-    }
+    std::string plural() const { return element_->name == "vertex" ? "vertices" : "'" + element_->name + "' entries"; }
 
     const std::string& bytes_;
     const std::string& name_;
@@ -760,8 +756,7 @@ OrientedPoints parsePly(const std::string& bytes, const std::string& name) {
     }
     if (slot[0] < 0 || slot[1] < 0 || slot[2] < 0) fail(name, "vertex element lacks x, y or z");
     int normalSlots = (slot[3] >= 0) + (slot[4] >= 0) + (slot[5] >= 0);
-    if (normalSlots != 0 && normalSlots != 3)
-        fail(name, "vertex element has some of nx, ny, nz but not all three");
+    if (normalSlots != 0 && normalSlots != 3) fail(name, "vertex element has some of nx, ny, nz but not all three");
     bool hasNormals = normalSlots == 3;
     int faceList = -1;
     if (face) {
@@ -769,8 +764,7 @@ OrientedPoints parsePly(const std::string& bytes, const std::string& name) {
         if (faceList < 0) faceList = face->find("vertex_index");
         if (faceList < 0 || !face->properties[size_t(faceList)].list)
             fail(name, "face element has no 'vertex_indices' list");
-        if (!isInteger(face->properties[size_t(faceList)].type))
-            fail(name, "face vertex indices must be integers");
+        if (!isInteger(face->properties[size_t(faceList)].type)) fail(name, "face vertex indices must be integers");
     }
     if (!hasNormals && (!face || face->count == 0))
         fail(name, "has no normals (nx ny nz) and no faces: cannot orient points");
@@ -799,8 +793,8 @@ OrientedPoints parsePly(const std::string& bytes, const std::string& name) {
                 } else if (&e == face && int(k) == faceList) {
                     uint64_t count = body.listCount(p);
                     if (count < 3)
-                        fail(name, body.where() + ": has " + std::to_string(count) +
-                                       " vertices; at least 3 are needed");
+                        fail(name,
+                             body.where() + ": has " + std::to_string(count) + " vertices; at least 3 are needed");
                     for (uint64_t c = 0; c < count; ++c) {
                         double index = body.scalar(p.type);
                         if (index < 0 || index >= double(vertex->count))
@@ -860,8 +854,8 @@ OrientedPoints parsePts(const std::string& bytes, const std::string& name) {
         if (fields.empty()) continue;
         std::string where = lineName(lines.number());
         if (fields.size() != 6)
-            fail(name, where + ": expected 6 numbers (x y z nx ny nz), found " +
-                           std::to_string(fields.size()) + " fields");
+            fail(name,
+                 where + ": expected 6 numbers (x y z nx ny nz), found " + std::to_string(fields.size()) + " fields");
         double v[6];
         for (size_t k = 0; k < 6; ++k)
             if (!toDouble(fields[k], v[k])) fail(name, where + ": " + quoted(fields[k]) + " is not a number");
@@ -883,8 +877,7 @@ std::string readFile(const std::string& path) {
     if (fs::is_directory(status)) throw Error("cannot open '" + path + "': " + std::strerror(EISDIR));
     if (fs::is_regular_file(status)) {
         uintmax_t size = fs::file_size(path, ec);
-        if (!ec && size > kMaxFileBytes)
-            fail(path, "file is " + std::to_string(size) + " bytes; the limit is 2 GiB");
+        if (!ec && size > kMaxFileBytes) fail(path, "file is " + std::to_string(size) + " bytes; the limit is 2 GiB");
     }
     return readFileCapped(path, kMaxFileBytes, "file is larger than the limit of 2 GiB");
 }
@@ -895,8 +888,7 @@ OrientedPoints loadPoints(const std::string& path) {
     std::string file = std::filesystem::path(path).filename().string();
     size_t dot = file.rfind('.');
     std::string ext = dot == std::string::npos ? "" : file.substr(dot + 1);
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     std::string format;
     if (ext == "obj")
         format = "obj";
@@ -905,9 +897,8 @@ OrientedPoints loadPoints(const std::string& path) {
     else if (ext == "pts" || ext == "xyzn" || ext == "txt")
         format = "pts";
     else
-        fail(path,
-             (ext.empty() ? std::string("no file extension") : "unsupported file extension '." + ext + "'") +
-                 "; supported: .obj .ply .pts .xyzn .txt");
+        fail(path, (ext.empty() ? std::string("no file extension") : "unsupported file extension '." + ext + "'") +
+                       "; supported: .obj .ply .pts .xyzn .txt");
     return parsePoints(readFile(path), format, path);
 }
 

@@ -10,9 +10,15 @@ namespace ink {
 // PCG-based 4D hash (Jarzynski & Olano 2020), bit-identical to pcg4d() in common.glsl.
 inline std::array<uint32_t, 4> pcg4d(std::array<uint32_t, 4> v) {
     for (uint32_t& x : v) x = x * 1664525u + 1013904223u;
-    v[0] += v[1] * v[3]; v[1] += v[2] * v[0]; v[2] += v[0] * v[1]; v[3] += v[1] * v[2];
+    v[0] += v[1] * v[3];
+    v[1] += v[2] * v[0];
+    v[2] += v[0] * v[1];
+    v[3] += v[1] * v[2];
     for (uint32_t& x : v) x ^= x >> 16u;
-    v[0] += v[1] * v[3]; v[1] += v[2] * v[0]; v[2] += v[0] * v[1]; v[3] += v[1] * v[2];
+    v[0] += v[1] * v[3];
+    v[1] += v[2] * v[0];
+    v[2] += v[0] * v[1];
+    v[3] += v[1] * v[2];
     return v;
 }
 

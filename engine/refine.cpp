@@ -38,8 +38,8 @@ static double meanSpacing(const std::vector<Eigen::Vector3d>& p) {
 
 RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& o, uint64_t maxPoints) {
     if (o.levels >= kMaxLevels)  // written so that a huge --levels cannot overflow
-        throw Error("--levels " + std::to_string(o.levels) + " is too many: at most " +
-                    std::to_string(kMaxLevels - 1) + " refinement levels");
+        throw Error("--levels " + std::to_string(o.levels) + " is too many: at most " + std::to_string(kMaxLevels - 1) +
+                    " refinement levels");
     if (o.passes > 64) throw Error("--passes must be between 1 and 64");
     if (!(o.eps1 > 0) || !(o.delta > 0 && o.delta < 1) || !(o.phi > 0 && o.phi < 0.5))
         throw Error("projection parameters out of range: need ε₁ > 0, δ in (0,1), φ in (0,½)");
@@ -183,8 +183,8 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const Re
     const RefinePlan& plan = r.plan;
     uint64_t maxCandidates = *std::max_element(plan.maxCandidates.begin(), plan.maxCandidates.end());
 
-    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                                       VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    const VkBufferUsageFlags storage =
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     if (hrbf.size() > kHrbfBlockSize * kHrbfBlocks)
         throw Error("the refinement holds at most " + std::to_string(kHrbfBlockSize * kHrbfBlocks) + " centres");
     if (ctx.properties.limits.maxUniformBufferRange < kHrbfBlockBytes)
@@ -197,8 +197,8 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const Re
     uploadBuffer(ctx, r.hrbf, centers.data(), centers.size() * sizeof(double));
     // Blocks past the last real one point at block 0: they are declared by the shader but never read.
     const uint32_t realBlocks = uint32_t(centers.size() * sizeof(double) / kHrbfBlockBytes);
-    r.points = createBuffer(ctx, plan.maxPoints * sizeof(PointRecord), storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
-                            MemoryUse::Device);
+    r.points = createBuffer(ctx, plan.maxPoints * sizeof(PointRecord),
+                            storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, MemoryUse::Device);
     r.candidates = createBuffer(ctx, maxCandidates * sizeof(PointRecord), storage, MemoryUse::Device);
     r.flags = createBuffer(ctx, maxCandidates * 4, storage, MemoryUse::Device);
     r.blocks = createBuffer(ctx, (maxCandidates + kGroupSize - 1) / kGroupSize * 4, storage, MemoryUse::Device);
@@ -211,18 +211,18 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const Re
     uploadBuffer(ctx, r.seeds, seeds.data(), seeds.size() * 16);
 
     const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    r.descriptors = createDescriptorSet(ctx,
-                                        {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, r.hrbfHeader.buffer},
-                                         {1, sb, r.points.buffer},
-                                         {2, sb, r.candidates.buffer},
-                                         {3, sb, r.flags.buffer},
-                                         {4, sb, r.blocks.buffer},
-                                         {5, sb, r.levels.buffer},
-                                         {6, sb, r.indirect.buffer},
-                                         {7, sb, r.seeds.buffer},
-                                         {8, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, r.hrbf.buffer, kHrbfBlocks,
-                                          kHrbfBlockBytes, realBlocks}},
-                                        VK_SHADER_STAGE_COMPUTE_BIT);
+    r.descriptors = createDescriptorSet(
+        ctx,
+        {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, r.hrbfHeader.buffer},
+         {1, sb, r.points.buffer},
+         {2, sb, r.candidates.buffer},
+         {3, sb, r.flags.buffer},
+         {4, sb, r.blocks.buffer},
+         {5, sb, r.levels.buffer},
+         {6, sb, r.indirect.buffer},
+         {7, sb, r.seeds.buffer},
+         {8, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, r.hrbf.buffer, kHrbfBlocks, kHrbfBlockBytes, realBlocks}},
+        VK_SHADER_STAGE_COMPUTE_BIT);
     r.layout = createPipelineLayout(ctx, r.descriptors.layout, sizeof(LevelParams), VK_SHADER_STAGE_COMPUTE_BIT);
     r.refine = createComputePipeline(ctx, r.layout, spv_refine_comp);
     r.scan = createComputePipeline(ctx, r.layout, spv_scan_comp);
@@ -252,7 +252,8 @@ void destroyRefinement(Context& ctx, GpuRefinement& r) {
     for (VkPipeline p : {r.refine, r.scan, r.compact}) vkDestroyPipeline(ctx.device, p, nullptr);
     vkDestroyPipelineLayout(ctx.device, r.layout, nullptr);
     if (r.descriptors.pool) destroyDescriptorSet(ctx, r.descriptors);
-    for (Buffer* b : {&r.hrbfHeader, &r.hrbf, &r.points, &r.candidates, &r.flags, &r.blocks, &r.levels, &r.indirect, &r.seeds})
+    for (Buffer* b :
+         {&r.hrbfHeader, &r.hrbf, &r.points, &r.candidates, &r.flags, &r.blocks, &r.levels, &r.indirect, &r.seeds})
         if (b->buffer) destroyBuffer(ctx, *b);
     r.refine = r.scan = r.compact = VK_NULL_HANDLE;
     r.layout = VK_NULL_HANDLE;
@@ -328,9 +329,9 @@ void runRefinement(Context& ctx, GpuRefinement& r) {
 
 double selectionMs(Context& ctx, GpuRefinement& r) {
     uint64_t ticks[2] = {};
-    if (!r.selection || vkGetQueryPoolResults(ctx.device, r.timestamps, r.plan.levelCount, 2, sizeof(ticks), ticks,
-                                              sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) !=
-                            VK_SUCCESS)
+    if (!r.selection ||
+        vkGetQueryPoolResults(ctx.device, r.timestamps, r.plan.levelCount, 2, sizeof(ticks), ticks, sizeof(uint64_t),
+                              VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) != VK_SUCCESS)
         return 0;
     return double(ticks[1] - ticks[0]) * ctx.properties.limits.timestampPeriod * 1e-6;
 }
@@ -342,9 +343,9 @@ std::vector<LevelStats> readLevelStats(Context& ctx, GpuRefinement& r) {
     std::vector<Info> info(kMaxLevels);
     downloadBuffer(ctx, r.levels, 0, info.data(), kMaxLevels * sizeof(Info));
     std::vector<uint64_t> ticks(r.plan.levelCount + 1, 0);
-    VkResult q = vkGetQueryPoolResults(ctx.device, r.timestamps, 0, uint32_t(ticks.size()),
-                                       ticks.size() * sizeof(uint64_t), ticks.data(), sizeof(uint64_t),
-                                       VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+    VkResult q =
+        vkGetQueryPoolResults(ctx.device, r.timestamps, 0, uint32_t(ticks.size()), ticks.size() * sizeof(uint64_t),
+                              ticks.data(), sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
     std::vector<LevelStats> stats(r.plan.levelCount);
     for (uint32_t level = 0; level < r.plan.levelCount; ++level) {
         stats[level].level = level;

@@ -26,22 +26,22 @@ struct RefineOptions {
     SampleStyle style = SampleStyle::Stipple;
     DirectionField direction = DirectionField::Axis;
     Eigen::Vector3d axis = Eigen::Vector3d::UnitY();  // for DirectionField::Axis, in model coordinates
-    uint32_t levels = 4;   // refinement levels after the seed level (level 0)
+    uint32_t levels = 4;                              // refinement levels after the seed level (level 0)
     // Independent sets of level-1 children of the seeds (the seeds are not repeated); 0: the default, 1 for the
     // blue-noise selection's candidates, the report's 2 otherwise.
     uint32_t passes = 0;
     uint32_t seed = 1;
-    double rho0 = 0;       // ρ₀ in normalized units (diagonal 1); 0 = half the mean seed spacing
+    double rho0 = 0;  // ρ₀ in normalized units (diagonal 1); 0 = half the mean seed spacing
     // ρ of each level over the next's: the report's 3, or 0 for the default: 3 for the report's look, 2 for the
     // blue-noise selection's candidates (four children at half the spacing keep an even density; a third leaves
     // gaps that no later level fills, see docs/algorithm.md).
     double rhoDivisor = 0;
     SeedMode seeds = SeedMode::ControlPoints;
-    uint32_t grid = 32;    // cells along the longest box side for SeedMode::Grid
-    double eps1 = 1e-5;    // ε₁, as a fraction of the diagonal
-    double eps2 = 1e-6;    // ε₂
-    double delta = 0.5;    // δ
-    double phi = 0.25;     // φ
+    uint32_t grid = 32;  // cells along the longest box side for SeedMode::Grid
+    double eps1 = 1e-5;  // ε₁, as a fraction of the diagonal
+    double eps2 = 1e-6;  // ε₂
+    double delta = 0.5;  // δ
+    double phi = 0.25;   // φ
     uint32_t maxIterations = 32;
     double jumpFactor = 3.0;  // drop a child that ends farther than jumpFactor·ρ from its parent
     bool keepAllLevels = true;
@@ -76,15 +76,15 @@ struct LevelStats {
 // Seed positions (normalized) and the per-level plan derived from the options.
 struct RefinePlan {
     std::vector<Eigen::Vector3f> seeds;
-    float seedJumpLimit = 0;             // level 0: how far a seed may move while projected
-    double gridCell = 0;                 // the seed grid's cell side for SeedMode::Grid, else 0
-    double rho0 = 0;                     // resolved ρ₀
-    double rhoDivisor = 3;               // ρ of level k+1 is ρ of level k over this
-    uint32_t passes = 1;                 // resolved RefineOptions::passes
-    uint32_t levelCount = 0;             // seed level + refinement levels
-    std::vector<uint32_t> childCount;    // per level: 1 for seeds, 4 stippling, 2 direction
-    std::vector<uint64_t> maxCandidates; // per level, worst case
-    uint64_t maxPoints = 0;              // all levels, worst case
+    float seedJumpLimit = 0;              // level 0: how far a seed may move while projected
+    double gridCell = 0;                  // the seed grid's cell side for SeedMode::Grid, else 0
+    double rho0 = 0;                      // resolved ρ₀
+    double rhoDivisor = 3;                // ρ of level k+1 is ρ of level k over this
+    uint32_t passes = 1;                  // resolved RefineOptions::passes
+    uint32_t levelCount = 0;              // seed level + refinement levels
+    std::vector<uint32_t> childCount;     // per level: 1 for seeds, 4 stippling, 2 direction
+    std::vector<uint64_t> maxCandidates;  // per level, worst case
+    uint64_t maxPoints = 0;               // all levels, worst case
 };
 
 // The squared distance from points[i] to the nearest other point (a brute-force scan: for the few thousand
@@ -118,7 +118,7 @@ struct GpuRefinement {
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline refine = VK_NULL_HANDLE, scan = VK_NULL_HANDLE, compact = VK_NULL_HANDLE;
     VkQueryPool timestamps = VK_NULL_HANDLE;
-    GpuSelection* selection = nullptr;  // owned; null when every refined point is drawn
+    GpuSelection* selection = nullptr;                            // owned; null when every refined point is drawn
     static constexpr VkDeviceSize kDrawOffset = 16 * kMaxLevels;  // the refinement's VkDrawIndirectCommand
     static constexpr VkDeviceSize kSelectedDrawOffset = kDrawOffset + 16;  // the selection's
 

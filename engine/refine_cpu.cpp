@@ -4,8 +4,8 @@
 #include "random.h"
 #include "refine.h"
 
-#include <Eigen/Geometry>
 #include <immintrin.h>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <thread>
@@ -216,7 +216,10 @@ std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& opti
                 result[i] = res;
                 if (res == kKept) {
                     Vector3f n = g.normalized().cast<float>();
-                    candidates[i] = {{float(p.x()), float(p.y()), float(p.z())}, level, {n.x(), n.y(), n.z()}, pc.toneOffset + pc.toneScale * rnd[2]};
+                    candidates[i] = {{float(p.x()), float(p.y()), float(p.z())},
+                                     level,
+                                     {n.x(), n.y(), n.z()},
+                                     pc.toneOffset + pc.toneScale * rnd[2]};
                 }
             }
         };

@@ -42,8 +42,8 @@ VkPipeline createInkPipeline(Context& ctx, VkPipelineLayout layout, VkFormat col
     multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
     // Occlusion was decided per point in stamp.comp; the ink blends over whatever the target holds.
     VkPipelineColorBlendAttachmentState blendAttachment{};
-    blendAttachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                                     VK_COLOR_COMPONENT_A_BIT;
+    blendAttachment.colorWriteMask =
+        VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
     blendAttachment.blendEnable = VK_TRUE;
     blendAttachment.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
     blendAttachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
@@ -92,9 +92,9 @@ float splatSpacing(const GpuRefinement& r) {
 
 constexpr VkShaderStageFlags kStages =
     VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-constexpr uint32_t kComputeGroup = 256;  // GROUP_SIZE in render_common.glsl
+constexpr uint32_t kComputeGroup = 256;     // GROUP_SIZE in render_common.glsl
 constexpr uint32_t kFarDepth = 0x7F7FFFFF;  // FLT_MAX: positive floats order as their bits do
-constexpr float kMaxDotPixels = 64.0f;        // dot diameters are clamped to this (times the pixel scale)
+constexpr float kMaxDotPixels = 64.0f;      // dot diameters are clamped to this (times the pixel scale)
 // The splat depth grid, a float for every 2×2 pixels, is one storage-buffer binding; coverage is smaller.
 VkDeviceSize depthGridBytes(VkExtent2D extent) {
     return VkDeviceSize((extent.width + 1) / 2) * ((extent.height + 1) / 2) * 4;
@@ -115,10 +115,10 @@ struct PointRenderer::Push {
 };
 static_assert(sizeof(glm::mat4) + 4 * sizeof(glm::vec4) == 128, "push constants within the guaranteed 128 bytes");
 
-PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat)
-    : ctx_(ctx) {
-    styleBuffer_ = createBuffer(ctx, sizeof(StyleBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
-                                                             VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
+PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat) : ctx_(ctx) {
+    styleBuffer_ =
+        createBuffer(ctx, sizeof(StyleBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                     MemoryUse::Device);
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     drawn_ = createBuffer(ctx, sizeof(kNothingDrawn), storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Device);
     depth_ = createBuffer(ctx, 4, storage, MemoryUse::Device);
@@ -167,15 +167,15 @@ PointRenderer::~PointRenderer() {
 void PointRenderer::bindDescriptors() {
     for (Set& s : sets_) {
         if (s.descriptors.pool) destroyDescriptorSet(ctx_, s.descriptors);
-        s.descriptors = createDescriptorSet(ctx_,
-                                            {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, s.dots.buffer},
-                                             {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer},
-                                             {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, drawn_.buffer},
-                                             {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depth_.buffer},
-                                             {4, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1, 0, 0,
-                                              s.texels},
-                                             {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.buffer}},
-                                            kStages);
+        s.descriptors =
+            createDescriptorSet(ctx_,
+                                {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, s.dots.buffer},
+                                 {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer},
+                                 {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, drawn_.buffer},
+                                 {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depth_.buffer},
+                                 {4, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1, 0, 0, s.texels},
+                                 {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.buffer}},
+                                kStages);
     }
 }
 
@@ -225,8 +225,8 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
         const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
         // The depth grid has one cell per 2×2 pixels; coverage has 2 bits a pixel.
         depth_ = createBuffer(ctx_, depthGridBytes(extent), usage, MemoryUse::Device);
-        coverage_ = createBuffer(ctx_, (VkDeviceSize(extent.width) * extent.height + 15) / 16 * 4, usage,
-                                 MemoryUse::Device);
+        coverage_ =
+            createBuffer(ctx_, (VkDeviceSize(extent.width) * extent.height + 15) / 16 * 4, usage, MemoryUse::Device);
         extent_ = extent;
         bindDescriptors();
     }
@@ -289,8 +289,8 @@ void PointRenderer::writeEnd(VkCommandBuffer cmd) const {
 
 PointRenderer::Timings PointRenderer::timings() const {
     uint64_t t[4] = {};
-    if (vkGetQueryPoolResults(ctx_.device, timestamps_, 0, 4, sizeof(t), t, sizeof(uint64_t),
-                              VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
+    if (vkGetQueryPoolResults(ctx_.device, timestamps_, 0, 4, sizeof(t), t, sizeof(uint64_t), VK_QUERY_RESULT_64_BIT) !=
+        VK_SUCCESS)
         return {};
     double ms = ctx_.properties.limits.timestampPeriod * 1e-6;
     return {double(t[1] - t[0]) * ms, double(t[2] - t[1]) * ms, double(t[3] - t[2]) * ms};
@@ -334,8 +334,7 @@ std::vector<uint32_t> PointRenderer::drawnPoints(size_t set) const {
 
 OffscreenRenderer::OffscreenRenderer(Context& ctx, uint32_t width, uint32_t height, const RenderStyle& style,
                                      std::vector<const GpuRefinement*> sets)
-    : ctx_(ctx), factor_(std::max(1u, style.supersample)),
-      renderer_(ctx, std::move(sets), kColorFormat) {
+    : ctx_(ctx), factor_(std::max(1u, style.supersample)), renderer_(ctx, std::move(sets), kColorFormat) {
     checkOffscreenSize(ctx, width, height, factor_);
     uint32_t w = width * factor_, h = height * factor_;
     color_ = createImage(ctx, w, h, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
@@ -395,7 +394,8 @@ void OffscreenRenderer::record(VkCommandBuffer cmd, const Camera& camera, bool r
 
         imageBarrier(cmd, color_.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                      VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                     VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+                     VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                     VK_ACCESS_2_TRANSFER_READ_BIT);
         VkBufferImageCopy region{};
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         region.imageExtent = {extent.width, extent.height, 1};

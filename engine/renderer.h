@@ -19,12 +19,12 @@ struct RenderStyle {
     glm::vec4 ink{0.0f, 0.0f, 0.0f, 1.0f};
     glm::vec4 paper{1.0f, 1.0f, 1.0f, 1.0f};
     glm::vec4 hiddenInk{0.0f, 0.0f, 0.0f, 0.45f};  // blended over the paper once: a grey line
-    float frontSize = 2.0f;       // dot diameter in output pixels
+    float frontSize = 2.0f;                        // dot diameter in output pixels
     float silhouetteSize = 2.4f;
     float hiddenSize = 1.4f;
-    float tau = 0.1f;             // τ of the silhouette test (report §5)
-    bool hiddenLines = false;     // draw occluded silhouettes faint
-    bool occlusion = true;        // the splat depth pre-pass; off: every front-facing dot shows
+    float tau = 0.1f;          // τ of the silhouette test (report §5)
+    bool hiddenLines = false;  // draw occluded silhouettes faint
+    bool occlusion = true;     // the splat depth pre-pass; off: every front-facing dot shows
     // Towards the light, in view space (x right, y up, z to the viewer) as seen from the default camera. The light
     // stays fixed to the model as the camera moves (so do the dots tone draws), unless it follows the camera.
     glm::vec3 light{-0.5f, 0.6f, 0.65f};
@@ -33,11 +33,11 @@ struct RenderStyle {
     // fixed random value) is below
     //   (ambient + (1 − max(0, n·l))^γ) · inkDensity · k,
     // k scaling the expected ink coverage of fully dark regions to about 60% at any zoom and point count.
-    float toneGamma = 1.5f;       // 0: no tone, every front dot is drawn
+    float toneGamma = 1.5f;  // 0: no tone, every front dot is drawn
     float inkDensity = 1.0f;
     float ambient = 0.04f;
-    float splatScale = 2.0f;      // splat radius in units of the finest level's ρ
-    uint32_t supersample = 2;     // offscreen: render this many times larger and filter down
+    float splatScale = 2.0f;   // splat radius in units of the finest level's ρ
+    uint32_t supersample = 2;  // offscreen: render this many times larger and filter down
 };
 
 // Matches `Style` in render_common.glsl (std140).

@@ -25,9 +25,9 @@ struct Push {
     uint32_t stage, phase, count, stageCount, poolSeed;
 };
 
-constexpr uint32_t kGroup = 256;             // GROUP_SIZE in select_common.glsl
-constexpr uint32_t kPhaseGroup = 64;         // select_phase.comp's workgroup
-constexpr VkDeviceSize kCandidateDispatch = 16;                 // counts.candidateDispatch
+constexpr uint32_t kGroup = 256;                 // GROUP_SIZE in select_common.glsl
+constexpr uint32_t kPhaseGroup = 64;             // select_phase.comp's workgroup
+constexpr VkDeviceSize kCandidateDispatch = 16;  // counts.candidateDispatch
 constexpr VkDeviceSize poolDispatch(uint32_t s) { return 32 + 16 * VkDeviceSize(s); }  // counts.poolDispatch[s]
 constexpr VkDeviceSize kCountsBytes = 32 + 16 * kMaxSelectStages + 5 * 4 * kMaxSelectStages;
 constexpr VkDeviceSize kAddedOffset = 32 + 16 * kMaxSelectStages + 2 * 4 * kMaxSelectStages;  // counts.added
@@ -54,8 +54,9 @@ void createSelection(Context& ctx, GpuSelection& s, const Hrbf& hrbf, const Refi
     s.bucketStart = createBuffer(ctx, scanned * 4, storage, MemoryUse::Device);
     s.backFill = createBuffer(ctx, buckets * 4, storage, MemoryUse::Device);
     s.blockSums = createBuffer(ctx, (groups(scanned, kGroup) + 1) * 4, storage, MemoryUse::Device);
-    s.counts = createBuffer(ctx, kCountsBytes, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                                                   VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Device);
+    s.counts = createBuffer(ctx, kCountsBytes,
+                            storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                            MemoryUse::Device);
     s.stipples = createBuffer(ctx, candidates * sizeof(PointRecord),
                               storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
                               MemoryUse::Device);
@@ -122,15 +123,19 @@ void recordSelection(VkCommandBuffer cmd, const GpuSelection& s) {
     // The exclusive scan of bucketCount[0 .. n) into bucketStart (n = 0xFFFFFFFF: the candidates).
     auto scan = [&](uint32_t n, uint32_t stage) {
         Push p{stage, 0, n, stageCount, s.plan.poolSeed};
-        if (n == UINT32_MAX) dispatchIndirect(s.scan, p, kCandidateDispatch);
-        else dispatch(s.scan, p, groups(n, kGroup));
+        if (n == UINT32_MAX)
+            dispatchIndirect(s.scan, p, kCandidateDispatch);
+        else
+            dispatch(s.scan, p, groups(n, kGroup));
         passBarrier();
         p.phase = 1;
         dispatch(s.scan, p, 1);
         passBarrier();
         p.phase = 2;
-        if (n == UINT32_MAX) dispatchIndirect(s.scan, p, kCandidateDispatch);
-        else dispatch(s.scan, p, groups(n, kGroup));
+        if (n == UINT32_MAX)
+            dispatchIndirect(s.scan, p, kCandidateDispatch);
+        else
+            dispatch(s.scan, p, groups(n, kGroup));
         passBarrier();
     };
     auto clear = [&](std::initializer_list<const Buffer*> buffers, VkDeviceSize bytes) {

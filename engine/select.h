@@ -35,13 +35,13 @@ struct SelectOptions {
 // One stage as the device sees it (`Stage` in select_common.glsl, std430). Computed on the CPU, identical
 // for both backends.
 struct SelectStage {
-    float offset[3] = {0, 0, 0};  // a random shift of the grid per stage, so that cell borders do not align
-    float cellScale = 0;          // 1 / cell side, the side a little above R_s
-    float radius2 = 0;            // R_s²
-    float previousRadius2 = 0;    // R_{s−1}² (0 for the first stage)
-    float orderScale = 0;         // 1 / (R_{s−1}² − R_s²)
-    uint32_t poolThreshold = 0;   // candidates whose pool key is below this are in the pool (see poolKey)
-    uint32_t bucketsPerPhase = 0; // a power of two
+    float offset[3] = {0, 0, 0};   // a random shift of the grid per stage, so that cell borders do not align
+    float cellScale = 0;           // 1 / cell side, the side a little above R_s
+    float radius2 = 0;             // R_s²
+    float previousRadius2 = 0;     // R_{s−1}² (0 for the first stage)
+    float orderScale = 0;          // 1 / (R_{s−1}² − R_s²)
+    uint32_t poolThreshold = 0;    // candidates whose pool key is below this are in the pool (see poolKey)
+    uint32_t bucketsPerPhase = 0;  // a power of two
     uint32_t seed = 0;
     uint32_t pad[2] = {0, 0};
 };

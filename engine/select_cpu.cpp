@@ -57,8 +57,9 @@ std::vector<PointRecord> selectOnCpu(const std::vector<PointRecord>& candidates,
         for (uint32_t p : pool)
             if (!stageOf[p]) phase[cellPhase(cellOf[p])].push_back(p);
         for (auto& list : phase) {
-            std::sort(list.begin(), list.end(),
-                      [&](uint32_t a, uint32_t b) { return priorityBefore(stagePriority(s, a), a, stagePriority(s, b), b); });
+            std::sort(list.begin(), list.end(), [&](uint32_t a, uint32_t b) {
+                return priorityBefore(stagePriority(s, a), a, stagePriority(s, b), b);
+            });
             for (uint32_t p : list) {
                 bool free = true;
                 forNeighbours(p, [&](uint32_t q) {
@@ -76,7 +77,8 @@ std::vector<PointRecord> selectOnCpu(const std::vector<PointRecord>& candidates,
             }
             float best = INFINITY;
             forNeighbours(p, [&](uint32_t q) {
-                if (stageOf[q] && stageOf[q] <= k) best = std::min(best, sameSideDistance2(candidates[p], candidates[q]));
+                if (stageOf[q] && stageOf[q] <= k)
+                    best = std::min(best, sameSideDistance2(candidates[p], candidates[q]));
             });
             order[p] = additionOrder(s, best);
         }

@@ -41,7 +41,9 @@ inline uint32_t stagePriority(const SelectStage& s, uint32_t point) { return pcg
 // Whether a candidate is in the pool of a stage: its pool key under the stage's threshold. Keys are fixed per
 // candidate, so the pools are nested, and a finer stage's pool holds every point the coarser ones selected.
 inline uint32_t poolKey(uint32_t seed, uint32_t point) { return pcg4d({seed, point, 0x9001u, 0u})[0]; }
-inline bool inPool(uint32_t key, const SelectStage& s) { return s.poolThreshold == 0xFFFFFFFFu || key < s.poolThreshold; }
+inline bool inPool(uint32_t key, const SelectStage& s) {
+    return s.poolThreshold == 0xFFFFFFFFu || key < s.poolThreshold;
+}
 
 // Higher priority first; equal priorities by candidate index.
 inline bool priorityBefore(uint32_t pa, uint32_t a, uint32_t pb, uint32_t b) { return pa > pb || (pa == pb && a < b); }

@@ -35,7 +35,8 @@ SelectPlan planSelection(const Hrbf& hrbf, const RefinePlan& refine, const Selec
     // 2A/cell² of them project onto it.
     double candidates = double(refine.maxPoints);
     if (refine.gridCell > 0) {
-        double seeds = std::min(double(refine.seeds.size()), 2.0 * plan.areaEstimate / (refine.gridCell * refine.gridCell));
+        double seeds =
+            std::min(double(refine.seeds.size()), 2.0 * plan.areaEstimate / (refine.gridCell * refine.gridCell));
         candidates *= seeds / double(std::max<size_t>(1, refine.seeds.size()));
     }
     // A maximal set of radius R on area A holds about 0.7·A/R² points (random sequential adsorption).

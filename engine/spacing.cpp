@@ -38,8 +38,10 @@ public:
                         for (uint32_t j : it->second) {
                             if (j == i) continue;
                             float d2 = (points_[j] - points_[i]).squaredNorm();
-                            if (best.size() < k) best.push(d2);
-                            else if (d2 < best.top()) best.pop(), best.push(d2);
+                            if (best.size() < k)
+                                best.push(d2);
+                            else if (d2 < best.top())
+                                best.pop(), best.push(d2);
                         }
                     }
             // Points beyond this shell are at least shell·cell away.
@@ -55,9 +57,7 @@ public:
     size_t size() const { return points_.size(); }
 
 private:
-    Eigen::Vector3i cellOf(const Eigen::Vector3f& p) const {
-        return ((p - lo_) / cell_).array().floor().cast<int>();
-    }
+    Eigen::Vector3i cellOf(const Eigen::Vector3f& p) const { return ((p - lo_) / cell_).array().floor().cast<int>(); }
     static uint64_t key(const Eigen::Vector3i& c) {
         return (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
                uint64_t(uint32_t(c.z()) & 0x1FFFFF);

@@ -10,7 +10,7 @@
 namespace ink {
 
 struct SpacingStats {
-    double fraction = 1;     // of the set: the prefix of the points whose rank (PointRecord::tone) is below it
+    double fraction = 1;  // of the set: the prefix of the points whose rank (PointRecord::tone) is below it
     size_t points = 0;
     double rMax = 0;         // normalized units
     double meanNearest = 0;  // mean nearest-neighbour distance / r_max

@@ -123,13 +123,15 @@ void destroySwapchain(Context& ctx, Swapchain& sc) {
 
 void swizzleToRgba(VkFormat format, std::vector<uint8_t>& pixels) {
     switch (format) {
-    case VK_FORMAT_R8G8B8A8_UNORM:
-    case VK_FORMAT_R8G8B8A8_SRGB: return;
-    case VK_FORMAT_B8G8R8A8_UNORM:
-    case VK_FORMAT_B8G8R8A8_SRGB:
-        for (size_t i = 0; i + 3 < pixels.size(); i += 4) std::swap(pixels[i], pixels[i + 2]);
-        return;
-    default: throw Error("screenshots need an 8-bit RGBA or BGRA window format");
+        case VK_FORMAT_R8G8B8A8_UNORM:
+        case VK_FORMAT_R8G8B8A8_SRGB:
+            return;
+        case VK_FORMAT_B8G8R8A8_UNORM:
+        case VK_FORMAT_B8G8R8A8_SRGB:
+            for (size_t i = 0; i + 3 < pixels.size(); i += 4) std::swap(pixels[i], pixels[i + 2]);
+            return;
+        default:
+            throw Error("screenshots need an 8-bit RGBA or BGRA window format");
     }
 }
 

@@ -3,10 +3,10 @@
 
 #include <doctest/doctest.h>
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
 #include <string>
-#include <sys/wait.h>
 
 struct Run {
     int status;          // the exit code, or 128 + the signal that ended it

@@ -13,6 +13,8 @@
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -21,8 +23,6 @@
 #include <fstream>
 #include <set>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -31,9 +31,9 @@ namespace {
 // A golden scene. Each is also `inkwell render MODEL --size 256 256 ...` with the same options (the CLI's
 // defaults are RenderStyle's and RefineOptions'), which is how docs/capture.md describes them.
 struct GoldenScene {
-    const char* name;         // tests/golden/<name>.png
-    const char* model;        // relative to the source directory
-    size_t controlPoints;     // 0: all the points of the file
+    const char* name;      // tests/golden/<name>.png
+    const char* model;     // relative to the source directory
+    size_t controlPoints;  // 0: all the points of the file
     uint32_t levels;
     ink::SampleStyle style;
     ink::Camera camera;
@@ -50,16 +50,14 @@ ink::Camera camera(float azimuthDeg, float elevationDeg, float distance) {
 
 constexpr uint32_t kGoldenSize = 256;
 
-const GoldenScene kBunnyStipple{"bunny-stipple", "assets/bunny.obj", 150, 3, ink::SampleStyle::Stipple,
-                                ink::Camera{}, false};
-const GoldenScene kBunnyDirection{"bunny-direction", "assets/bunny.obj", 150, 4, ink::SampleStyle::Direction,
-                                  camera(-60, 20, 1.5f), false};
-const GoldenScene kTorusHidden{"torus-hidden", "tests/golden/torus.pts", 0, 4, ink::SampleStyle::Stipple,
-                               camera(20, 20, 1.4f), true};
+const GoldenScene kBunnyStipple{"bunny-stipple",           "assets/bunny.obj", 150,  3,
+                                ink::SampleStyle::Stipple, ink::Camera{},      false};
+const GoldenScene kBunnyDirection{"bunny-direction",           "assets/bunny.obj",    150,  4,
+                                  ink::SampleStyle::Direction, camera(-60, 20, 1.5f), false};
+const GoldenScene kTorusHidden{
+    "torus-hidden", "tests/golden/torus.pts", 0, 4, ink::SampleStyle::Stipple, camera(20, 20, 1.4f), true};
 
-std::string sourcePath(const std::string& relative) {
-    return std::string(INKWELL_SOURCE_DIR) + "/" + relative;
-}
+std::string sourcePath(const std::string& relative) { return std::string(INKWELL_SOURCE_DIR) + "/" + relative; }
 
 // Where failing tests leave their images: beside the inkwell binary, i.e. the build directory.
 fs::path buildDir() { return fs::path(INKWELL_BINARY).parent_path(); }
@@ -92,8 +90,7 @@ void checkGolden(const GoldenScene& scene) {
     bool lavapipe = device.find("llvmpipe") != std::string::npos;
     std::string golden = sourcePath(std::string("tests/golden/") + scene.name + ".png");
     if (updatingGoldens()) {
-        if (!lavapipe)
-            FAIL("goldens are made on lavapipe, not " << device << "; scripts/update-goldens.sh selects it");
+        if (!lavapipe) FAIL("goldens are made on lavapipe, not " << device << "; scripts/update-goldens.sh selects it");
         ink::writePng(golden, actual);
         MESSAGE("updated " << golden);
         return;
@@ -151,9 +148,7 @@ TEST_CASE("capture: golden bunny-stipple (default camera) matches") { checkGolde
 
 TEST_CASE("capture: golden bunny-direction (another angle) matches") { checkGolden(kBunnyDirection); }
 
-TEST_CASE("capture: golden torus-hidden (oriented points, hidden lines) matches") {
-    checkGolden(kTorusHidden);
-}
+TEST_CASE("capture: golden torus-hidden (oriented points, hidden lines) matches") { checkGolden(kTorusHidden); }
 
 TEST_CASE("capture: the default tolerance notices the torus golden's hidden lines going missing") {
     // The grey hidden silhouettes are the smallest feature a golden holds (0.7% of the pixels): if the
@@ -180,9 +175,9 @@ TEST_CASE("capture: compareImages counts pixels that differ by more than the thr
     CHECK(same.pixels == 100);
     CHECK(ink::withinTolerance(same, 0.0));
 
-    b.pixels[0] = 208;           // pixel 0: red off by 8, within the threshold
-    b.pixels[4 * 5 + 2] = 191;   // pixel 5: blue off by 9, over it
-    b.pixels[4 * 7 + 3] = 0;     // pixel 7: alpha counts too
+    b.pixels[0] = 208;          // pixel 0: red off by 8, within the threshold
+    b.pixels[4 * 5 + 2] = 191;  // pixel 5: blue off by 9, over it
+    b.pixels[4 * 7 + 3] = 0;    // pixel 7: alpha counts too
     ink::CompareResult r = ink::compareImages(a, b, 8);
     CHECK(r.maxAbsDiff == 255);
     CHECK(r.differingPixels == 2);
@@ -193,8 +188,10 @@ TEST_CASE("capture: compareImages counts pixels that differ by more than the thr
 
     ink::RgbaImage diff = ink::diffImage(a, b, 8);
     REQUIRE(diff.width == 10);
-    auto pixel = [&](size_t i) { return std::array<int, 4>{diff.pixels[4 * i], diff.pixels[4 * i + 1],
-                                                           diff.pixels[4 * i + 2], diff.pixels[4 * i + 3]}; };
+    auto pixel = [&](size_t i) {
+        return std::array<int, 4>{diff.pixels[4 * i], diff.pixels[4 * i + 1], diff.pixels[4 * i + 2],
+                                  diff.pixels[4 * i + 3]};
+    };
     CHECK(pixel(5) == std::array<int, 4>{255, 0, 0, 255});
     CHECK(pixel(7) == std::array<int, 4>{255, 0, 0, 255});
     std::array<int, 4> grey = pixel(0);  // a faded copy of a: lighter than a, and grey
@@ -262,8 +259,7 @@ TEST_CASE("capture: compare of images of different sizes exits 1 with one line")
     ink::writePng(dir / "b.png", solid(4, 5, 255));
     Run r = run("compare " + dir / "a.png " + dir / "b.png");
     CHECK(r.status == 1);
-    CHECK(r.output ==
-          "images differ in size: '" + dir / "a.png" + "' is 4x4, '" + dir / "b.png" + "' is 4x5\n");
+    CHECK(r.output == "images differ in size: '" + dir / "a.png" + "' is 4x4, '" + dir / "b.png" + "' is 4x5\n");
     CHECK_FALSE(fs::exists(dir / "b-diff.png"));
 }
 

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/wait.h>
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -13,7 +14,6 @@
 #include <set>
 #include <string>
 #include <vector>
-#include <sys/wait.h>
 
 namespace {
 
@@ -47,7 +47,8 @@ TEST_CASE("cli: render of an unreadable file (a directory) fails cleanly") {
 TEST_CASE("cli: render with validation writes the bunny PNG and reports its points") {
     std::string out = (std::filesystem::temp_directory_path() / "inkwell-cli-bunny.png").string();
     std::filesystem::remove(out);
-    Run r = run("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 100 --levels 2 --validation -o " + out);
+    Run r =
+        run("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 100 --levels 2 --validation -o " + out);
     CHECK(r.status == 0);
     CHECK(r.output.find("validation error") == std::string::npos);
     CHECK(r.output.find("100 control points") != std::string::npos);
@@ -139,11 +140,10 @@ TEST_CASE("cli: bench runs the sphere workload and reports the documented keys")
     std::ifstream js(json);
     std::string text((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
     // The sphere's 6 seeds, 6 levels of 4 children, one pass: 6·(1 + 4 + … + 4⁶) candidates, stipples selected.
-    for (const char* key : {"\"workload\": \"sphere\"", "\"candidates\": 32766", "\"points\"", "\"fit_seconds\"",
-                            "\"distribution\": \"blue-noise\"", "\"stipples\"", "\"select_ms\"",
-                            "\"refine_seconds\"", "\"preprocess_seconds\"", "\"frame_ms_median\"",
-                            "\"cpu_refine_seconds\"", "\"peak_memory_mb\"", "\"device\"", "\"driver\"",
-                            "\"level_gpu_ms\"", "\"frame_passes_ms_median\"", "\"stamp\"",
-                            "\"dots_drawn_first_frame\""})
+    for (const char* key :
+         {"\"workload\": \"sphere\"", "\"candidates\": 32766", "\"points\"", "\"fit_seconds\"",
+          "\"distribution\": \"blue-noise\"", "\"stipples\"", "\"select_ms\"", "\"refine_seconds\"",
+          "\"preprocess_seconds\"", "\"frame_ms_median\"", "\"cpu_refine_seconds\"", "\"peak_memory_mb\"", "\"device\"",
+          "\"driver\"", "\"level_gpu_ms\"", "\"frame_passes_ms_median\"", "\"stamp\"", "\"dots_drawn_first_frame\""})
         CHECK_MESSAGE(text.find(key) != std::string::npos, key);
 }

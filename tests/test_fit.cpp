@@ -6,13 +6,13 @@
 
 #include <doctest/doctest.h>
 
+#include <unistd.h>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 using Eigen::Vector3d;
 
@@ -184,9 +184,11 @@ TEST_CASE("fit: the .hrbf reader refuses bad files with one-line messages") {
     refused("", "m.hrbf: empty file: not an Inkwell HRBF model");
     refused("ply\nformat ascii 1.0\n", "m.hrbf: line 1: not an Inkwell HRBF model");
     refused("\n" + kGood, "m.hrbf: line 1: not an Inkwell HRBF model");
-    refused(std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10),  // control bytes are shown as '?'
-            "m.hrbf: line 1: not an Inkwell HRBF model (expected 'inkwell-hrbf 1', found '?ELF" +
-                std::string(6, '?') + "')");
+    refused(std::string("\x7f"
+                        "ELF\x02\x01\x01\0\0\0",
+                        10),  // control bytes are shown as '?'
+            "m.hrbf: line 1: not an Inkwell HRBF model (expected 'inkwell-hrbf 1', found '?ELF" + std::string(6, '?') +
+                "')");
     refused(spoilt("hrbf 1", "hrbf 2"), "m.hrbf: line 1: unsupported version '2'");
     refused(spoilt("hrbf 1", "hrbf"), "m.hrbf: line 1: unsupported version (none)");
 
@@ -216,8 +218,7 @@ TEST_CASE("fit: the .hrbf reader refuses bad files with one-line messages") {
     refused(spoilt("end\n", "0 1 0 0 0 1 0 0 0 0\nend\n"),
             "m.hrbf: line 7: expected 'end' after the 2 centres declared");
     refused(spoilt("centers 2", "centers 4000"), "m.hrbf: line 2: 4000 centres cannot fit in a file of");
-    refused(spoilt("centers 2", "centers 4001"),
-            "m.hrbf: line 2: '4001' centres is more than the maximum of 4000");
+    refused(spoilt("centers 2", "centers 4001"), "m.hrbf: line 2: '4001' centres is more than the maximum of 4000");
     refused(spoilt("centers 2", "centers 99999999999999999999999999"),
             "m.hrbf: line 2: '99999999999999999999999999' centres is more than the maximum of 4000");
     refused(spoilt("centers 2", "centers -2"), "m.hrbf: line 2: '-2' is not a count of centres");
@@ -230,10 +231,9 @@ TEST_CASE("fit: the .hrbf reader refuses bad files with one-line messages") {
     } catch (const ink::Error& e) {
         CHECK(std::string(e.what()).find_first_of("\r\n") == std::string::npos);
     }
-    CHECK_THROWS_WITH_AS(ink::loadHrbf("/nonexistent/x.hrbf"),
-                         doctest::Contains("cannot open '/nonexistent/x.hrbf'"), ink::Error);
-    CHECK_THROWS_WITH_AS(ink::loadModel("/nonexistent/x.HRBF", {}), doctest::Contains("cannot open"),
+    CHECK_THROWS_WITH_AS(ink::loadHrbf("/nonexistent/x.hrbf"), doctest::Contains("cannot open '/nonexistent/x.hrbf'"),
                          ink::Error);
+    CHECK_THROWS_WITH_AS(ink::loadModel("/nonexistent/x.HRBF", {}), doctest::Contains("cannot open"), ink::Error);
 }
 
 TEST_CASE("fit: a singular system is refused with a message, not NaNs") {
@@ -247,8 +247,8 @@ TEST_CASE("fit: a singular system is refused with a message, not NaNs") {
     }
     p.push_back(p[5]);  // an exact duplicate, as fitModel would have merged it
     n.push_back(n[5]);
-    CHECK_THROWS_WITH_AS(ink::fitHrbf(p, n),
-                         Contains("the HRBF system is singular: control points 5 and 40 coincide"), ink::Error);
+    CHECK_THROWS_WITH_AS(ink::fitHrbf(p, n), Contains("the HRBF system is singular: control points 5 and 40 coincide"),
+                         ink::Error);
 
     // Nearly the same point with the opposite normal: no exact zero pivot, but the solution cannot satisfy
     // both; the residual check refuses it.
@@ -258,8 +258,7 @@ TEST_CASE("fit: a singular system is refused with a message, not NaNs") {
                          ink::Error);
 
     p.back() = Vector3d(NAN, 0, 0);
-    CHECK_THROWS_WITH_AS(ink::fitHrbf(p, n), Contains("control point 40 has a NaN or infinite coordinate"),
-                         ink::Error);
+    CHECK_THROWS_WITH_AS(ink::fitHrbf(p, n), Contains("control point 40 has a NaN or infinite coordinate"), ink::Error);
     p.pop_back();
     CHECK_THROWS_WITH_AS(ink::fitHrbf(p, n), Contains("40 points but 41 normals"), ink::Error);
 }

@@ -58,8 +58,8 @@ TEST_CASE("gpu: the bunny renders as dots on white paper") {
         if (image.pixels[i] < 128) ++dark;
         if (image.pixels[i] == 255) ++white;
     }
-    CHECK(dark > 250);              // there is a drawing (about 900 stipples of 4200 candidates)
-    CHECK(white > 256 * 256 / 2);   // on mostly white paper
+    CHECK(dark > 250);             // there is a drawing (about 900 stipples of 4200 candidates)
+    CHECK(white > 256 * 256 / 2);  // on mostly white paper
     // The corners are paper: the camera frames the model.
     CHECK(image.pixels[0] == 255);
     CHECK(image.pixels[image.pixels.size() - 4] == 255);
@@ -88,10 +88,14 @@ TEST_CASE("gpu: each pixel takes the ink once — paper, ink or hidden ink over 
     size_t paper = 0, ink = 0, hidden = 0, other = 0;
     for (size_t i = 0; i < first.pixels.size(); i += 4) {
         int v = first.pixels[i];
-        if (v == 255) ++paper;
-        else if (v == 0) ++ink;
-        else if (std::abs(v - grey) <= 1) ++hidden;
-        else ++other;
+        if (v == 255)
+            ++paper;
+        else if (v == 0)
+            ++ink;
+        else if (std::abs(v - grey) <= 1)
+            ++hidden;
+        else
+            ++other;
     }
     CHECK(other == 0);
     CHECK(ink > 500);

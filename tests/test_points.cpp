@@ -116,12 +116,10 @@ TEST_CASE("points: computed normals do not depend on the model's scale") {
         for (const Vector3d& n : p.normals) CHECK(near(n, {0, 0, 1}));
     }
     // A sliver next to a big triangle is still a real face, but a needle with no area is not.
-    CHECK(
-        obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 1e-5\nv 6 5 0\nv 5 6 0\nf 1 2 3\nf 4 5 6\n").positions.size() ==
-        6);
-    CHECK_THROWS_WITH_AS(
-        obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 0\nv 6 5 0\nv 7 5 1e-300\nf 1 2 3\nf 4 5 6\n"),
-        doctest::Contains("vertex 4 (line 4): normal is zero (the faces around it have no area)"), Error);
+    CHECK(obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 1e-5\nv 6 5 0\nv 5 6 0\nf 1 2 3\nf 4 5 6\n").positions.size() == 6);
+    CHECK_THROWS_WITH_AS(obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 0\nv 6 5 0\nv 7 5 1e-300\nf 1 2 3\nf 4 5 6\n"),
+                         doctest::Contains("vertex 4 (line 4): normal is zero (the faces around it have no area)"),
+                         Error);
 }
 
 TEST_CASE("points: obj polygons, negative indices, unreferenced vertices") {
@@ -142,8 +140,8 @@ TEST_CASE("points: obj polygons, negative indices, unreferenced vertices") {
 
     // Lines we ignore are ignored, however tinyobjloader would have read them (it refuses `p 0`, and a
     // `vw` weight out of int range was undefined behaviour in it: fuzzing, docs/robustness.md).
-    CHECK(obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\np 0\nl 0 9\nvw 0 00 0 1e3080\nt x 1/1/1 a b\n")
-              .positions.size() == 3);
+    CHECK(obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\np 0\nl 0 9\nvw 0 00 0 1e3080\nt x 1/1/1 a b\n").positions.size() ==
+          3);
 }
 
 TEST_CASE("points: obj point cloud pairs v with vn in order") {
@@ -173,8 +171,7 @@ TEST_CASE("points: bad obj input") {
     bad("v 0 0 1e999\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "line 1: coordinate is not finite");
     bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n",
         "line 4: face vertex index 9 is out of range (the file has 3 vertices)");
-    bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n",
-        "line 4: face vertex index -4 reaches before the first vertex");
+    bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", "line 4: face vertex index -4 reaches before the first vertex");
     bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "line 4: '0' is not a face vertex");
     bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", "'x' is not a face vertex");
     bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/ 2 3\n", "'1/' is not a face vertex");
@@ -288,10 +285,8 @@ TEST_CASE("points: bad ply input") {
         bad("ply\nformat ascii 1.0\nelement vertex 4000000000\nend_header\n",
             "header line 3: element 'vertex' claims 4000000000 entries; the limit is 100000000");
         bad("ply\nformat ascii 1.0\nelement vertex -1\nend_header\n", "bad element line");
-        bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n",
-            "bad property line");
-        bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty list float int x\nend_header\n",
-            "bad property line");
+        bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n", "bad property line");
+        bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty list float int x\nend_header\n", "bad property line");
         bad("ply\nformat ascii 1.0\nproperty float x\nend_header\n", "property before any element");
         bad("ply\nformat ascii 1.0\nbogus\nend_header\n", "header line 3: unknown header keyword 'bogus'");
         bad("ply\nformat ascii 1.0\nelement face 1\nend_header\n", "has no 'element vertex'");
@@ -326,18 +321,14 @@ TEST_CASE("points: bad ply input") {
     SUBCASE("body values") {
         bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 0 zero 0 0 1\n",
             "t.ply: line 12 (vertex 1): 'zero' is not a number");
-        bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 0 0 0 1\n",
-            "line 12 (vertex 1): fewer values");
-        bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 0 0 0 1 1 1\n",
-            "line 12 (vertex 1): 1 more values");
+        bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 0 0 0 1\n", "line 12 (vertex 1): fewer values");
+        bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 0 0 0 1 1 1\n", "line 12 (vertex 1): 1 more values");
         bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n",
             "truncated: expected 2 vertices, file ends in vertex 1");
         bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 nan 0 0 0 1\n",
             "t.ply: vertex 1: coordinate is not finite");
-        bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 0 0 0 inf 1\n",
-            "vertex 1: normal is not finite");
-        bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 0 0 0 0 0\n",
-            "t.ply: vertex 1: normal is zero");
+        bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 0 0 0 inf 1\n", "vertex 1: normal is not finite");
+        bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 0 0 0 0 0\n", "t.ply: vertex 1: normal is zero");
 
         Bytes b{false, binaryTriangleHeader()};
         for (int i = 0; i < 9; ++i) b.put(float(i == 3 || i == 7));
@@ -408,8 +399,7 @@ TEST_CASE("points: bad oriented point text") {
 }
 
 TEST_CASE("points: parsePoints refuses an unknown format") {
-    CHECK_THROWS_WITH_AS(parsePoints("", "stl", "x.stl"), doctest::Contains("unknown point format 'stl'"),
-                         Error);
+    CHECK_THROWS_WITH_AS(parsePoints("", "stl", "x.stl"), doctest::Contains("unknown point format 'stl'"), Error);
 }
 
 TEST_CASE("points: garbage input only ever throws ink::Error") {
@@ -433,9 +423,15 @@ TEST_CASE("points: garbage input only ever throws ink::Error") {
             for (int e = 0; e < edits && !bytes.empty(); ++e) {
                 size_t at = rng() % bytes.size();
                 switch (rng() % 3) {
-                    case 0: bytes[at] = char(rng()); break;
-                    case 1: bytes.erase(at, 1 + rng() % 8); break;
-                    default: bytes.resize(at); break;
+                    case 0:
+                        bytes[at] = char(rng());
+                        break;
+                    case 1:
+                        bytes.erase(at, 1 + rng() % 8);
+                        break;
+                    default:
+                        bytes.resize(at);
+                        break;
                 }
             }
         }
@@ -468,8 +464,7 @@ OrientedPoints cloud(std::vector<Vector3d> positions) {
 
 TEST_CASE("points: mergeDuplicates keeps the first of each cluster, in order") {
     SUBCASE("exact duplicates") {
-        OrientedPoints p =
-            cloud({{0, 0, 0}, {1, 0, 0}, {0, 0, 0}, {-0.0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {1, 1e-15, 0}});
+        OrientedPoints p = cloud({{0, 0, 0}, {1, 0, 0}, {0, 0, 0}, {-0.0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {1, 1e-15, 0}});
         CHECK(ink::mergeDuplicates(p, 0) == 3);
         REQUIRE(p.positions.size() == 4);
         CHECK(p.positions[0] == Vector3d(0, 0, 0));
@@ -560,19 +555,18 @@ TEST_CASE("points: farthestPointSample") {
 
 TEST_CASE("points: loadPoints") {
     SUBCASE("missing file") {
-        CHECK_THROWS_WITH_AS(
-            ink::loadPoints("/nonexistent/dir/x.obj"),
-            doctest::Contains("cannot open '/nonexistent/dir/x.obj': No such file or directory"), Error);
+        CHECK_THROWS_WITH_AS(ink::loadPoints("/nonexistent/dir/x.obj"),
+                             doctest::Contains("cannot open '/nonexistent/dir/x.obj': No such file or directory"),
+                             Error);
     }
     SUBCASE("unsupported extension") {
-        CHECK_THROWS_WITH_AS(
-            ink::loadPoints("model.stl"),
-            doctest::Contains("model.stl: unsupported file extension '.stl'; supported: .obj .ply"), Error);
+        CHECK_THROWS_WITH_AS(ink::loadPoints("model.stl"),
+                             doctest::Contains("model.stl: unsupported file extension '.stl'; supported: .obj .ply"),
+                             Error);
         CHECK_THROWS_WITH_AS(ink::loadPoints("model"), doctest::Contains("no file extension"), Error);
     }
     SUBCASE("a file, case-insensitive extension, and a directory") {
-        std::string path =
-            std::string("/tmp/inkwell_test_points_") + std::to_string(std::random_device()()) + ".XYZN";
+        std::string path = std::string("/tmp/inkwell_test_points_") + std::to_string(std::random_device()()) + ".XYZN";
         std::FILE* f = std::fopen(path.c_str(), "wb");
         REQUIRE(f);
         std::fputs("0 0 0 0 0 1\n", f);
@@ -593,8 +587,7 @@ TEST_CASE("points: loadPoints") {
         for (const Vector3d& x : p.positions) centroid += x;
         centroid /= double(p.positions.size());
         double outward = 0;
-        for (size_t i = 0; i < p.positions.size(); ++i)
-            outward += p.normals[i].dot(p.positions[i] - centroid);
+        for (size_t i = 0; i < p.positions.size(); ++i) outward += p.normals[i].dot(p.positions[i] - centroid);
         CHECK(outward / double(p.positions.size()) > 0);
     }
 }

@@ -129,7 +129,8 @@ TEST_CASE("refine: counts per level match the CPU reference and points agree") {
         ink::RefineOptions options;
         options.levels = 3;
         options.passes = 2;
-        options.style = direction == ink::DirectionField::Axis ? ink::SampleStyle::Stipple : ink::SampleStyle::Direction;
+        options.style =
+            direction == ink::DirectionField::Axis ? ink::SampleStyle::Stipple : ink::SampleStyle::Direction;
         options.direction = direction;
         CHECK(compareWithCpu(gpu, model.hrbf, options, 1e-3f).second >= 0.99);
     }
@@ -196,8 +197,9 @@ TEST_CASE("refine: requests that cannot fit are refused with the numbers") {
     CHECK_THROWS_WITH_AS(ink::planRefinement(model.hrbf, options, 1u << 22), doctest::Contains("--levels 16"),
                          ink::Error);
     options.levels = 14;
-    CHECK_THROWS_WITH_AS(ink::planRefinement(model.hrbf, options, 1u << 22),
-                         doctest::Contains("asks for up to 17895697050 points (50 seeds, 14 levels of 4 children, 1 pass), "
-                                           "but at most 4194304 fit"),
-                         ink::Error);
+    CHECK_THROWS_WITH_AS(
+        ink::planRefinement(model.hrbf, options, 1u << 22),
+        doctest::Contains("asks for up to 17895697050 points (50 seeds, 14 levels of 4 children, 1 pass), "
+                          "but at most 4194304 fit"),
+        ink::Error);
 }

@@ -9,6 +9,7 @@
 
 #include <doctest/doctest.h>
 
+#include <unistd.h>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -16,7 +17,6 @@
 #include <fstream>
 #include <random>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -103,7 +103,7 @@ void checkRefusal(const Outcome& r, const std::vector<std::string>& words) {
 // ---- Broken models ------------------------------------------------------------------------------------
 
 struct BadModel {
-    std::string file;   // name in the temporary directory
+    std::string file;  // name in the temporary directory
     std::string bytes;
     std::string words;  // part of the expected message, after the file name
 };
@@ -266,16 +266,16 @@ TEST_CASE("robust: an unwritable output path is refused up front with one line, 
         cases.push_back({"render " + bunny + kSmall + " -o " + bad + ".png", bad + ".png", "cannot write"});
         cases.push_back({"render " + bunny + kSmall + " -o " + (dir / "ok.png") + " --stats " + bad + ".json",
                          bad + ".json", "cannot write"});
-        cases.push_back({"fit " + bunny + "-o " + (dir / "ok.hrbf") + " --stats " + bad + ".json", bad + ".json",
-                         "cannot write"});
+        cases.push_back(
+            {"fit " + bunny + "-o " + (dir / "ok.hrbf") + " --stats " + bad + ".json", bad + ".json", "cannot write"});
     }
     // capture creates a missing directory; a file in the way, or a directory it may not write, is refused.
     cases.push_back({"capture " + bunny + kSmall + " --frames 1 -o " + (dir / "file/frames"), dir / "file/frames",
                      "cannot create directory"});
     cases.push_back({"capture " + bunny + kSmall + " --frames 1 -o " + readOnly, readOnly, "cannot create directory"});
-    cases.push_back({"capture " + bunny + kSmall + " --frames 1 -o " + (dir / "cap") + " --stats " + dir /
-                         "missing/s.json",
-                     dir / "missing/s.json", "cannot write"});
+    cases.push_back(
+        {"capture " + bunny + kSmall + " --frames 1 -o " + (dir / "cap") + " --stats " + dir / "missing/s.json",
+         dir / "missing/s.json", "cannot write"});
     cases.push_back({"render " + bunny + kSmall + " -o " + dir.path.string(), dir.path.string(), "Is a directory"});
 
     for (const Case& c : cases) {
@@ -293,9 +293,10 @@ TEST_CASE("robust: an unwritable output path is refused up front with one line, 
 
 TEST_CASE("robust: outputs are checked up front, but capture's stats may go into the directory it creates") {
     TempDir dir;
-    Outcome r = run(dir, "capture " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 50 --levels 1 "
-                         "--size 64 64 --frames 1 -q -o " + (dir / "new/cap") + " --stats " +
-                             (dir / "new/cap/stats.json"));
+    Outcome r = run(dir, "capture " INKWELL_SOURCE_DIR
+                         "/assets/bunny.obj --control-points 50 --levels 1 "
+                         "--size 64 64 --frames 1 -q -o " +
+                             (dir / "new/cap") + " --stats " + (dir / "new/cap/stats.json"));
     CHECK(r.status == 0);
     CHECK(r.err.empty());
     CHECK(fs::exists(dir / "new/cap/frame_0000.png"));
@@ -325,8 +326,8 @@ TEST_CASE("robust: absurd sizes, levels and control point counts are refused up 
         cases.push_back({c + "--levels 4294967295 " + out,
                          "inkwell: --levels 4294967295 is too many: at most 15 refinement levels\n"});
         if (std::string(command) == "sample") continue;
-        cases.push_back({c + "--size 100000 100000 " + out,
-                         "inkwell: --size 100000 100000 is outside 1..8192 pixels a side\n"});
+        cases.push_back(
+            {c + "--size 100000 100000 " + out, "inkwell: --size 100000 100000 is outside 1..8192 pixels a side\n"});
         cases.push_back({c + "--size 0 64 " + out, "inkwell: --size 0 64 is outside 1..8192 pixels a side\n"});
     }
     for (const Case& c : cases) {
@@ -339,10 +340,13 @@ TEST_CASE("robust: absurd sizes, levels and control point counts are refused up 
 
     // --levels 14 is within 15 but cannot fit the device: refused once the device's limit is known, before
     // any refinement buffer is made, with both numbers.
-    Outcome levels = run(dir, "render " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 100 --levels 14 "
-                              "-q -o " + (dir / "out.png"));
-    checkRefusal(levels, {"the refinement asks for up to ", " points (100 seeds, 14 levels of 4 children, 1 pass), but at most ",
-                          " fit: use fewer levels, passes or control points"});
+    Outcome levels = run(dir, "render " INKWELL_SOURCE_DIR
+                              "/assets/bunny.obj --control-points 100 --levels 14 "
+                              "-q -o " +
+                                  (dir / "out.png"));
+    checkRefusal(
+        levels, {"the refinement asks for up to ", " points (100 seeds, 14 levels of 4 children, 1 pass), but at most ",
+                 " fit: use fewer levels, passes or control points"});
     CHECK_FALSE(fs::exists(dir / "out.png"));
 
     // 16384² pixels need a 256 MiB splat depth grid, over lavapipe's 128 MiB storage buffers: refused once the
@@ -351,7 +355,8 @@ TEST_CASE("robust: absurd sizes, levels and control point counts are refused up 
         Outcome huge = run(dir, std::string(command) + " " + missing + " --size 8192 8192 --supersample 2 " +
                                     "--device llvmpipe -o " + (dir / "out"));
         checkRefusal(huge, {"image size 8192x8192 with 2x supersampling needs a 256 MiB depth grid, more than this "
-                            "device's ", " MiB storage buffers: use a smaller size or less supersampling"});
+                            "device's ",
+                            " MiB storage buffers: use a smaller size or less supersampling"});
         CHECK_FALSE(fs::exists(dir / "out"));
     }
 }
@@ -362,12 +367,13 @@ TEST_CASE("robust: without a Vulkan driver the device commands say so in one lin
     TempDir dir;
     const std::string noDriver = "VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json";
     const std::string bunny = INKWELL_SOURCE_DIR "/assets/bunny.obj";
-    const std::string expected = "inkwell: no Vulkan driver found (VK_ERROR_INCOMPATIBLE_DRIVER): install "
-                                 "mesa-vulkan-drivers for lavapipe, or your GPU's Vulkan driver\n";
-    for (const std::string& args : {"render " + bunny + " -o " + (dir / "out.png"),
-                                    "sample " + bunny + " --points " + (dir / "out.ply"),
-                                    "capture " + bunny + " --frames 1 -o " + (dir / "frames"),
-                                    "bench --workload sphere --json " + (dir / "out.json"), std::string("devices")}) {
+    const std::string expected =
+        "inkwell: no Vulkan driver found (VK_ERROR_INCOMPATIBLE_DRIVER): install "
+        "mesa-vulkan-drivers for lavapipe, or your GPU's Vulkan driver\n";
+    for (const std::string& args :
+         {"render " + bunny + " -o " + (dir / "out.png"), "sample " + bunny + " --points " + (dir / "out.ply"),
+          "capture " + bunny + " --frames 1 -o " + (dir / "frames"),
+          "bench --workload sphere --json " + (dir / "out.json"), std::string("devices")}) {
         CAPTURE(args);
         Outcome r = run(dir, args, noDriver);
         CHECK(r.status == 1);
@@ -375,9 +381,9 @@ TEST_CASE("robust: without a Vulkan driver the device commands say so in one lin
         CHECK(fs::is_empty(dir.path));
     }
     // The CPU backend needs no device.
-    Outcome cpu = run(dir, "sample " + bunny + " --control-points 30 --levels 1 --backend cpu -q --points " +
-                               (dir / "cpu.ply"),
-                      noDriver);
+    Outcome cpu =
+        run(dir, "sample " + bunny + " --control-points 30 --levels 1 --backend cpu -q --points " + (dir / "cpu.ply"),
+            noDriver);
     CHECK(cpu.status == 0);
     CHECK(cpu.err.empty());
     CHECK(fs::file_size(dir / "cpu.ply") > 100);

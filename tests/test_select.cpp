@@ -136,8 +136,10 @@ TEST_CASE("select: the two sides of a thin part do not suppress each other") {
         for (int i = 0; i < 120; ++i)
             for (int j = 0; j < 120; ++j) {
                 float jitter = float((i * 7 + j * 13 + side * 5) % 17) / 17.0f;
-                ink::PointRecord p{{(float(i) + jitter) / 240.0f, (float(j) + 0.5f * jitter) / 240.0f,
-                                    side * 1e-4f}, 0, {0, 0, side ? -1.0f : 1.0f}, 0};
+                ink::PointRecord p{{(float(i) + jitter) / 240.0f, (float(j) + 0.5f * jitter) / 240.0f, side * 1e-4f},
+                                   0,
+                                   {0, 0, side ? -1.0f : 1.0f},
+                                   0};
                 candidates.push_back(p);
             }
     for (int i = 0; i <= 10; ++i)

@@ -6,12 +6,12 @@
 
 #include <doctest/doctest.h>
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
-#include <sys/wait.h>
 
 namespace {
 
@@ -118,9 +118,9 @@ TEST_CASE("viewer: --size sets the window, and the window shows what render draw
 }
 
 TEST_CASE("viewer: without a display it says so in one line and exits 1") {
-    Run r = shell("env -u DISPLAY -u WAYLAND_DISPLAY " INKWELL_BINARY " view " INKWELL_SOURCE_DIR
-                  "/assets/bunny.obj");
+    Run r = shell("env -u DISPLAY -u WAYLAND_DISPLAY " INKWELL_BINARY " view " INKWELL_SOURCE_DIR "/assets/bunny.obj");
     CHECK(r.status == 1);
-    CHECK(r.output == "inkwell: cannot open a window: no display (set DISPLAY, or run under xvfb-run); "
-                      "use 'inkwell render' for headless output\n");
+    CHECK(r.output ==
+          "inkwell: cannot open a window: no display (set DISPLAY, or run under xvfb-run); "
+          "use 'inkwell render' for headless output\n");
 }
