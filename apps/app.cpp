@@ -1,5 +1,6 @@
 #include "app.h"
 
+#include "files.h"
 #include "image.h"
 #include "spacing.h"
 

@@ -1,5 +1,6 @@
 // bench: the report's workloads (ALGORITHM.md §7) timed end to end, side by side with the CPU reference.
 #include "commands.h"
+#include "files.h"
 #include "image.h"
 #include "select.h"
 #include "shapes.h"

@@ -2,6 +2,7 @@
 // visual regression testing (docs/capture.md).
 #include "commands.h"
 #include "compare.h"
+#include "files.h"
 #include "image.h"
 
 #include <cerrno>

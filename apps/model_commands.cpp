@@ -2,6 +2,7 @@
 #include "commands.h"
 #include "export.h"
 #include "hrbf_io.h"
+#include "files.h"
 #include "image.h"
 #include "select.h"
 

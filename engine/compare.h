@@ -2,7 +2,7 @@
 // per-channel threshold, and a diff image that shows where.
 #pragma once
 
-#include "renderer.h"
+#include "image.h"
 
 #include <cstddef>
 #include <cstdint>

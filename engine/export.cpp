@@ -1,7 +1,7 @@
 #include "export.h"
 
 #include "common.h"
-#include "image.h"
+#include "files.h"
 
 #include <bit>
 #include <cerrno>

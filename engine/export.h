@@ -3,7 +3,7 @@
 #pragma once
 
 #include "hrbf.h"
-#include "refine.h"
+#include "point_record.h"
 
 #include <string>
 #include <vector>

@@ -39,6 +39,8 @@ struct Hrbf {
     double eval(const Eigen::Vector3d& x, Eigen::Vector3d& gradient, Eigen::Matrix3d* hessian = nullptr) const;
 };
 
+constexpr size_t kMaxControlPoints = 4000;  // the dense (4m+4)² system: 2 GiB and minutes beyond this
+
 struct FitStats {
     size_t controlPoints = 0;
     double seconds = 0;

@@ -1,8 +1,7 @@
 #include "hrbf_io.h"
 
 #include "common.h"
-#include "image.h"
-#include "model.h"
+#include "files.h"
 
 #include <cerrno>
 #include <charconv>

@@ -1,6 +1,7 @@
 #include "image.h"
 
 #include "common.h"
+#include "files.h"
 
 #include <unistd.h>
 #include <cerrno>
@@ -25,38 +26,6 @@
 
 namespace ink {
 
-namespace {
-
-std::string temporaryPath(const std::string& path) { return path + ".tmp" + std::to_string(getpid()); }
-
-}  // namespace
-
-void checkWritable(const std::string& path) {
-    if (path.empty()) return;
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw Error("cannot write '" + path + "': " + std::strerror(EISDIR));
-    std::string tmp = temporaryPath(path);
-    std::FILE* file = std::fopen(tmp.c_str(), "wb");
-    if (!file) throw Error("cannot write '" + path + "': " + std::strerror(errno));
-    std::fclose(file);
-    std::remove(tmp.c_str());
-}
-
-void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write) {
-    std::string tmp = temporaryPath(path);
-    try {
-        write(tmp);
-    } catch (...) {
-        std::remove(tmp.c_str());
-        throw;
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        int e = errno;
-        std::remove(tmp.c_str());
-        throw Error("cannot write '" + path + "': " + std::strerror(e));
-    }
-}
-
 void writePng(const std::string& path, const RgbaImage& image) {
     writeAtomically(path, [&](const std::string& tmp) {
         errno = 0;
@@ -73,6 +42,23 @@ RgbaImage readPng(const std::string& path) {
     RgbaImage image{uint32_t(w), uint32_t(h), std::vector<uint8_t>(data, data + size_t(w) * size_t(h) * 4)};
     stbi_image_free(data);
     return image;
+}
+
+RgbaImage downsample(const RgbaImage& image, uint32_t factor) {
+    if (factor <= 1) return image;
+    RgbaImage out{image.width / factor, image.height / factor, {}};
+    out.pixels.resize(size_t(out.width) * out.height * 4);
+    const uint32_t area = factor * factor;
+    for (uint32_t y = 0; y < out.height; ++y)
+        for (uint32_t x = 0; x < out.width; ++x)
+            for (uint32_t c = 0; c < 4; ++c) {
+                uint32_t sum = 0;
+                for (uint32_t dy = 0; dy < factor; ++dy)
+                    for (uint32_t dx = 0; dx < factor; ++dx)
+                        sum += image.pixels[(size_t(y * factor + dy) * image.width + (x * factor + dx)) * 4 + c];
+                out.pixels[(size_t(y) * out.width + x) * 4 + c] = uint8_t((sum + area / 2) / area);
+            }
+    return out;
 }
 
 }  // namespace ink

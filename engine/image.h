@@ -1,24 +1,21 @@
-// PNG files and atomic output: every file Inkwell writes goes to a temporary name first and is renamed
-// when complete, so a failure never leaves a partial file behind.
+// RGBA images in memory and as PNG files (written atomically, files.h).
 #pragma once
 
-#include "renderer.h"
-
-#include <functional>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace ink {
 
-// Calls write(tmpPath) and renames tmpPath to path; on any failure removes tmpPath and throws ink::Error.
-void writeAtomically(const std::string& path, const std::function<void(const std::string& tmpPath)>& write);
-
-// Refuses, up front, an output path writeAtomically could not write (a missing or read-only directory, a
-// directory in its place), with the one-line message the write would give: it creates and removes the
-// temporary file. Does nothing for an empty path. Commands call it before their work, so that a typo in
-// the output path costs no fit, and so that an output is not left behind by a later one failing.
-void checkWritable(const std::string& path);
+struct RgbaImage {
+    uint32_t width = 0, height = 0;
+    std::vector<uint8_t> pixels;  // RGBA8, rows top to bottom
+};
 
 void writePng(const std::string& path, const RgbaImage& image);
 RgbaImage readPng(const std::string& path);
+
+// Box-filters an image whose sides are `factor` times larger.
+RgbaImage downsample(const RgbaImage& image, uint32_t factor);
 
 }  // namespace ink

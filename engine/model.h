@@ -10,7 +10,6 @@
 namespace ink {
 
 constexpr size_t kDefaultControlPoints = 1000;  // when the input has more points and none were asked for
-constexpr size_t kMaxControlPoints = 4000;      // the dense (4m+4)² system: 2 GiB and minutes beyond this
 
 struct ModelOptions {
     size_t controlPoints = 0;  // 0 = all input points up to kDefaultControlPoints

@@ -147,7 +147,7 @@ LevelParams levelParams(const RefinePlan& plan, const RefineOptions& o, uint32_t
 // dvec4 (p_j, α_j), dvec4 (β_j, 0) each, kHrbfBlockSize to a 64 KiB block, kHrbfBlocks blocks.
 constexpr uint32_t kHrbfBlockSize = 1024, kHrbfBlocks = 4;
 constexpr VkDeviceSize kHrbfBlockBytes = kHrbfBlockSize * 64;
-static_assert(kHrbfBlockSize * kHrbfBlocks >= 4000, "room for kMaxControlPoints (model.h)");
+static_assert(kHrbfBlockSize * kHrbfBlocks >= kMaxControlPoints, "room for the largest model (hrbf.h)");
 
 static std::vector<double> packHrbfHeader(const Hrbf& h) {
     std::vector<double> data(6, 0.0);

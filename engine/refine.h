@@ -6,6 +6,7 @@
 
 #include "hrbf.h"
 #include "pipelines.h"
+#include "point_record.h"
 #include "resources.h"
 
 #include <Eigen/Core>
@@ -52,15 +53,6 @@ struct RefineOptions {
 
 constexpr uint32_t kMaxLevels = 16;  // MAX_LEVELS in common.glsl: seeds + 15 refinement levels
 constexpr uint32_t kGroupSize = 256;
-
-// Matches `Point` in common.glsl (std430, 32 bytes).
-struct PointRecord {
-    float position[3];
-    uint32_t level;
-    float normal[3];
-    float tone;  // fixed per point in [0,1); coarser levels get smaller values (see refine_bindings.glsl)
-};
-static_assert(sizeof(PointRecord) == 32);
 
 enum DropReason : uint32_t { DropGradient, DropArmijo, DropIterations, DropJump, DropReasonCount };
 const char* dropReasonName(uint32_t reason);

@@ -405,21 +405,5 @@ void OffscreenRenderer::record(VkCommandBuffer cmd, const Camera& camera, bool r
     }
 }
 
-RgbaImage downsample(const RgbaImage& image, uint32_t factor) {
-    if (factor <= 1) return image;
-    RgbaImage out{image.width / factor, image.height / factor, {}};
-    out.pixels.resize(size_t(out.width) * out.height * 4);
-    const uint32_t area = factor * factor;
-    for (uint32_t y = 0; y < out.height; ++y)
-        for (uint32_t x = 0; x < out.width; ++x)
-            for (uint32_t c = 0; c < 4; ++c) {
-                uint32_t sum = 0;
-                for (uint32_t dy = 0; dy < factor; ++dy)
-                    for (uint32_t dx = 0; dx < factor; ++dx)
-                        sum += image.pixels[(size_t(y * factor + dy) * image.width + (x * factor + dx)) * 4 + c];
-                out.pixels[(size_t(y) * out.width + x) * 4 + c] = uint8_t((sum + area / 2) / area);
-            }
-    return out;
-}
 
 }  // namespace ink

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "camera.h"
+#include "image.h"
 #include "pipelines.h"
 #include "refine.h"
 #include "resources.h"
@@ -106,11 +107,6 @@ private:
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
-struct RgbaImage {
-    uint32_t width = 0, height = 0;
-    std::vector<uint8_t> pixels;  // RGBA8, rows top to bottom
-};
-
 // Renders frames of the refinements at width × height (supersampled inside) and reads them back.
 class OffscreenRenderer {
 public:
@@ -141,8 +137,5 @@ private:
 // Throws ink::Error when an offscreen image of width × height with this supersampling cannot be drawn on this
 // device: a side beyond its image limit, or the splat depth grid beyond one storage buffer.
 void checkOffscreenSize(const Context& ctx, uint32_t width, uint32_t height, uint32_t supersample);
-
-// Box-filters an image whose sides are `factor` times larger.
-RgbaImage downsample(const RgbaImage& image, uint32_t factor);
 
 }  // namespace ink

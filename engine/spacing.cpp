@@ -1,5 +1,6 @@
 #include "spacing.h"
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <queue>

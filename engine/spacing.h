@@ -3,8 +3,9 @@
 // of about 0.47 and a minimum near 0; well-spaced blue noise a mean of about 0.8 and a minimum above 0.5.
 #pragma once
 
-#include "refine.h"
+#include "point_record.h"
 
+#include <cstddef>
 #include <vector>
 
 namespace ink {

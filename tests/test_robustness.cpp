@@ -3,6 +3,7 @@
 // through every command that reads a model. Each refusal is one line on stderr naming the problem, exit
 // status 1, and no output left behind.
 #include "common.h"
+#include "files.h"
 #include "hrbf_io.h"
 #include "points.h"
 #include "run_command.h"
