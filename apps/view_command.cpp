@@ -163,7 +163,6 @@ private:
     bool ensureSwapchain();
     bool drawFrame(const std::string& screenshot);
     void record(Frame& f, uint32_t image, bool capture);
-    void recordCapture(VkCommandBuffer cmd, VkImage image, const ink::Buffer& buffer);
     void submitAndPresent(Frame& f, uint32_t image, bool suboptimal);
     void saveCapture(Frame& f, const std::string& path);
     void refine();
@@ -228,7 +227,7 @@ Viewer::Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene
             VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
             VK_CHECK(vkCreateSemaphore(ctx.device, &semaphoreInfo, nullptr, &f.acquired));
         }
-        renderer_ = std::make_unique<ink::PointRenderer>(ctx, scene.pointers(), format_.format);
+        renderer_ = std::make_unique<ink::PointRenderer>(ctx, scene.pointers(), format_.format, kFramesInFlight);
         points_ = scene.points();
     } catch (...) {
         release();
@@ -380,7 +379,7 @@ void Viewer::refine() {
     }
     appliedStyle_ = o_.style;
     appliedLevels_ = o_.refine.levels;
-    renderer_ = std::make_unique<ink::PointRenderer>(ctx_, scene_.pointers(), format_.format);
+    renderer_ = std::make_unique<ink::PointRenderer>(ctx_, scene_.pointers(), format_.format, kFramesInFlight);
     points_ = scene_.points();
     restyle_ = true;  // the new renderer's style block is empty
 }
@@ -392,63 +391,14 @@ void Viewer::record(Frame& f, uint32_t index, bool capture) {
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
     if (restyle_) {
-        // The frame before may still be reading the style block; its reads must finish before this write.
-        const VkPipelineStageFlags2 readers = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT |
-                                              VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
-                                              VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
-        ink::stageBarrier(cmd, readers, 0, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
         renderer_->setStyle(cmd, o_.render, 1.0f);
         restyle_ = false;
     }
-    renderer_->prepare(cmd, camera_, swapchain_.extent);  // what shows from this camera, before rendering
-
-    VkImage image = swapchain_.images[index];
-    // The acquire semaphore is waited on at colour output, so the transition must come after that stage.
-    const VkPipelineStageFlags2 colorStage = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-    ink::imageBarrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                      VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, colorStage, 0, colorStage,
-                      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT);
-
-    const glm::vec4& paper = o_.render.paper;
-    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    color.imageView = swapchain_.views[index];
-    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    color.clearValue.color = {{paper.r, paper.g, paper.b, paper.a}};
-    VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    rendering.renderArea = {{0, 0}, swapchain_.extent};
-    rendering.layerCount = 1;
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachments = &color;
-    vkCmdBeginRendering(cmd, &rendering);
-    renderer_->draw(cmd, camera_, swapchain_.extent);
-    vkCmdEndRendering(cmd);
-
-    if (capture) {
-        recordCapture(cmd, image, f.capture);
-    } else {
-        ink::imageBarrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                          VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, colorStage, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-                          VK_PIPELINE_STAGE_2_NONE, 0);
-    }
+    // The acquire semaphore is waited on at colour output: the image's transition comes after that stage.
+    ink::FrameTarget target{swapchain_.images[index], swapchain_.views[index], swapchain_.extent,
+                            VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT};
+    renderer_->recordFrame(cmd, camera_, target, current_, capture ? &f.capture : nullptr);
     VK_CHECK(vkEndCommandBuffer(cmd));
-}
-
-// Copies the drawn image to a host buffer on its way to presentation.
-void Viewer::recordCapture(VkCommandBuffer cmd, VkImage image, const ink::Buffer& buffer) {
-    ink::imageBarrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                      VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                      VK_ACCESS_2_TRANSFER_READ_BIT);
-    VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {swapchain_.extent.width, swapchain_.extent.height, 1};
-    vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer.buffer, 1, &region);
-    ink::stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
-                      VK_ACCESS_2_HOST_READ_BIT);
-    ink::imageBarrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                      VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_2_COPY_BIT, 0, VK_PIPELINE_STAGE_2_NONE, 0);
 }
 
 void Viewer::submitAndPresent(Frame& f, uint32_t index, bool suboptimal) {

@@ -177,8 +177,17 @@ static VkPhysicalDevice pickDevice(VkInstance instance, const std::string& wante
         char* end = nullptr;
         unsigned long index = std::strtoul(wanted.c_str(), &end, 10);
         if (end && *end == '\0') {
+            // The index is the one `inkwell devices` lists: every device, usable or not.
             if (index >= devices.size())
                 throw Error("--device " + wanted + ": no such device index (devices: " + names + ")");
+            if (std::find(usable.begin(), usable.end(), devices[index]) == usable.end()) {
+                VkPhysicalDeviceProperties p;
+                vkGetPhysicalDeviceProperties(devices[index], &p);
+                throw Error("--device " + wanted + ": " + p.deviceName + " supports Vulkan " +
+                            std::to_string(VK_API_VERSION_MAJOR(p.apiVersion)) + "." +
+                            std::to_string(VK_API_VERSION_MINOR(p.apiVersion)) +
+                            ", Inkwell needs 1.3 (devices: " + names + ")");
+            }
             return devices[index];
         }
         for (VkPhysicalDevice d : usable) {

@@ -300,11 +300,12 @@ void recordRefinement(Context&, VkCommandBuffer cmd, GpuRefinement& r) {
     }
     if (r.selection) recordSelection(cmd, *r.selection);
     vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, r.timestamps, plan.levelCount + 1);
-    // The renderer reads the points in compute shaders (as texels) and copies, and the draw arguments as an
-    // indirect command.
+    // Who reads the results: the renderer's compute passes (the points as uniform texels, the counts as
+    // storage), indirect commands, and copies (readback, the renderer's setup). A caller recording more work into
+    // the same command buffer, with no fence wait between, relies on this barrier.
     stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                 compute | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | indirectStage | VK_PIPELINE_STAGE_2_COPY_BIT,
-                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_UNIFORM_READ_BIT |
+                 compute | indirectStage | VK_PIPELINE_STAGE_2_COPY_BIT,
+                 VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT |
                      VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 

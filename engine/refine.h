@@ -121,8 +121,9 @@ struct GpuRefinement {
 
 void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const RefineOptions& options);
 void destroyRefinement(Context& ctx, GpuRefinement& r);
-// Records every level: refine → scan → compact per level, synchronization2 barriers between them; ends with
-// a barrier that makes the points and draw arguments visible to vertex shading and indirect draws.
+// Records every level: refine → scan → compact per level, synchronization2 barriers between them, then the
+// selection; ends with a barrier that makes the points and draw arguments visible to compute shaders (as
+// storage and as uniform texels), indirect commands and copies.
 void recordRefinement(Context& ctx, VkCommandBuffer cmd, GpuRefinement& r);
 // Records, submits and waits: the whole refinement in one submission.
 void runRefinement(Context& ctx, GpuRefinement& r);

@@ -115,68 +115,85 @@ struct PointRenderer::Push {
 };
 static_assert(sizeof(glm::mat4) + 4 * sizeof(glm::vec4) == 128, "push constants within the guaranteed 128 bytes");
 
-PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat) : ctx_(ctx) {
-    styleBuffer_ =
-        createBuffer(ctx, sizeof(StyleBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                     MemoryUse::Device);
-    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    drawn_ = createBuffer(ctx, sizeof(kNothingDrawn), storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Device);
-    depth_ = createBuffer(ctx, 4, storage, MemoryUse::Device);
-    coverage_ = createBuffer(ctx, 4, storage, MemoryUse::Device);
-    for (const GpuRefinement* r : sets) {
-        uint32_t draw[4];
-        downloadBuffer(ctx, r->indirect, r->drawOffset(), draw, sizeof(draw));
-        // `DotList`: the indirect dispatch, then up to one 16-byte `Dot` a point.
-        Buffer dots = createBuffer(ctx, 16 + 16 * VkDeviceSize(std::max(1u, draw[0])),
-                                   storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
-                                   MemoryUse::Device);
-        VkBufferViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
-        viewInfo.buffer = r->drawnPoints().buffer;
-        viewInfo.format = VK_FORMAT_R32G32B32A32_SFLOAT;
-        viewInfo.range = VK_WHOLE_SIZE;
-        VkBufferView texels;
-        VK_CHECK(vkCreateBufferView(ctx.device, &viewInfo, nullptr, &texels));
-        sets_.push_back({dots, texels, {}, splatSpacing(*r), draw[0], draw[2]});
+PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat,
+                             uint32_t framesInFlight)
+    : ctx_(ctx), frames_(std::max(1u, framesInFlight)) {
+    // A throw half way (out of memory, a lost device) releases what was made: no destructor runs then.
+    try {
+        styleBuffer_ =
+            createBuffer(ctx, sizeof(StyleBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                         MemoryUse::Device);
+        std::vector<uint32_t> counts;
+        for (const GpuRefinement* r : sets) {
+            uint32_t draw[4];
+            downloadBuffer(ctx, r->indirect, r->drawOffset(), draw, sizeof(draw));
+            VkBufferViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+            viewInfo.buffer = r->drawnPoints().buffer;
+            viewInfo.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+            viewInfo.range = VK_WHOLE_SIZE;
+            sets_.push_back({VK_NULL_HANDLE, splatSpacing(*r), draw[0], draw[2]});
+            VK_CHECK(vkCreateBufferView(ctx.device, &viewInfo, nullptr, &sets_.back().texels));
+        }
+        const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+        VkQueryPoolCreateInfo query{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+        query.queryType = VK_QUERY_TYPE_TIMESTAMP;
+        query.queryCount = 4;
+        for (Frame& f : frames_) {
+            f.drawn =
+                createBuffer(ctx, sizeof(kNothingDrawn), storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Device);
+            f.depth = createBuffer(ctx, 4, storage, MemoryUse::Device);
+            f.coverage = createBuffer(ctx, 4, storage, MemoryUse::Device);
+            for (const Set& set : sets_)
+                // `DotList`: the indirect dispatch, then up to one 16-byte `Dot` a point.
+                f.dots.push_back(
+                    createBuffer(ctx, 16 + 16 * VkDeviceSize(std::max(1u, set.points)),
+                                 storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                 MemoryUse::Device));
+            VK_CHECK(vkCreateQueryPool(ctx.device, &query, nullptr, &f.timestamps));
+            bindDescriptors(f);
+        }
+        layout_ = createPipelineLayout(ctx, frames_.front().descriptors.front().layout, sizeof(Push), kStages);
+        splat_ = createComputePipeline(ctx, layout_, spv_splat_comp);
+        stamp_ = createComputePipeline(ctx, layout_, spv_stamp_comp);
+        ink_ = createInkPipeline(ctx, layout_, colorFormat);
+    } catch (...) {
+        release();
+        throw;
     }
-    bindDescriptors();
-    layout_ = createPipelineLayout(ctx, sets_.front().descriptors.layout, sizeof(Push), kStages);
-    splat_ = createComputePipeline(ctx, layout_, spv_splat_comp);
-    stamp_ = createComputePipeline(ctx, layout_, spv_stamp_comp);
-    ink_ = createInkPipeline(ctx, layout_, colorFormat);
-    VkQueryPoolCreateInfo query{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
-    query.queryType = VK_QUERY_TYPE_TIMESTAMP;
-    query.queryCount = 4;
-    VK_CHECK(vkCreateQueryPool(ctx.device, &query, nullptr, &timestamps_));
 }
 
-PointRenderer::~PointRenderer() {
-    vkDestroyQueryPool(ctx_.device, timestamps_, nullptr);
+PointRenderer::~PointRenderer() { release(); }
+
+void PointRenderer::release() {
     for (VkPipeline p : {splat_, stamp_, ink_}) vkDestroyPipeline(ctx_.device, p, nullptr);
     vkDestroyPipelineLayout(ctx_.device, layout_, nullptr);
-    for (Set& s : sets_) {
-        destroyDescriptorSet(ctx_, s.descriptors);
-        vkDestroyBufferView(ctx_.device, s.texels, nullptr);
-        destroyBuffer(ctx_, s.dots);
+    for (Frame& f : frames_) {
+        vkDestroyQueryPool(ctx_.device, f.timestamps, nullptr);
+        for (DescriptorSet& d : f.descriptors) destroyDescriptorSet(ctx_, d);
+        for (Buffer& b : f.dots) destroyBuffer(ctx_, b);
+        for (Buffer* b : {&f.coverage, &f.depth, &f.drawn}) destroyBuffer(ctx_, *b);
     }
-    destroyBuffer(ctx_, coverage_);
-    destroyBuffer(ctx_, depth_);
-    destroyBuffer(ctx_, drawn_);
+    for (Set& s : sets_) vkDestroyBufferView(ctx_.device, s.texels, nullptr);
     destroyBuffer(ctx_, styleBuffer_);
+    frames_.clear();
+    sets_.clear();
+    splat_ = stamp_ = ink_ = VK_NULL_HANDLE;
+    layout_ = VK_NULL_HANDLE;
 }
 
-void PointRenderer::bindDescriptors() {
-    for (Set& s : sets_) {
-        if (s.descriptors.pool) destroyDescriptorSet(ctx_, s.descriptors);
-        s.descriptors =
+void PointRenderer::bindDescriptors(Frame& f) {
+    for (DescriptorSet& d : f.descriptors) destroyDescriptorSet(ctx_, d);
+    f.descriptors.clear();
+    for (size_t k = 0; k < sets_.size(); ++k)
+        f.descriptors.push_back(
             createDescriptorSet(ctx_,
-                                {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, s.dots.buffer},
+                                {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.dots[k].buffer},
                                  {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer},
-                                 {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, drawn_.buffer},
-                                 {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depth_.buffer},
-                                 {4, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1, 0, 0, s.texels},
-                                 {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.buffer}},
-                                kStages);
-    }
+                                 {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.drawn.buffer},
+                                 {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.depth.buffer},
+                                 {4, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1, 0, 0, sets_[k].texels},
+                                 {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.coverage.buffer}},
+                                kStages));
 }
 
 void PointRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pixelScale) {
@@ -192,6 +209,11 @@ void PointRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pi
     b.light = glm::vec4(l, s.toneGamma);
     b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, 0.0f, 0.0f, 0.0f);
     b.tone = glm::vec4(s.inkDensity, s.ambient, 1.0f, kMaxDotPixels * pixelScale);
+    // A frame still in flight may be reading the block: its reads finish before this write.
+    stageBarrier(cmd,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
+                     VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                 0, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     vkCmdUpdateBuffer(cmd, styleBuffer_.buffer, 0, sizeof(b), &b);
     stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
@@ -214,62 +236,63 @@ PointRenderer::Push PointRenderer::push(const Set& s, const Camera& camera, VkEx
                 glm::vec4(radius, radius, k, 0.0f), glm::uvec4(s.points, style_.hiddenLines ? 1u : 0u, s.first, 0u)};
 }
 
-void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) {
-    if (extent.width != extent_.width || extent.height != extent_.height) {
+void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent, uint32_t frame) {
+    Frame& f = frames_.at(frame);
+    if (extent.width != f.extent.width || extent.height != f.extent.height) {
         if (depthGridBytes(extent) > ctx_.properties.limits.maxStorageBufferRange)
             throw Error("a " + std::to_string(extent.width) + "x" + std::to_string(extent.height) +
                         " target is too large for this device's storage buffers");
         vkDeviceWaitIdle(ctx_.device);
-        destroyBuffer(ctx_, depth_);
-        destroyBuffer(ctx_, coverage_);
+        destroyBuffer(ctx_, f.depth);
+        destroyBuffer(ctx_, f.coverage);
         const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
         // The depth grid has one cell per 2×2 pixels; coverage has 2 bits a pixel.
-        depth_ = createBuffer(ctx_, depthGridBytes(extent), usage, MemoryUse::Device);
-        coverage_ =
+        f.depth = createBuffer(ctx_, depthGridBytes(extent), usage, MemoryUse::Device);
+        f.coverage =
             createBuffer(ctx_, (VkDeviceSize(extent.width) * extent.height + 15) / 16 * 4, usage, MemoryUse::Device);
-        extent_ = extent;
-        bindDescriptors();
+        f.extent = extent;
+        bindDescriptors(f);
     }
     const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     const auto rw = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
     const auto indirect = VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT;
     const auto graphics = VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
-    // The previous frame's passes may still use the buffers this frame clears.
+    // This frame's previous passes (this frame slot's last use) may still use the buffers it clears.
     stageBarrier(cmd, graphics | compute | indirect, rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT,
                  VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
-    vkCmdFillBuffer(cmd, depth_.buffer, 0, VK_WHOLE_SIZE, kFarDepth);
-    vkCmdFillBuffer(cmd, coverage_.buffer, 0, VK_WHOLE_SIZE, 0);
-    vkCmdUpdateBuffer(cmd, drawn_.buffer, 0, sizeof(kNothingDrawn), kNothingDrawn);
+    vkCmdFillBuffer(cmd, f.depth.buffer, 0, VK_WHOLE_SIZE, kFarDepth);
+    vkCmdFillBuffer(cmd, f.coverage.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdUpdateBuffer(cmd, f.drawn.buffer, 0, sizeof(kNothingDrawn), kNothingDrawn);
     const uint32_t noDots[4] = {0, 1, 1, 0};  // an empty list: no workgroups
-    for (const Set& s : sets_) vkCmdUpdateBuffer(cmd, s.dots.buffer, 0, sizeof(noDots), noDots);
+    for (const Buffer& dots : f.dots) vkCmdUpdateBuffer(cmd, dots.buffer, 0, sizeof(noDots), noDots);
     stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute, rw);
-    vkCmdResetQueryPool(cmd, timestamps_, 0, 4);
-    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, timestamps_, 0);
+    vkCmdResetQueryPool(cmd, f.timestamps, 0, 4);
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, f.timestamps, 0);
 
-    auto bind = [&](const Set& s) {
-        Push constants = push(s, camera, extent);
+    auto bind = [&](size_t k) {
+        Push constants = push(sets_[k], camera, extent);
         vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(constants), &constants);
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &s.descriptors.set, 0, nullptr);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &f.descriptors[k].set, 0, nullptr);
     };
     // Every set splats before any is tested: sets occlude each other.
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, splat_);
-    for (const Set& s : sets_) {
-        bind(s);
-        vkCmdDispatch(cmd, (s.points + kComputeGroup - 1) / kComputeGroup, 1, 1);
+    for (size_t k = 0; k < sets_.size(); ++k) {
+        bind(k);
+        vkCmdDispatch(cmd, (sets_[k].points + kComputeGroup - 1) / kComputeGroup, 1, 1);
     }
-    vkCmdWriteTimestamp2(cmd, compute, timestamps_, 1);
+    vkCmdWriteTimestamp2(cmd, compute, f.timestamps, 1);
     stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, compute | indirect,
                  rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, stamp_);
-    for (const Set& s : sets_) {
-        bind(s);
-        vkCmdDispatchIndirect(cmd, s.dots.buffer, 0);
+    for (size_t k = 0; k < sets_.size(); ++k) {
+        bind(k);
+        vkCmdDispatchIndirect(cmd, f.dots[k].buffer, 0);
     }
-    vkCmdWriteTimestamp2(cmd, compute, timestamps_, 2);
+    vkCmdWriteTimestamp2(cmd, compute, f.timestamps, 2);
     stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, graphics, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
 }
 
-void PointRenderer::draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) const {
+void PointRenderer::draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent, uint32_t frame) const {
     VkViewport viewport{0, 0, float(extent.width), float(extent.height), 0.0f, 1.0f};
     VkRect2D scissor{{0, 0}, extent};
     vkCmdSetViewport(cmd, 0, 1, &viewport);
@@ -278,19 +301,67 @@ void PointRenderer::draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D e
     // Every set stamped into the same coverage: one triangle inks them all.
     Push constants = push(sets_.front(), camera, extent);
     vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(constants), &constants);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &sets_.front().descriptors.set, 0,
-                            nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1,
+                            &frames_.at(frame).descriptors.front().set, 0, nullptr);
     vkCmdDraw(cmd, 6, 1, 0, 0);
 }
 
-void PointRenderer::writeEnd(VkCommandBuffer cmd) const {
-    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, timestamps_, 3);
+void PointRenderer::recordFrame(VkCommandBuffer cmd, const Camera& camera, const FrameTarget& target, uint32_t frame,
+                                const Buffer* readback) {
+    const VkExtent2D extent = target.extent;
+    prepare(cmd, camera, extent, frame);
+    const auto colorStage = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+    imageBarrier(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                 VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, target.previousStages, 0, colorStage,
+                 VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT);
+
+    const glm::vec4& paper = style_.paper;
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = target.view;
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    color.clearValue.color = {{paper.r, paper.g, paper.b, paper.a}};
+    VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    rendering.renderArea = {{0, 0}, extent};
+    rendering.layerCount = 1;
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachments = &color;
+    vkCmdBeginRendering(cmd, &rendering);
+    draw(cmd, camera, extent, frame);
+    vkCmdEndRendering(cmd);
+    writeEnd(cmd, frame);
+
+    VkImageLayout layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    VkPipelineStageFlags2 stage = colorStage;
+    VkAccessFlags2 access = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+    if (readback) {
+        imageBarrier(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                     colorStage, access, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {extent.width, extent.height, 1};
+        vkCmdCopyImageToBuffer(cmd, target.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback->buffer, 1, &region);
+        stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+                     VK_ACCESS_2_HOST_READ_BIT);
+        layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        stage = VK_PIPELINE_STAGE_2_COPY_BIT;
+        access = 0;  // a read: only the layout change must wait for it
+    }
+    // What follows (presentation, the caller's sampling) waits on the submission's semaphore or fence.
+    if (target.finalLayout != layout)
+        imageBarrier(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, layout, target.finalLayout, stage, access,
+                     VK_PIPELINE_STAGE_2_NONE, 0);
 }
 
-PointRenderer::Timings PointRenderer::timings() const {
+void PointRenderer::writeEnd(VkCommandBuffer cmd, uint32_t frame) const {
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, frames_.at(frame).timestamps, 3);
+}
+
+PointRenderer::Timings PointRenderer::timings(uint32_t frame) const {
     uint64_t t[4] = {};
-    if (vkGetQueryPoolResults(ctx_.device, timestamps_, 0, 4, sizeof(t), t, sizeof(uint64_t), VK_QUERY_RESULT_64_BIT) !=
-        VK_SUCCESS)
+    if (vkGetQueryPoolResults(ctx_.device, frames_.at(frame).timestamps, 0, 4, sizeof(t), t, sizeof(uint64_t),
+                              VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
         return {};
     double ms = ctx_.properties.limits.timestampPeriod * 1e-6;
     return {double(t[1] - t[0]) * ms, double(t[2] - t[1]) * ms, double(t[3] - t[2]) * ms};
@@ -309,19 +380,20 @@ void checkOffscreenSize(const Context& ctx, uint32_t width, uint32_t height, uin
                     std::to_string(limit >> 20) + " MiB storage buffers: use a smaller size or less supersampling");
 }
 
-uint32_t PointRenderer::drawnDots() const {
+uint32_t PointRenderer::drawnDots(uint32_t frame) const {
     vkDeviceWaitIdle(ctx_.device);
     uint32_t dots = 0;
-    downloadBuffer(ctx_, drawn_, 0, &dots, sizeof(dots));
+    downloadBuffer(ctx_, frames_.at(frame).drawn, 0, &dots, sizeof(dots));
     return dots;
 }
 
-std::vector<uint32_t> PointRenderer::drawnPoints(size_t set) const {
+std::vector<uint32_t> PointRenderer::drawnPoints(size_t set, uint32_t frame) const {
     vkDeviceWaitIdle(ctx_.device);
+    const Buffer& list = frames_.at(frame).dots.at(set);
     uint32_t header[4];
-    downloadBuffer(ctx_, sets_.at(set).dots, 0, header, sizeof(header));
+    downloadBuffer(ctx_, list, 0, header, sizeof(header));
     std::vector<uint32_t> dots(4 * size_t(header[3]));
-    if (!dots.empty()) downloadBuffer(ctx_, sets_[set].dots, 16, dots.data(), dots.size() * 4);
+    if (!dots.empty()) downloadBuffer(ctx_, list, 16, dots.data(), dots.size() * 4);
     constexpr uint32_t kBack = 2;  // BACK in render_common.glsl
     std::vector<uint32_t> points;
     for (size_t i = 0; i < header[3]; ++i) {
@@ -337,10 +409,17 @@ OffscreenRenderer::OffscreenRenderer(Context& ctx, uint32_t width, uint32_t heig
     : ctx_(ctx), factor_(std::max(1u, style.supersample)), renderer_(ctx, std::move(sets), kColorFormat) {
     checkOffscreenSize(ctx, width, height, factor_);
     uint32_t w = width * factor_, h = height * factor_;
-    color_ = createImage(ctx, w, h, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                         VK_IMAGE_ASPECT_COLOR_BIT);
-    readback_ = createBuffer(ctx, VkDeviceSize(w) * h * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback);
-    setStyle(style);
+    try {
+        color_ =
+            createImage(ctx, w, h, kColorFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                        VK_IMAGE_ASPECT_COLOR_BIT);
+        readback_ = createBuffer(ctx, VkDeviceSize(w) * h * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback);
+        setStyle(style);
+    } catch (...) {
+        destroyImage(ctx, color_);
+        destroyBuffer(ctx, readback_);
+        throw;
+    }
 }
 
 OffscreenRenderer::~OffscreenRenderer() {
@@ -352,8 +431,14 @@ void OffscreenRenderer::setStyle(const RenderStyle& style) {
     submitAndWait(ctx_, [&](VkCommandBuffer cmd) { renderer_.setStyle(cmd, style, float(factor_)); });
 }
 
+FrameTarget OffscreenRenderer::target() const {
+    // The image's last use was a copy (render) or the ink itself (draw), in a submission waited for.
+    return {color_.image, color_.view, color_.extent, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+            VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT};
+}
+
 RgbaImage OffscreenRenderer::render(const Camera& camera) {
-    submitAndWait(ctx_, [&](VkCommandBuffer cmd) { record(cmd, camera, true); });
+    submitAndWait(ctx_, [&](VkCommandBuffer cmd) { renderer_.recordFrame(cmd, camera, target(), 0, &readback_); });
     VkExtent2D extent = color_.extent;
     RgbaImage full{extent.width, extent.height, {}};
     full.pixels.resize(size_t(extent.width) * extent.height * 4);
@@ -362,48 +447,7 @@ RgbaImage OffscreenRenderer::render(const Camera& camera) {
 }
 
 void OffscreenRenderer::draw(const Camera& camera) {
-    submitAndWait(ctx_, [&](VkCommandBuffer cmd) { record(cmd, camera, false); });
+    submitAndWait(ctx_, [&](VkCommandBuffer cmd) { renderer_.recordFrame(cmd, camera, target()); });
 }
-
-void OffscreenRenderer::record(VkCommandBuffer cmd, const Camera& camera, bool readback) {
-    VkExtent2D extent = color_.extent;
-    const RenderStyle& style = renderer_.style();
-    renderer_.prepare(cmd, camera, extent);
-    {
-        imageBarrier(cmd, color_.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                     VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, 0,
-                     VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                     VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT);
-
-        VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-        color.imageView = color_.view;
-        color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-        color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-        color.clearValue.color = {{style.paper.r, style.paper.g, style.paper.b, style.paper.a}};
-        VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
-        rendering.renderArea = {{0, 0}, extent};
-        rendering.layerCount = 1;
-        rendering.colorAttachmentCount = 1;
-        rendering.pColorAttachments = &color;
-        vkCmdBeginRendering(cmd, &rendering);
-        renderer_.draw(cmd, camera, extent);
-        vkCmdEndRendering(cmd);
-        renderer_.writeEnd(cmd);
-        if (!readback) return;
-
-        imageBarrier(cmd, color_.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                     VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                     VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                     VK_ACCESS_2_TRANSFER_READ_BIT);
-        VkBufferImageCopy region{};
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = {extent.width, extent.height, 1};
-        vkCmdCopyImageToBuffer(cmd, color_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer, 1, &region);
-        stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
-                     VK_ACCESS_2_HOST_READ_BIT);
-    }
-}
-
 
 }  // namespace ink

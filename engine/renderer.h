@@ -50,59 +50,88 @@ struct StyleBlock {
     glm::vec4 options;
 };
 
-// Draws one or more refinements (e.g. stippling and direction sampling together) into a colour target.
+// A colour image a frame is drawn into: the caller's (a swapchain image, a texture of its own) or the
+// offscreen renderer's. Its contents before the frame are discarded; it ends in `finalLayout`.
+struct FrameTarget {
+    VkImage image = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+    VkExtent2D extent{};
+    VkImageLayout finalLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    // The stages whose earlier work on the image (or a semaphore wait guarding it) the frame must follow.
+    VkPipelineStageFlags2 previousStages = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+};
+
+// Draws one or more refinements (e.g. stippling and direction sampling together) into a colour target. Each
+// of `framesInFlight` frames owns its depth grid, coverage, dot lists and timestamps, so frame k + 1 can be
+// recorded and run while frame k still runs; the caller passes which frame (0 .. framesInFlight − 1) and
+// waits for that frame's previous use (its fence) before recording it again.
 class PointRenderer {
 public:
     // `colorFormat` is that of the colour attachment draw() renders into (no depth attachment).
-    PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat);
+    PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat,
+                  uint32_t framesInFlight = 1);
     ~PointRenderer();
     PointRenderer(const PointRenderer&) = delete;
     PointRenderer& operator=(const PointRenderer&) = delete;
 
-    // Records the style upload (outside rendering). `pixelScale` multiplies dot sizes (supersampling).
+    // Records the style upload (outside rendering), after every earlier read of the style. `pixelScale`
+    // multiplies dot sizes (supersampling).
     void setStyle(VkCommandBuffer cmd, const RenderStyle& style, float pixelScale);
-    // Records the visibility passes for this camera (outside rendering, before draw). Reallocates the depth
-    // grid, after waiting for the device, when the extent changes.
-    void prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent);
-    // Records the ink draws; call between vkCmdBeginRendering and vkCmdEndRendering, after prepare.
-    void draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent) const;
+    // Records a whole frame into `target`: the visibility passes, the clear to paper, the ink, the end
+    // timestamp; then, when `readback` is given, a copy of the image into it (host-visible, extent² × 4 bytes)
+    // made visible to the host. What `render` and the viewer record.
+    void recordFrame(VkCommandBuffer cmd, const Camera& camera, const FrameTarget& target, uint32_t frame = 0,
+                     const Buffer* readback = nullptr);
+    // The pieces of recordFrame, for a caller that renders more into the same pass. prepare records the
+    // visibility passes (outside rendering, before draw); it reallocates the frame's depth grid, after waiting
+    // for the device, when the extent changes. draw records the ink; call it between vkCmdBeginRendering and
+    // vkCmdEndRendering, after prepare.
+    void prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent, uint32_t frame = 0);
+    void draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent, uint32_t frame = 0) const;
     const RenderStyle& style() const { return style_; }
+    uint32_t framesInFlight() const { return uint32_t(frames_.size()); }
 
     // Milliseconds of the last frame's passes, from timestamps: splat (with the dot selection), stamp, and ink
     // (which ends at writeEnd).
     struct Timings {
         double splatMs = 0, stampMs = 0, inkMs = 0;
     };
-    void writeEnd(VkCommandBuffer cmd) const;
-    Timings timings() const;
-    // Dots the last frame drew, over all sets (reads a counter back; waits for the device).
-    uint32_t drawnDots() const;
-    // The points of set `set` whose dots the last frame drew, as indices into its drawn points (reads the dot
-    // list back; waits for the device).
-    std::vector<uint32_t> drawnPoints(size_t set) const;
+    void writeEnd(VkCommandBuffer cmd, uint32_t frame = 0) const;
+    Timings timings(uint32_t frame = 0) const;
+    // Dots frame `frame` drew last, over all sets (reads a counter back; waits for the device).
+    uint32_t drawnDots(uint32_t frame = 0) const;
+    // The points of set `set` whose dots frame `frame` drew last, as indices into its drawn points (reads the
+    // dot list back; waits for the device).
+    std::vector<uint32_t> drawnPoints(size_t set, uint32_t frame = 0) const;
 
 private:
     struct Set {
-        Buffer dots;  // `DotList`: the dots that may show this frame, and stamp.comp's indirect dispatch
         VkBufferView texels = VK_NULL_HANDLE;  // the points as RGBA32F texels, 2 a point (vectorized loads)
-        DescriptorSet descriptors;
-        float splatRadius;
-        uint32_t points;  // in the refinement's draw, read once at setup
-        uint32_t first;   // its first point: not 0 when only the last level is kept
+        float splatRadius = 0;
+        uint32_t points = 0;  // in the refinement's draw, read once at setup
+        uint32_t first = 0;   // its first point: not 0 when only the last level is kept
+    };
+    // What one frame in flight writes.
+    struct Frame {
+        Buffer drawn, depth, coverage;  // depth and coverage follow the target's extent
+        VkExtent2D extent{0, 0};
+        std::vector<Buffer> dots;                // a set's `DotList`: the dots that may show, and stamp.comp's dispatch
+        std::vector<DescriptorSet> descriptors;  // a set's
+        VkQueryPool timestamps = VK_NULL_HANDLE;
     };
     struct Push;
     Push push(const Set& set, const Camera& camera, VkExtent2D extent) const;
-    void bindDescriptors();
+    void bindDescriptors(Frame& frame);
+    void release();
 
     Context& ctx_;
     RenderStyle style_;
     float pixelScale_ = 1.0f;
-    Buffer styleBuffer_, drawn_, depth_, coverage_;  // depth and coverage follow the target's extent
-    VkExtent2D extent_{0, 0};
+    Buffer styleBuffer_;
     std::vector<Set> sets_;
+    std::vector<Frame> frames_;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
     VkPipeline splat_ = VK_NULL_HANDLE, stamp_ = VK_NULL_HANDLE, ink_ = VK_NULL_HANDLE;
-    VkQueryPool timestamps_ = VK_NULL_HANDLE;
 };
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
@@ -125,7 +154,7 @@ public:
     std::vector<uint32_t> drawnPoints(size_t set) const { return renderer_.drawnPoints(set); }
 
 private:
-    void record(VkCommandBuffer cmd, const Camera& camera, bool readback);
+    FrameTarget target() const;
 
     Context& ctx_;
     uint32_t factor_;
