@@ -234,45 +234,8 @@ void Session::checkValidation() const {
                          " Vulkan validation error(s); first: " + ctx.firstValidationMessage);
 }
 
-Scene::Scene(ink::Context& c, const Options& o) : ctx(c) {
-    model = ink::loadModel(o.model, {o.controlPoints});
-    refine(o);
-}
-
-Scene::~Scene() {
-    for (auto& s : sets) ink::destroyRefinement(ctx, *s);
-}
-
-void Scene::refine(const Options& o) {
-    vkDeviceWaitIdle(ctx.device);
-    for (auto& s : sets) ink::destroyRefinement(ctx, *s);
-    sets.clear();
-    std::vector<ink::SampleStyle> styles;
-    if (o.style != DrawStyle::Direction) styles.push_back(ink::SampleStyle::Stipple);
-    if (o.style != DrawStyle::Stipple) styles.push_back(ink::SampleStyle::Direction);
-    auto start = Clock::now();
-    for (ink::SampleStyle style : styles) {
-        ink::RefineOptions r = o.refine;
-        r.style = style;
-        sets.push_back(std::make_unique<ink::GpuRefinement>());
-        ink::createRefinement(ctx, *sets.back(), model.hrbf, r);
-        ink::runRefinement(ctx, *sets.back());
-    }
-    refineSeconds = secondsSince(start);
-}
-
-std::vector<const ink::GpuRefinement*> Scene::pointers() const {
-    std::vector<const ink::GpuRefinement*> p;
-    for (auto& s : sets) p.push_back(s.get());
-    return p;
-}
-
-uint64_t Scene::points() {
-    uint64_t total = 0;
-    for (auto& s : sets)
-        for (auto& l : ink::readLevelStats(ctx, *s)) total += l.kept;
-    return total;
-}
+Scene::Scene(ink::Context& ctx, const Options& o)
+    : ink::Scene(ctx, ink::loadModel(o.model, {o.controlPoints}), o.style, o.refine) {}
 
 json fitJson(const ink::Model& m) {
     return {{"seconds", m.fit.seconds},

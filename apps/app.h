@@ -7,6 +7,7 @@
 #include "model.h"
 #include "refine.h"
 #include "renderer.h"
+#include "scene.h"
 
 #include <CLI/CLI.hpp>
 #include <chrono>
@@ -21,7 +22,7 @@ using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 inline double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-enum class DrawStyle { Stipple, Direction, Both };
+using ink::DrawStyle;
 
 struct Options {
     std::string model;
@@ -61,21 +62,10 @@ struct Session {
     void checkValidation() const;
 };
 
-// The model and its refinements on the device: one for stipple or direction, two for both.
-struct Scene {
-    ink::Context& ctx;
-    ink::Model model;
-    std::vector<std::unique_ptr<ink::GpuRefinement>> sets;
-    double refineSeconds = 0;
-
-    Scene(ink::Context& ctx, const Options& o);  // loads, fits, refines (one submission per set)
-    ~Scene();
-    Scene(const Scene&) = delete;
-    Scene& operator=(const Scene&) = delete;
-    // Re-runs the refinement with new options (the viewer's keys); waits for the device to be idle first.
-    void refine(const Options& o);
-    std::vector<const ink::GpuRefinement*> pointers() const;
-    uint64_t points();  // kept points over all sets (reads the level counts back)
+// The engine's scene (scene.h) made from the command's options: loads, fits, refines.
+struct Scene : ink::Scene {
+    Scene(ink::Context& ctx, const Options& o);
+    void refine(const Options& o) { ink::Scene::refine(o.style, o.refine); }
 };
 
 json fitJson(const ink::Model& m);

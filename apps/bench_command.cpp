@@ -58,10 +58,10 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
     ink::RefineOptions options;
     options.levels = w.levels;
     options.distribution = distribution;  // the passes follow it: 1 for blue-noise stipples, the report's 2 else
-    ink::GpuRefinement r;
     json out;
-    try {
-        ink::createRefinement(session.ctx, r, model.hrbf, options);
+    {
+        ink::Refinement refinement(session.ctx, model.hrbf, options);
+        ink::GpuRefinement& r = refinement.gpu();
         auto refineStart = Clock::now();
         ink::runRefinement(session.ctx, r);
         double refineSeconds = secondsSince(refineStart);
@@ -124,11 +124,7 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
                {"level_gpu_ms", levelMs},
                {"peak_memory_mb", peakMemoryMb()}};
         out.update(deviceJson(session.ctx));
-    } catch (...) {
-        ink::destroyRefinement(session.ctx, r);
-        throw;
     }
-    ink::destroyRefinement(session.ctx, r);
     return out;
 }
 

@@ -34,10 +34,6 @@ struct CompareOptions {
     double maxFraction = ink::kCompareMaxFraction;
 };
 
-const char* styleName(DrawStyle s) {
-    return s == DrawStyle::Stipple ? "stipple" : s == DrawStyle::Direction ? "direction" : "both";
-}
-
 const char* directionName(ink::DirectionField d) {
     if (d == ink::DirectionField::Axis) return "axis";
     return d == ink::DirectionField::CurvatureMin ? "curvature-min" : "curvature-max";
@@ -60,10 +56,10 @@ ordered parametersJson(const Options& o, const Scene& scene, const CaptureOption
     const ink::RenderStyle& s = o.render;
     return {{"control_points", scene.model.fit.controlPoints},
             {"levels", r.levels},
-            {"passes", scene.sets.front()->plan.passes},
+            {"passes", scene.sets.front()->gpu().plan.passes},
             {"distribution", o.distribution},
             {"candidates_per_stipple", shortest(r.candidatesPerStipple)},
-            {"style", styleName(o.style)},
+            {"style", ink::drawStyleName(o.style)},
             {"direction", directionName(r.direction)},
             {"axis", {r.axis.x(), r.axis.y(), r.axis.z()}},
             {"seeds", r.seeds == ink::SeedMode::Grid ? "grid" : "control"},

@@ -1,8 +1,8 @@
 // fit, sample, render, devices.
 #include "commands.h"
 #include "export.h"
-#include "hrbf_io.h"
 #include "files.h"
+#include "hrbf_io.h"
 #include "image.h"
 #include "select.h"
 
@@ -62,9 +62,9 @@ static int runSample(Options& o, const std::string& pointsPath) {
         }
         stats["device"] = "cpu";
     } else {
-        ink::GpuRefinement r;
-        try {
-            ink::createRefinement(session->ctx, r, model.hrbf, o.refine);
+        {
+            ink::Refinement refinement(session->ctx, model.hrbf, o.refine);
+            ink::GpuRefinement& r = refinement.gpu();
             auto start = Clock::now();
             ink::runRefinement(session->ctx, r);
             stats["refine"]["seconds"] = secondsSince(start);
@@ -75,11 +75,7 @@ static int runSample(Options& o, const std::string& pointsPath) {
                 stats["select"]["gpu_ms"] = ink::selectionMs(session->ctx, r);
             }
             points = ink::readDrawnPoints(session->ctx, r);
-        } catch (...) {
-            ink::destroyRefinement(session->ctx, r);
-            throw;
         }
-        ink::destroyRefinement(session->ctx, r);
         session->checkValidation();
         stats.update(deviceJson(session->ctx));
     }
@@ -110,7 +106,7 @@ static int runRender(Options& o, const std::string& output) {
     ink::writePng(output, image);
     uint64_t points = scene.points();
     json levels = json::array();
-    for (auto& s : scene.sets) levels.push_back(levelsJson(ink::readLevelStats(session.ctx, *s)));
+    for (auto& s : scene.sets) levels.push_back(levelsJson(ink::readLevelStats(session.ctx, s->gpu())));
     json stats = {{"control_points", scene.model.fit.controlPoints},
                   {"fit", fitJson(scene.model)},
                   {"refine", {{"seconds", scene.refineSeconds}, {"points", points}, {"sets", levels}}},

@@ -24,9 +24,9 @@ void checkScene(ink::Context& ctx, const std::string& name, const ink::Model& mo
         options.style = style;
         options.levels = 3;
         std::string label = name + (style == ink::SampleStyle::Stipple ? " stipple" : " direction");
-        ink::GpuRefinement r;
-        try {
-            ink::createRefinement(ctx, r, model.hrbf, options);
+        {
+            ink::Refinement refinement(ctx, model.hrbf, options);
+            ink::GpuRefinement& r = refinement.gpu();
             ink::runRefinement(ctx, r);
             auto points = ink::readPoints(ctx, r);
             auto levels = ink::readLevelStats(ctx, r);
@@ -72,11 +72,7 @@ void checkScene(ink::Context& ctx, const std::string& name, const ink::Model& mo
             for (size_t i = 0; i < image.pixels.size(); i += 4) dark += image.pixels[i] < 128;
             check.require(dark > 300, label + ": the image is blank (" + std::to_string(dark) + " dark pixels)");
             check.require(image.pixels[0] == 255, label + ": the image corner is not paper");
-        } catch (...) {
-            ink::destroyRefinement(ctx, r);
-            throw;
         }
-        ink::destroyRefinement(ctx, r);
     }
 }
 

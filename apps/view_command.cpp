@@ -50,10 +50,6 @@ struct ViewResult {
     size_t controlPoints = 0;
 };
 
-const char* styleName(DrawStyle s) {
-    return s == DrawStyle::Stipple ? "stipple" : s == DrawStyle::Direction ? "direction" : "both";
-}
-
 // The first frame also creates pipelines and buffers on some drivers: left out when there are others.
 double medianFrameMs(const std::vector<double>& frameMs) {
     if (frameMs.empty()) return 0;
@@ -371,7 +367,7 @@ void Viewer::refine() {
         scene_.refine(o_);
     } catch (const ink::Error& e) {
         // Too many points for this device, say: keep viewing what was there.
-        ink::note(std::string(e.what()) + "; keeping " + styleName(appliedStyle_) + " at " +
+        ink::note(std::string(e.what()) + "; keeping " + ink::drawStyleName(appliedStyle_) + " at " +
                   std::to_string(appliedLevels_) + " levels");
         o_.style = appliedStyle_;
         o_.refine.levels = appliedLevels_;
@@ -483,7 +479,7 @@ std::string Viewer::nextScreenshotPath() {
 void Viewer::updateTitle(double averageMs) {
     char title[256];
     std::snprintf(title, sizeof(title), "inkwell view - %s - %s, %u levels - %llu points - %.1f ms",
-                  std::filesystem::path(o_.model).filename().c_str(), styleName(o_.style), o_.refine.levels,
+                  std::filesystem::path(o_.model).filename().c_str(), ink::drawStyleName(o_.style), o_.refine.levels,
                   (unsigned long long)points_, averageMs);
     glfwSetWindowTitle(window_, title);
 }

@@ -239,6 +239,15 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const Re
     }
 }
 
+Refinement::Refinement(Context& ctx, const Hrbf& hrbf, const RefineOptions& options) : ctx_(ctx) {
+    try {
+        createRefinement(ctx, r_, hrbf, options);
+    } catch (...) {
+        destroyRefinement(ctx, r_);
+        throw;
+    }
+}
+
 const Buffer& GpuRefinement::drawnPoints() const { return selection ? selection->stipples : points; }
 
 void destroyRefinement(Context& ctx, GpuRefinement& r) {

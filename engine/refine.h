@@ -121,6 +121,23 @@ struct GpuRefinement {
 
 void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const RefineOptions& options);
 void destroyRefinement(Context& ctx, GpuRefinement& r);
+
+// Owns one GpuRefinement: created in the constructor (what was made is released when that throws), destroyed
+// with the owner.
+class Refinement {
+public:
+    Refinement(Context& ctx, const Hrbf& hrbf, const RefineOptions& options);
+    ~Refinement() { destroyRefinement(ctx_, r_); }
+    Refinement(const Refinement&) = delete;
+    Refinement& operator=(const Refinement&) = delete;
+
+    GpuRefinement& gpu() { return r_; }
+    const GpuRefinement& gpu() const { return r_; }
+
+private:
+    Context& ctx_;
+    GpuRefinement r_;
+};
 // Records every level: refine → scan → compact per level, synchronization2 barriers between them, then the
 // selection; ends with a barrier that makes the points and draw arguments visible to compute shaders (as
 // storage and as uniform texels), indirect commands and copies.

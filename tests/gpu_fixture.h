@@ -23,18 +23,10 @@ struct GpuFixture {
 
 // A refinement made and run on a device, destroyed with this object (also when a REQUIRE throws).
 struct Refinement {
-    ink::Context& ctx;
-    ink::GpuRefinement r;
-    Refinement(ink::Context& context, const ink::Hrbf& hrbf, const ink::RefineOptions& options) : ctx(context) {
-        try {
-            ink::createRefinement(ctx, r, hrbf, options);
-            ink::runRefinement(ctx, r);
-        } catch (...) {
-            ink::destroyRefinement(ctx, r);
-            throw;
-        }
+    ink::Refinement owner;
+    ink::GpuRefinement& r;
+    Refinement(ink::Context& ctx, const ink::Hrbf& hrbf, const ink::RefineOptions& options)
+        : owner(ctx, hrbf, options), r(owner.gpu()) {
+        ink::runRefinement(ctx, r);
     }
-    ~Refinement() { ink::destroyRefinement(ctx, r); }
-    Refinement(const Refinement&) = delete;
-    Refinement& operator=(const Refinement&) = delete;
 };
