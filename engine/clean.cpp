@@ -1,0 +1,136 @@
+// Cleaning oriented points for fitting: duplicate merging and farthest-point sampling.
+#include "clean.h"
+
+#include "points.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <tuple>
+
+namespace ink {
+
+using Eigen::Vector3d;
+
+size_t mergeDuplicates(OrientedPoints& points, double tolerance) {
+    std::vector<Vector3d>& pos = points.positions;
+    bool moveNormals = points.normals.size() == pos.size();
+    bool exact = !(tolerance > 0);  // also catches NaN
+    // Cells twice the tolerance wide: a point's tolerance box then overlaps at most two cells per axis, so
+    // 8 probes instead of the 27 that tolerance-wide cells need. Cell indices are clamped so far-out or
+    // non-finite coordinates cannot overflow the conversion; clamped points share a cell, which costs
+    // time but never a wrong answer, because distances are always checked. In exact mode a cell is one
+    // position, keyed by the coordinates' bits (with -0 folded into 0).
+    double cellSize = 2 * tolerance;
+    auto cellOf = [&](double x) {
+        constexpr double kLimit = 4.0e18;
+        double cell = std::floor(x / cellSize);
+        return int64_t(std::clamp(std::isnan(cell) ? 0.0 : cell, -kLimit, kLimit));
+    };
+    using Key = std::array<int64_t, 3>;
+    auto keyOf = [&](const Vector3d& p) {
+        Key k;
+        for (int a = 0; a < 3; ++a) k[size_t(a)] = exact ? std::bit_cast<int64_t>(p[a] + 0.0) : cellOf(p[a]);
+        return k;
+    };
+    auto hash = [](const Key& k) {
+        uint64_t h = uint64_t(k[0]) * 0x9E3779B97F4A7C15ull;
+        h = (h ^ (h >> 29)) + uint64_t(k[1]) * 0xBF58476D1CE4E5B9ull;
+        h = (h ^ (h >> 31)) + uint64_t(k[2]) * 0x94D049BB133111EBull;
+        return h ^ (h >> 32);
+    };
+    auto close = [&](const Vector3d& a, const Vector3d& b) {
+        // Dividing first keeps tiny tolerances from squaring to zero.
+        return exact ? a == b : ((a - b) / tolerance).squaredNorm() <= 1.0;
+    };
+
+    // Open addressing from a cell to the latest kept point in it; the cell's other kept points chain
+    // through `next`. A slot's key is recomputed from its point rather than stored, halving the memory.
+    constexpr size_t kNone = size_t(-1);
+    size_t capacity = 16;
+    while (capacity < 2 * pos.size()) capacity *= 2;
+    std::vector<size_t> table(capacity, kNone), next;
+    next.reserve(pos.size());
+    auto slotOf = [&](const Key& key) -> size_t& {
+        size_t s = hash(key) & (capacity - 1);
+        while (table[s] != kNone && keyOf(pos[table[s]]) != key) s = (s + 1) & (capacity - 1);
+        return table[s];
+    };
+
+    size_t kept = 0;
+    for (size_t i = 0; i < pos.size(); ++i) {
+        const Vector3d p = pos[i];
+        Key lo = keyOf(p), hi = lo;
+        if (!exact) {
+            for (size_t a = 0; a < 3; ++a) {
+                lo[a] = cellOf(p[Eigen::Index(a)] - tolerance);
+                hi[a] = cellOf(p[Eigen::Index(a)] + tolerance);
+            }
+        }
+        bool duplicate = false;
+        for (int64_t x = lo[0]; x <= hi[0] && !duplicate; ++x)
+            for (int64_t y = lo[1]; y <= hi[1] && !duplicate; ++y)
+                for (int64_t z = lo[2]; z <= hi[2] && !duplicate; ++z)
+                    for (size_t j = slotOf({x, y, z}); j != kNone && !duplicate; j = next[j])
+                        duplicate = close(pos[j], p);
+        if (duplicate) continue;
+        // Kept points are compacted in place (kept <= i), so the table holds output indices.
+        pos[kept] = p;
+        if (moveNormals) points.normals[kept] = points.normals[i];
+        size_t& head = slotOf(keyOf(p));
+        next.push_back(head);
+        head = kept++;
+    }
+    size_t merged = pos.size() - kept;
+    pos.resize(kept);
+    if (moveNormals) points.normals.resize(kept);
+    return merged;
+}
+
+std::vector<size_t> farthestPointSample(const std::vector<Vector3d>& positions, size_t count) {
+    size_t n = positions.size();
+    std::vector<size_t> picked;
+    if (count >= n) {
+        for (size_t i = 0; i < n; ++i) picked.push_back(i);
+        return picked;
+    }
+    if (count == 0) return picked;
+    auto less = [](const Vector3d& a, const Vector3d& b) {
+        return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z());
+    };
+    size_t first = 0;
+    for (size_t i = 1; i < n; ++i)
+        if (less(positions[i], positions[first])) first = i;
+
+    // distance[i]: squared distance from i to the nearest picked point; -1 once i is picked.
+    std::vector<double> distance(n, std::numeric_limits<double>::infinity());
+    picked.reserve(count);
+    size_t current = first;
+    for (;;) {
+        picked.push_back(current);
+        distance[current] = -1;
+        if (picked.size() == count) break;
+        size_t best = n;
+        double bestDistance = -1;
+        for (size_t i = 0; i < n; ++i) {
+            if (distance[i] < 0) continue;
+            double d = (positions[i] - positions[current]).squaredNorm();
+            if (d < distance[i]) distance[i] = d;
+            if (distance[i] > bestDistance) {  // strict: ties keep the lowest index
+                bestDistance = distance[i];
+                best = i;
+            }
+        }
+        // Only reachable with NaN coordinates: take the lowest index not yet picked.
+        if (best == n)
+            best = size_t(std::find_if(distance.begin(), distance.end(), [](double d) { return !(d < 0); }) -
+                          distance.begin());
+        current = best;
+    }
+    return picked;
+}
+
+}  // namespace ink

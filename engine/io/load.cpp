@@ -1,0 +1,58 @@
+// The entry points of points.h: a file's format picked by its extension, read with the file size capped.
+#include "common.h"
+#include "points.h"
+#include "readers.h"
+#include "text.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+
+namespace ink {
+namespace {
+
+std::string readFile(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::file_status status = fs::status(path, ec);
+    if (ec) throw Error("cannot open '" + path + "': " + ec.message());
+    if (fs::is_directory(status)) throw Error("cannot open '" + path + "': " + std::strerror(EISDIR));
+    if (fs::is_regular_file(status)) {
+        uintmax_t size = fs::file_size(path, ec);
+        if (!ec && size > io::kMaxFileBytes)
+            io::fail(path, "file is " + std::to_string(size) + " bytes; the limit is 2 GiB");
+    }
+    return readFileCapped(path, io::kMaxFileBytes, "file is larger than the limit of 2 GiB");
+}
+
+}  // namespace
+
+OrientedPoints loadPoints(const std::string& path) {
+    std::string file = std::filesystem::path(path).filename().string();
+    size_t dot = file.rfind('.');
+    std::string ext = dot == std::string::npos ? "" : file.substr(dot + 1);
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    std::string format;
+    if (ext == "obj")
+        format = "obj";
+    else if (ext == "ply")
+        format = "ply";
+    else if (ext == "pts" || ext == "xyzn" || ext == "txt")
+        format = "pts";
+    else
+        io::fail(path, (ext.empty() ? std::string("no file extension") : "unsupported file extension '." + ext + "'") +
+                           "; supported: .obj .ply .pts .xyzn .txt");
+    return parsePoints(readFile(path), format, path);
+}
+
+OrientedPoints parsePoints(const std::string& bytes, const std::string& format, const std::string& name) {
+    if (format == "obj") return io::parseObj(bytes, name);
+    if (format == "ply") return io::parsePly(bytes, name);
+    if (format == "pts") return io::parsePts(bytes, name);
+    io::fail(name, "unknown point format '" + format + "' (expected obj, ply or pts)");
+}
+
+}  // namespace ink

@@ -1,0 +1,64 @@
+// How the readers turn what they read into oriented points: area-weighted vertex normals for meshes that
+// have none, and the final check and normalization every reader ends with.
+#pragma once
+
+#include "points.h"
+#include "text.h"
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ink::io {
+
+// Normals read from a file (already meant to be unit length) shorter than this count as zero.
+constexpr double kZeroNormal = 1e-12;
+
+// Polygons as a flat index list plus sizes (any size >= 3).
+struct Polygons {
+    std::vector<uint32_t> indices;
+    std::vector<uint32_t> sizes;
+};
+
+// Adds each polygon's area vector to its vertices and marks them used. For a fan-triangulated polygon the
+// sum of the fan's edge cross products is twice its area times its normal, so big faces weigh more than
+// slivers, and non-convex polygons still come out right.
+void addAreaNormals(const std::vector<Eigen::Vector3d>& positions, const Polygons& polygons,
+                    std::vector<Eigen::Vector3d>& sums, std::vector<char>& used);
+
+// Length of v without overflow or underflow in the squares.
+double safeNorm(const Eigen::Vector3d& v);
+
+// The bounding-box diagonal of the vertices faces use: the scale against which area normals are judged.
+double usedDiagonal(const std::vector<Eigen::Vector3d>& positions, const std::vector<char>& used);
+
+// Area sums scale with the model's size squared, so "zero" means tiny next to the squared diagonal (the
+// division order avoids overflowing the square). The sum is then brought to unit length so that finish()
+// can treat it like a normal read from a file. `where()` names the vertex, and is called only to fail.
+template <class Where>
+void settleAreaNormal(Eigen::Vector3d& n, double diagonal, const std::string& name, Where where) {
+    double length = safeNorm(n);
+    if (!std::isfinite(length)) return;  // finish() reports it
+    if (length == 0 || (std::isfinite(diagonal) && length / diagonal / diagonal <= 1e-12))
+        fail(name, where() + ": normal is zero (the faces around it have no area)");
+    n /= length;
+}
+
+// Checks and normalizes; `where(i)` names point i for messages ("vertex 17", "line 4").
+template <class Where>
+void finish(OrientedPoints& points, const std::string& name, Where where) {
+    if (points.positions.empty()) fail(name, "no vertices");
+    for (size_t i = 0; i < points.positions.size(); ++i) {
+        const Eigen::Vector3d& p = points.positions[i];
+        Eigen::Vector3d& n = points.normals[i];
+        if (!p.allFinite()) fail(name, where(i) + ": coordinate is not finite " + str(p));
+        if (!n.allFinite()) fail(name, where(i) + ": normal is not finite " + str(n));
+        double length = safeNorm(n);
+        if (!(length > kZeroNormal)) fail(name, where(i) + ": normal is zero");
+        n /= length;
+    }
+}
+
+}  // namespace ink::io
