@@ -4,7 +4,9 @@
 #include "image.h"
 #include "spacing.h"
 
+#include <unistd.h>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -212,8 +214,25 @@ ink::Camera cameraFrom(const Options& o) {
     return c;
 }
 
+ink::Reporter terminalReporter(bool quiet) {
+    ink::Reporter r;
+    if (!quiet) r.note = [](const std::string& line) { std::fprintf(stderr, "note: %s\n", line.c_str()); };
+    if (isatty(STDERR_FILENO))
+        r.progress = [](const char* task, size_t done, size_t total) {
+            if (done < total)
+                std::fprintf(stderr, "\r%s: %3d%%", task, int(100.0 * double(done) / double(total)));
+            else
+                std::fprintf(stderr, "\r%s: done%-10s\n", task, "");
+            std::fflush(stderr);
+        };
+    return r;
+}
+
 Session::Session(const Options& o, std::vector<const char*> instanceExtensions, bool presentation) {
     ink::ContextOptions options;
+    options.validationMessage = [](bool error, const std::string& message) {
+        std::fprintf(stderr, "validation %s: %s\n", error ? "error" : "warning", message.c_str());
+    };
     options.validation = o.validation;
     options.device = o.device;
     options.instanceExtensions = std::move(instanceExtensions);

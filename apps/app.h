@@ -54,7 +54,11 @@ void addRenderOptions(CLI::App* cmd, Options& o);  // style, colours, dots, tone
 void finishOptions(Options& o);
 ink::Camera cameraFrom(const Options& o);
 
-// Owns the Vulkan context of one command; validation errors count as a failure.
+// Notes on stderr (none when quiet); progress as one self-overwriting line, only when stderr is a terminal, so
+// piped and scripted runs stay quiet. main() installs it for the whole command.
+ink::Reporter terminalReporter(bool quiet);
+
+// Owns the Vulkan context of one command; validation errors count as a failure, and are printed.
 struct Session {
     ink::Context ctx;
     explicit Session(const Options& o, std::vector<const char*> instanceExtensions = {}, bool presentation = false);

@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return cli.exit(e);
     }
-    ink::setNotesEnabled(!quiet);
+    const ink::Reporter reporter = app::terminalReporter(quiet);
+    ink::ScopedReporter reporting(reporter);
     try {
         for (auto& [command, run] : commands)
             if (command->parsed()) {

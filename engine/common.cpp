@@ -7,8 +7,6 @@
 
 namespace ink {
 
-static bool g_notes = true;
-
 std::string readFileCapped(const std::string& path, size_t maxBytes, const std::string& tooLarge) {
     std::FILE* file = std::fopen(path.c_str(), "rb");
     if (!file) throw Error("cannot open '" + path + "': " + std::strerror(errno));
@@ -40,25 +38,29 @@ std::string quoted(std::string_view s) {
     return out + "'";
 }
 
-void note(const std::string& line) {
-    if (g_notes) std::fprintf(stderr, "note: %s\n", line.c_str());
+namespace {
+thread_local const Reporter* t_reporter = nullptr;
 }
 
-void setNotesEnabled(bool enabled) { g_notes = enabled; }
+ScopedReporter::ScopedReporter(const Reporter& reporter) : previous_(t_reporter) { t_reporter = &reporter; }
+ScopedReporter::~ScopedReporter() { t_reporter = previous_; }
 
-Progress::Progress(const char* what, size_t total) : what_(what), total_(total), enabled_(isatty(STDERR_FILENO) != 0) {}
+void note(const std::string& line) {
+    if (t_reporter && t_reporter->note) t_reporter->note(line);
+}
+
+Progress::Progress(const char* what, size_t total) : what_(what), total_(total) {}
 
 Progress::~Progress() {
-    if (enabled_ && lastPercent_ >= 0) std::fprintf(stderr, "\r%s: done%-10s\n", what_, "");
+    if (lastPercent_ >= 0 && t_reporter && t_reporter->progress) t_reporter->progress(what_, total_, total_);
 }
 
 void Progress::update(size_t done) {
-    if (!enabled_ || total_ == 0) return;
+    if (!t_reporter || !t_reporter->progress || total_ == 0) return;
     int percent = int(100.0 * double(done) / double(total_));
     if (percent == lastPercent_) return;
     lastPercent_ = percent;
-    std::fprintf(stderr, "\r%s: %3d%%", what_, percent);
-    std::fflush(stderr);
+    t_reporter->progress(what_, done, total_);
 }
 
 }  // namespace ink

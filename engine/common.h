@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -22,12 +23,32 @@ std::string quoted(std::string_view s);
 // "PATH: tooLarge". Errors name the file and the system's reason.
 std::string readFileCapped(const std::string& path, size_t maxBytes, const std::string& tooLarge);
 
-// A one-line remark to the user ("note: merged 3 duplicate points"), written to stderr unless silenced.
-void note(const std::string& line);
-void setNotesEnabled(bool enabled);
+// Where the library's notes and progress go: the library prints nothing itself. An application installs a
+// reporter for a stretch of work on its thread (ScopedReporter); without one, notes and progress are dropped.
+struct Reporter {
+    // A one-line remark ("merged 3 duplicate points", "--control-points is ignored for a .hrbf model").
+    std::function<void(const std::string& line)> note;
+    // Long work ("fit", "refine"): `done` of `total` steps; called again with done == total when it ends.
+    std::function<void(const char* task, size_t done, size_t total)> progress;
+};
 
-// Progress of long work ("fit", "refine"): a single self-overwriting line, shown only when stderr is a
-// terminal, so piped and scripted runs stay quiet.
+// Installs `reporter` for this thread until the guard goes (guards nest; the previous one comes back).
+class ScopedReporter {
+public:
+    explicit ScopedReporter(const Reporter& reporter);
+    ~ScopedReporter();
+    ScopedReporter(const ScopedReporter&) = delete;
+    ScopedReporter& operator=(const ScopedReporter&) = delete;
+
+private:
+    const Reporter* previous_;
+};
+
+// To the installed reporter, if any.
+void note(const std::string& line);
+
+// Progress of one piece of long work, reported to the installed reporter when a step changes the percentage;
+// done when destroyed.
 struct Progress {
     Progress(const char* what, size_t total);
     ~Progress();
@@ -39,7 +60,6 @@ private:
     const char* what_;
     size_t total_;
     int lastPercent_ = -1;
-    bool enabled_;
 };
 
 }  // namespace ink

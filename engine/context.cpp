@@ -56,10 +56,10 @@ static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(VkDebugUtilsMessageSeverityF
     auto* ctx = static_cast<Context*>(user);
     if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
         if (ctx->validationErrors++ == 0) ctx->firstValidationMessage = data->pMessage;
-        std::fprintf(stderr, "validation error: %s\n", data->pMessage);
+        if (ctx->validationMessage) ctx->validationMessage(true, data->pMessage);
     } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
         ctx->validationWarnings++;
-        std::fprintf(stderr, "validation warning: %s\n", data->pMessage);
+        if (ctx->validationMessage) ctx->validationMessage(false, data->pMessage);
     }
     return VK_FALSE;
 }
@@ -206,21 +206,9 @@ static VkPhysicalDevice pickDevice(VkInstance instance, const std::string& wante
     return usable.front();
 }
 
-void createContext(Context& ctx, const ContextOptions& options) {
-    ctx.validation = options.validation;
-    if (options.validation && !hasLayer("VK_LAYER_KHRONOS_validation"))
-        throw Error(
-            "validation was requested but VK_LAYER_KHRONOS_validation is not installed "
-            "(apt-get install vulkan-validationlayers)");
-    VkDebugUtilsMessengerCreateInfoEXT messengerInfo{};
-    ctx.instance = createInstance(options, options.validation, &ctx, &messengerInfo);
-    if (options.validation) {
-        auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-            vkGetInstanceProcAddr(ctx.instance, "vkCreateDebugUtilsMessengerEXT"));
-        VK_CHECK(create(ctx.instance, &messengerInfo, nullptr, &ctx.messenger));
-    }
-
-    ctx.physicalDevice = pickDevice(ctx.instance, options.device);
+// Reads what the engine needs to know of ctx.physicalDevice, picks the queue family (unless one is set), and
+// refuses a device that lacks what the shaders use.
+static void describeDevice(Context& ctx, bool pickQueueFamily = true) {
     VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
     VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &subgroup};
     VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
@@ -233,14 +221,16 @@ void createContext(Context& ctx, const ContextOptions& options) {
     vkGetPhysicalDeviceQueueFamilyProperties(ctx.physicalDevice, &familyCount, nullptr);
     std::vector<VkQueueFamilyProperties> families(familyCount);
     vkGetPhysicalDeviceQueueFamilyProperties(ctx.physicalDevice, &familyCount, families.data());
-    ctx.queueFamily = UINT32_MAX;
+    if (pickQueueFamily) ctx.queueFamily = UINT32_MAX;
     for (uint32_t i = 0; i < familyCount; ++i)
-        if ((families[i].queueFlags & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) ==
-            (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) {
+        if (pickQueueFamily && (families[i].queueFlags & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) ==
+                                   (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) {
             ctx.queueFamily = i;
             break;
         }
-    if (ctx.queueFamily == UINT32_MAX)
+    if (ctx.queueFamily >= familyCount ||
+        (families[ctx.queueFamily].queueFlags & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) !=
+            (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT))
         throw Error(std::string(ctx.properties.deviceName) + " has no queue for both graphics and compute");
 
     VkPhysicalDeviceFeatures supported{};
@@ -259,6 +249,29 @@ void createContext(Context& ctx, const ContextOptions& options) {
                     " lacks subgroup operations in compute shaders (basic, vote, ballot, arithmetic, shuffle), "
                     "which the refinement and drawing need");
 
+    if (ctx.properties.apiVersion < VK_API_VERSION_1_3)
+        throw Error(std::string(ctx.properties.deviceName) + " supports Vulkan " +
+                    std::to_string(VK_API_VERSION_MAJOR(ctx.properties.apiVersion)) + "." +
+                    std::to_string(VK_API_VERSION_MINOR(ctx.properties.apiVersion)) + ", Inkwell needs 1.3");
+}
+
+void createContext(Context& ctx, const ContextOptions& options) {
+    ctx.validation = options.validation;
+    ctx.validationMessage = options.validationMessage;
+    if (options.validation && !hasLayer("VK_LAYER_KHRONOS_validation"))
+        throw Error(
+            "validation was requested but VK_LAYER_KHRONOS_validation is not installed "
+            "(apt-get install vulkan-validationlayers)");
+    VkDebugUtilsMessengerCreateInfoEXT messengerInfo{};
+    ctx.instance = createInstance(options, options.validation, &ctx, &messengerInfo);
+    if (options.validation) {
+        auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+            vkGetInstanceProcAddr(ctx.instance, "vkCreateDebugUtilsMessengerEXT"));
+        VK_CHECK(create(ctx.instance, &messengerInfo, nullptr, &ctx.messenger));
+    }
+
+    ctx.physicalDevice = pickDevice(ctx.instance, options.device);
+    describeDevice(ctx);
     // glslang's vulkan1.3 target assumes maintenance4; the refinement needs sync2 and indirect dispatch.
     VkPhysicalDeviceVulkan13Features v13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
     v13.synchronization2 = VK_TRUE;
@@ -295,7 +308,33 @@ void createContext(Context& ctx, const ContextOptions& options) {
     VK_CHECK(vkCreateCommandPool(ctx.device, &poolInfo, nullptr, &ctx.commandPool));
 }
 
+void adoptContext(Context& ctx, const AdoptedDevice& adopted) {
+    if (!adopted.instance || !adopted.physicalDevice || !adopted.device || !adopted.queue)
+        throw Error("adopting a Vulkan device needs its instance, physical device, device and queue");
+    ctx.ownsDevice = false;
+    ctx.instance = adopted.instance;
+    ctx.physicalDevice = adopted.physicalDevice;
+    ctx.device = adopted.device;
+    ctx.queue = adopted.queue;
+    ctx.queueFamily = adopted.queueFamily;
+    describeDevice(ctx, false);
+    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    poolInfo.queueFamilyIndex = ctx.queueFamily;
+    VK_CHECK(vkCreateCommandPool(ctx.device, &poolInfo, nullptr, &ctx.commandPool));
+}
+
 void destroyContext(Context& ctx) {
+    if (!ctx.ownsDevice) {
+        // The caller's device and queue stay; only what the engine made on them goes.
+        if (ctx.queue) vkQueueWaitIdle(ctx.queue);
+        if (ctx.commandPool) vkDestroyCommandPool(ctx.device, ctx.commandPool, nullptr);
+        ctx.commandPool = VK_NULL_HANDLE;
+        ctx.device = VK_NULL_HANDLE;
+        ctx.instance = VK_NULL_HANDLE;
+        ctx.queue = VK_NULL_HANDLE;
+        return;
+    }
     if (ctx.device) {
         vkDeviceWaitIdle(ctx.device);
         vkDestroyCommandPool(ctx.device, ctx.commandPool, nullptr);

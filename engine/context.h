@@ -28,6 +28,19 @@ struct ContextOptions {
     std::string device;         // "" = best; else an index ("0") or a case-insensitive substring of the name
     bool presentation = false;  // enable the surface/swapchain extensions for the viewer
     std::vector<const char*> instanceExtensions;  // extra ones (e.g. from glfwGetRequiredInstanceExtensions)
+    // Called with each validation error (true) or warning (false); the library prints nothing itself.
+    std::function<void(bool error, const std::string& message)> validationMessage;
+};
+
+// A device the caller made and keeps (the engine then draws into the caller's frames). It must be Vulkan 1.3
+// with the features createContext enables (docs/library.md lists them), and the queue family must do graphics
+// and compute.
+struct AdoptedDevice {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    uint32_t queueFamily = 0;
 };
 
 struct Context {
@@ -42,6 +55,8 @@ struct Context {
     VkPhysicalDeviceMemoryProperties memoryProperties{};
     std::string driverInfo;  // "Mesa 22.3.6 (LLVM 15.0.6)"
     bool validation = false;
+    bool ownsDevice = true;  // false for an adopted device: destroyContext leaves it to its owner
+    std::function<void(bool error, const std::string& message)> validationMessage;
 
     // Counted by the debug messenger; tests and `inkwell validate` require errors == 0.
     std::atomic<uint32_t> validationErrors{0};
@@ -51,6 +66,10 @@ struct Context {
 
 // Throws ink::Error when there is no Vulkan driver, no device, or the requested one does not exist.
 void createContext(Context& ctx, const ContextOptions& options);
+// Uses the caller's device: only the engine's command pool is made on it. Throws ink::Error when the device
+// lacks what the shaders use.
+void adoptContext(Context& ctx, const AdoptedDevice& device);
+// Waits for the queue and destroys what the engine made (and the device and instance when it made them).
 void destroyContext(Context& ctx);
 
 // The names of all devices, for error messages and `--device list`.

@@ -6,12 +6,16 @@
 #include "refine.h"
 
 #include <doctest/doctest.h>
+#include <cstdio>
 
 struct GpuFixture {
     ink::Context ctx;
     GpuFixture() {
         ink::ContextOptions options;
         options.validation = true;
+        options.validationMessage = [](bool error, const std::string& message) {
+            if (error) std::fprintf(stderr, "validation error: %s\n", message.c_str());
+        };
         ink::createContext(ctx, options);
     }
     ~GpuFixture() { ink::destroyContext(ctx); }

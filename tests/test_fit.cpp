@@ -144,9 +144,16 @@ TEST_CASE("fit: a .hrbf file round-trips bit for bit and evaluates identically")
     }
 
     // Through loadModel: no fit, the stats measured at the stored centres, the same as the fit's.
-    ink::setNotesEnabled(false);  // --control-points is ignored with a note
-    ink::Model loaded = ink::loadModel(path, {300});
-    ink::setNotesEnabled(true);
+    std::vector<std::string> notes;
+    ink::Reporter reporter;
+    reporter.note = [&](const std::string& line) { notes.push_back(line); };
+    ink::Model loaded;
+    {
+        ink::ScopedReporter reporting(reporter);
+        loaded = ink::loadModel(path, {300});
+    }
+    REQUIRE(notes.size() == 1);  // --control-points is ignored for a fitted model, with a note
+    CHECK(notes[0].find("control") != std::string::npos);
     CHECK(loaded.fit.controlPoints == h.size());
     CHECK(loaded.fit.seconds == 0);
     CHECK(loaded.fit.maxDistance == fitted.fit.maxDistance);
