@@ -1,6 +1,8 @@
 // Shared basics: the user-facing error type, notes and progress.
 #pragma once
 
+#include "inkwell/error.h"
+
 #include <cstddef>
 #include <functional>
 #include <stdexcept>
@@ -9,11 +11,9 @@
 
 namespace ink {
 
-// An error a user can cause (bad file, no device, too many points). The message is one line that says
-// what is wrong and, where possible, how to fix it; apps print it and exit non-zero.
-struct Error : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+// The public error type (include/inkwell/error.h): one line that says what is wrong and, where possible,
+// how to fix it; apps print it and exit non-zero.
+using Error = inkwell::Error;
 
 // A token or line of a file, for a message: quoted, shortened, bytes outside printable ASCII shown as '?',
 // so that binary garbage cannot break the one-line message.
@@ -23,14 +23,10 @@ std::string quoted(std::string_view s);
 // "PATH: tooLarge". Errors name the file and the system's reason.
 std::string readFileCapped(const std::string& path, size_t maxBytes, const std::string& tooLarge);
 
-// Where the library's notes and progress go: the library prints nothing itself. An application installs a
-// reporter for a stretch of work on its thread (ScopedReporter); without one, notes and progress are dropped.
-struct Reporter {
-    // A one-line remark ("merged 3 duplicate points", "--control-points is ignored for a .hrbf model").
-    std::function<void(const std::string& line)> note;
-    // Long work ("fit", "refine"): `done` of `total` steps; called again with done == total when it ends.
-    std::function<void(const char* task, size_t done, size_t total)> progress;
-};
+// Where the library's notes and progress go (include/inkwell/error.h): the library prints nothing itself. An
+// application installs a reporter for a stretch of work on its thread (ScopedReporter); without one, notes and
+// progress are dropped.
+using Reporter = inkwell::Reporter;
 
 // Installs `reporter` for this thread until the guard goes (guards nest; the previous one comes back).
 class ScopedReporter {

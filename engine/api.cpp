@@ -1,0 +1,259 @@
+// The public API (include/inkwell/inkwell.h) over the engine: each public object owns the engine object it
+// names, and long calls install the caller's Reporter for their duration.
+#include "inkwell/inkwell.h"
+
+#include "common.h"
+#include "context.h"
+#include "export.h"
+#include "files.h"
+#include "hrbf_io.h"
+#include "image.h"
+#include "model.h"
+#include "renderer.h"
+#include "scene.h"
+
+#include <algorithm>
+
+namespace inkwell {
+
+namespace {
+
+Eigen::Vector3d toEigen(const Vec3& v) { return {v[0], v[1], v[2]}; }
+Vec3 toVec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+ink::Camera toCamera(const Camera& c) {
+    ink::Camera camera;
+    camera.azimuthDeg = c.azimuthDeg;
+    camera.elevationDeg = std::clamp(c.elevationDeg, -89.0f, 89.0f);
+    camera.distance = c.distance;
+    camera.fovyDeg = c.fovyDeg;
+    return camera;
+}
+
+ink::RenderStyle toStyle(const Look& look) {
+    ink::RenderStyle s;
+    s.ink = {look.ink[0], look.ink[1], look.ink[2], look.ink[3]};
+    s.paper = {look.paper[0], look.paper[1], look.paper[2], look.paper[3]};
+    s.hiddenInk = glm::vec4(glm::vec3(s.ink), ink::RenderStyle{}.hiddenInk.a);
+    s.frontSize = look.dotSize;
+    s.silhouetteSize = look.silhouetteSize;
+    s.tau = look.tau;
+    s.toneGamma = look.toneGamma;
+    s.inkDensity = look.inkDensity;
+    s.hiddenLines = look.hiddenLines;
+    s.light = {look.light[0], look.light[1], look.light[2]};
+    s.lightFollowsCamera = look.lightFollowsCamera;
+    s.supersample = std::max(1u, look.supersample);
+    return s;
+}
+
+ink::RefineOptions toRefine(const DrawingOptions& o) {
+    if (o.levels >= ink::kMaxLevels)
+        throw Error("levels " + std::to_string(o.levels) + " is too many: at most " +
+                    std::to_string(ink::kMaxLevels - 1));
+    if (!(o.candidatesPerStipple >= 2.0f && o.candidatesPerStipple <= 16.0f))
+        throw Error("candidatesPerStipple must be in [2, 16]");
+    ink::RefineOptions r;
+    r.levels = o.levels;
+    r.seed = o.seed;
+    r.distribution =
+        o.distribution == Distribution::BlueNoise ? ink::Distribution::BlueNoise : ink::Distribution::Refinement;
+    r.candidatesPerStipple = o.candidatesPerStipple;
+    return r;
+}
+
+ink::DrawStyle toDrawStyle(Style s) {
+    return s == Style::Stipple     ? ink::DrawStyle::Stipple
+           : s == Style::Direction ? ink::DrawStyle::Direction
+                                   : ink::DrawStyle::Both;
+}
+
+}  // namespace
+
+// ---- Model
+
+struct Model::Impl {
+    ink::Model model;
+};
+
+Model Model::load(const std::string& path, const ModelOptions& options, const Reporter& reporter) {
+    ink::ScopedReporter reporting(reporter);
+    ink::checkModelOptions({options.controlPoints});
+    return Model(std::make_shared<const Impl>(Impl{ink::loadModel(path, {options.controlPoints})}));
+}
+
+Model Model::fit(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals, const ModelOptions& options,
+                 const Reporter& reporter) {
+    ink::ScopedReporter reporting(reporter);
+    ink::checkModelOptions({options.controlPoints});
+    if (positions.size() != normals.size())
+        throw Error(std::to_string(positions.size()) + " positions but " + std::to_string(normals.size()) +
+                    " normals: give one normal a point");
+    ink::OrientedPoints points;
+    for (size_t i = 0; i < positions.size(); ++i) {
+        Eigen::Vector3d n = toEigen(normals[i]);
+        if (!toEigen(positions[i]).allFinite() || !n.allFinite() || !(n.norm() > 0))
+            throw Error("point " + std::to_string(i) + " has a non-finite coordinate or a zero normal");
+        points.positions.push_back(toEigen(positions[i]));
+        points.normals.push_back(n.normalized());
+    }
+    return Model(std::make_shared<const Impl>(Impl{ink::fitModel(std::move(points), {options.controlPoints})}));
+}
+
+void Model::save(const std::string& path) const { ink::saveHrbf(path, impl_->model.hrbf); }
+
+FitReport Model::report() const {
+    const ink::Model& m = impl_->model;
+    return {m.inputPoints, m.mergedDuplicates, m.fit.controlPoints,
+            m.fit.seconds, m.fit.maxDistance,  m.fit.maxNormalAngleDeg};
+}
+
+double Model::value(const Vec3& x) const {
+    const ink::Hrbf& h = impl_->model.hrbf;
+    return h.f(h.frame.toNormalized(toEigen(x)));
+}
+
+Vec3 Model::gradient(const Vec3& x) const {
+    const ink::Hrbf& h = impl_->model.hrbf;
+    Eigen::Vector3d g;
+    h.eval(h.frame.toNormalized(toEigen(x)), g);
+    return toVec3(g * h.frame.scale);  // d/dx_input = scale · d/dx_normalized
+}
+
+// ---- Device
+
+struct Device::Impl {
+    ink::Context ctx;
+    ~Impl() { ink::destroyContext(ctx); }
+};
+
+Device::Device(const DeviceOptions& options) : impl_(std::make_unique<Impl>()) {
+    ink::ContextOptions o;
+    o.validation = options.validation;
+    o.device = options.device;
+    o.presentation = options.presentation;
+    o.instanceExtensions = options.instanceExtensions;
+    o.validationMessage = options.validationMessage;
+    ink::createContext(impl_->ctx, o);  // on a throw, ~Impl releases what was made
+}
+
+Device::Device(const AdoptedDevice& device) : impl_(std::make_unique<Impl>()) {
+    ink::adoptContext(impl_->ctx,
+                      {device.instance, device.physicalDevice, device.device, device.queue, device.queueFamily});
+}
+
+Device::~Device() = default;
+Device::Device(Device&&) noexcept = default;
+Device& Device::operator=(Device&&) noexcept = default;
+
+std::string Device::name() const { return impl_->ctx.properties.deviceName; }
+uint32_t Device::validationErrors() const { return impl_->ctx.validationErrors.load(); }
+
+// ---- Drawing
+
+struct Drawing::Impl {
+    ink::Scene scene;
+    Impl(ink::Context& ctx, const ink::Model& model, const DrawingOptions& o)
+        : scene(ctx, model, toDrawStyle(o.style), toRefine(o)) {}
+};
+
+Drawing::Drawing(Device& device, const Model& model, const DrawingOptions& options, const Reporter& reporter) {
+    ink::ScopedReporter reporting(reporter);
+    impl_ = std::make_unique<Impl>(device.impl().ctx, model.impl().model, options);
+}
+
+Drawing::~Drawing() = default;
+Drawing::Drawing(Drawing&&) noexcept = default;
+Drawing& Drawing::operator=(Drawing&&) noexcept = default;
+
+void Drawing::refine(const DrawingOptions& options, const Reporter& reporter) {
+    ink::ScopedReporter reporting(reporter);
+    impl_->scene.refine(toDrawStyle(options.style), toRefine(options));
+}
+
+size_t Drawing::sets() const { return impl_->scene.sets.size(); }
+
+std::vector<Point> Drawing::points(size_t set) const {
+    ink::Scene& scene = impl_->scene;
+    if (set >= scene.sets.size()) throw Error("no point set " + std::to_string(set));
+    const ink::Frame& frame = scene.model.hrbf.frame;
+    std::vector<Point> out;
+    for (const ink::PointRecord& p : ink::readDrawnPoints(scene.ctx, scene.sets[set]->gpu())) {
+        Eigen::Vector3d x(p.position[0], p.position[1], p.position[2]);
+        out.push_back({toVec3(frame.toInput(x)), {p.normal[0], p.normal[1], p.normal[2]}, p.tone, p.level});
+    }
+    return out;
+}
+
+void Drawing::writePly(const std::string& path, size_t set) const {
+    ink::Scene& scene = impl_->scene;
+    if (set >= scene.sets.size()) throw Error("no point set " + std::to_string(set));
+    ink::writePointsPly(path, ink::readDrawnPoints(scene.ctx, scene.sets[set]->gpu()), scene.model.hrbf.frame);
+}
+
+// ---- Rendering
+
+void Image::writePng(const std::string& path) const { ink::writePng(path, {width, height, rgba}); }
+
+struct Renderer::Impl {
+    ink::OffscreenRenderer renderer;
+    Impl(ink::Scene& scene, uint32_t width, uint32_t height, const ink::RenderStyle& style)
+        : renderer(scene.ctx, width, height, style, scene.pointers()) {}
+};
+
+Renderer::Renderer(const Drawing& drawing, uint32_t width, uint32_t height, const Look& look) {
+    ink::Scene& scene = drawing.impl().scene;
+    ink::RenderStyle style = toStyle(look);
+    ink::checkOffscreenSize(scene.ctx, width, height, style.supersample);
+    impl_ = std::make_unique<Impl>(scene, width, height, style);
+}
+
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+void Renderer::setLook(const Look& look) { impl_->renderer.setStyle(toStyle(look)); }
+
+Image Renderer::render(const Camera& camera) {
+    ink::RgbaImage image = impl_->renderer.render(toCamera(camera));
+    return {image.width, image.height, std::move(image.pixels)};
+}
+
+uint32_t Renderer::dotsDrawn() const { return impl_->renderer.drawnDots(); }
+
+struct FrameRecorder::Impl {
+    ink::PointRenderer renderer;
+    ink::RenderStyle style;
+    bool restyle = true;
+    Impl(ink::Scene& scene, VkFormat format, uint32_t frames, const ink::RenderStyle& s)
+        : renderer(scene.ctx, scene.pointers(), format, frames), style(s) {}
+};
+
+FrameRecorder::FrameRecorder(const Drawing& drawing, VkFormat colorFormat, uint32_t framesInFlight, const Look& look) {
+    ink::Scene& scene = drawing.impl().scene;
+    impl_ = std::make_unique<Impl>(scene, colorFormat, std::max(1u, framesInFlight), toStyle(look));
+}
+
+FrameRecorder::~FrameRecorder() = default;
+FrameRecorder::FrameRecorder(FrameRecorder&&) noexcept = default;
+FrameRecorder& FrameRecorder::operator=(FrameRecorder&&) noexcept = default;
+
+void FrameRecorder::setLook(const Look& look) {
+    impl_->style = toStyle(look);
+    impl_->restyle = true;
+}
+
+void FrameRecorder::record(VkCommandBuffer cmd, const Camera& camera, const FrameTarget& target, uint32_t frame) {
+    if (frame >= impl_->renderer.framesInFlight())
+        throw Error("frame " + std::to_string(frame) + " is not one of the " +
+                    std::to_string(impl_->renderer.framesInFlight()) + " frames in flight");
+    if (impl_->restyle) {
+        impl_->renderer.setStyle(cmd, impl_->style, 1.0f);
+        impl_->restyle = false;
+    }
+    impl_->renderer.recordFrame(cmd, toCamera(camera),
+                                {target.image, target.view, target.extent, target.finalLayout, target.previousStages},
+                                frame);
+}
+
+}  // namespace inkwell

@@ -1,0 +1,247 @@
+// Inkwell: pen-and-ink drawings (stipples, hatch-like lines of dots) of Hermite RBF implicit surfaces, fitted on
+// the CPU to meshes or oriented points and refined, selected and drawn on a Vulkan 1.3 device. This header is
+// the whole public API; docs/library.md shows it in use, examples/render.cpp renders a model in 40 lines.
+//
+//   Model     load or fit an HRBF (ψ = r³ plus a linear term) to a mesh or oriented points; save it as .hrbf
+//   Device    a Vulkan device: one Inkwell makes, or one the application made and keeps (adopted)
+//   Drawing   a model's point sets on a device: stipples selected with blue-noise spacing and ranks, or the
+//             report's refined points, or direction sampling; the points can be read back or written as PLY
+//   Renderer  draws a Drawing into an image of its own and reads it back (headless use)
+//   FrameRecorder  records the drawing of a frame into the application's command buffer and colour image
+//
+// Objects own their Vulkan resources and free them when destroyed; a Drawing must outlive its renderers and a
+// Device its drawings. Errors are thrown as inkwell::Error (error.h) with a one-line message; the library
+// prints nothing (notes and progress go to a Reporter). Coordinates are in the input's units unless said;
+// the camera orbits the model's bounding-box centre in units of its diagonal.
+#pragma once
+
+#include "inkwell/error.h"
+
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace inkwell {
+
+using Vec3 = std::array<double, 3>;
+using Color = std::array<float, 4>;  // RGBA, 0..1
+
+// ---- Model --------------------------------------------------------------------------------------------
+
+struct ModelOptions {
+    size_t controlPoints = 0;  // chosen by farthest-point sampling; 0: all points up to 1000 (at most 4000)
+};
+
+struct FitReport {
+    size_t inputPoints = 0;        // read from the file (0 for a .hrbf model)
+    size_t mergedDuplicates = 0;   // input points dropped as duplicates
+    size_t controlPoints = 0;      // the HRBF's centres
+    double seconds = 0;            // fitting time (0 for a .hrbf model)
+    double maxDistance = 0;        // max |f|/‖∇f‖ at the centres, in bounding-box diagonals
+    double maxNormalAngleDeg = 0;  // max angle between ∇f and the given normal at the centres
+};
+
+// An HRBF implicit surface f = 0, fitted so that f(p_i) = 0 and ∇f(p_i) = n_i at the control points. Cheap to
+// copy (shared, immutable).
+class Model {
+public:
+    // Reads a mesh (.obj, .ply) or oriented points (.pts/.xyzn/.txt: x y z nx ny nz a line) and fits it, or
+    // reads a fitted .hrbf file. Cost: the dense fit is O(m³) in the control points (0.2 s at 684 on 2 cores).
+    static Model load(const std::string& path, const ModelOptions& options = {}, const Reporter& reporter = {});
+    // Fits oriented points (normals need not be unit; they must not be zero).
+    static Model fit(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
+                     const ModelOptions& options = {}, const Reporter& reporter = {});
+    // Writes the fitted model as .hrbf (docs/hrbf-format.md), atomically.
+    void save(const std::string& path) const;
+
+    FitReport report() const;
+    // f and ∇f at x, in the input's units (f is negative inside, for closed surfaces with outward normals).
+    double value(const Vec3& x) const;
+    Vec3 gradient(const Vec3& x) const;
+
+    struct Impl;
+    const Impl& impl() const { return *impl_; }
+
+private:
+    explicit Model(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
+    std::shared_ptr<const Impl> impl_;
+};
+
+// ---- Device -------------------------------------------------------------------------------------------
+
+struct DeviceOptions {
+    bool validation = false;    // Vulkan validation with synchronization validation (vulkan-validationlayers)
+    std::string device;         // "": a GPU if there is one, else lavapipe; or an index, or part of a name
+    bool presentation = false;  // enable VK_KHR_swapchain
+    std::vector<const char*> instanceExtensions;  // extra instance extensions (a window system's)
+    // Called with each validation error (true) or warning (false).
+    std::function<void(bool error, const std::string& message)> validationMessage;
+};
+
+// A device the application made and keeps. It must be Vulkan 1.3 with synchronization2, dynamicRendering,
+// maintenance4, hostQueryReset and shaderFloat64 enabled, and subgroup basic/vote/ballot/arithmetic/shuffle
+// operations in compute; the queue's family must do graphics and compute. Inkwell makes only its own command
+// pool, buffers and pipelines on it, and waits for the queue when the Device goes.
+struct AdoptedDevice {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    uint32_t queueFamily = 0;
+};
+
+class Device {
+public:
+    explicit Device(const DeviceOptions& options = {});
+    explicit Device(const AdoptedDevice& device);
+    ~Device();
+    Device(Device&&) noexcept;
+    Device& operator=(Device&&) noexcept;
+
+    std::string name() const;           // "llvmpipe (LLVM 15.0.6, 256 bits)"
+    uint32_t validationErrors() const;  // counted since creation (with DeviceOptions::validation)
+
+    struct Impl;
+    Impl& impl() const { return *impl_; }
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+// ---- Drawing ------------------------------------------------------------------------------------------
+
+enum class Style {
+    Stipple,    // dots
+    Direction,  // hatch-like lines of dots along a direction field
+    Both,       // both sets, drawn together
+};
+
+enum class Distribution {
+    BlueNoise,   // stipples selected from the refined points, evenly spaced, with progressive ranks (default)
+    Refinement,  // every refined point, with a random tone value (the report's look)
+};
+
+struct DrawingOptions {
+    Style style = Style::Stipple;
+    Distribution distribution = Distribution::BlueNoise;
+    uint32_t levels = 4;                // refinement levels after the seeds (each about 4× the points)
+    float candidatesPerStipple = 4.0f;  // blue noise: keep about one refined point in this many (2..16)
+    uint32_t seed = 1;
+};
+
+// A point as drawn: on the surface, in the input's units.
+struct Point {
+    Vec3 position;
+    Vec3 normal;     // unit
+    float rank;      // a stipple's rank: the points with rank < t are an evenly spaced subset, for any t
+    uint32_t level;  // the refinement level that made it
+};
+
+// A model's point sets on a device: one for Stipple or Direction, two for Both. Made on the device in one
+// submission a set, waited for (0.9 s for the 684-point bunny on lavapipe).
+class Drawing {
+public:
+    Drawing(Device& device, const Model& model, const DrawingOptions& options = {}, const Reporter& reporter = {});
+    ~Drawing();
+    Drawing(Drawing&&) noexcept;
+    Drawing& operator=(Drawing&&) noexcept;
+
+    // Replaces the sets (another style, more levels); waits for the device to be idle.
+    void refine(const DrawingOptions& options, const Reporter& reporter = {});
+    size_t sets() const;
+    // The points set `set` draws (reads them back), and the same written as binary PLY with rank and level.
+    std::vector<Point> points(size_t set = 0) const;
+    void writePly(const std::string& path, size_t set = 0) const;
+
+    struct Impl;
+    Impl& impl() const { return *impl_; }
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+// ---- Drawing it ---------------------------------------------------------------------------------------
+
+// An orbit camera around the model's centre.
+struct Camera {
+    float azimuthDeg = 30.0f;    // around the up axis (+y)
+    float elevationDeg = 15.0f;  // above the horizon, within ±89
+    float distance = 1.6f;       // from the centre, in bounding-box diagonals
+    float fovyDeg = 40.0f;
+};
+
+// How the points become ink.
+struct Look {
+    Color ink{0, 0, 0, 1};
+    Color paper{1, 1, 1, 1};
+    float dotSize = 2.0f;         // diameter in output pixels
+    float silhouetteSize = 2.4f;  // silhouette dots (|n·v| < tau)
+    float tau = 0.1f;
+    float toneGamma = 1.5f;    // tone curve exponent; 0 draws every front dot
+    float inkDensity = 1.0f;   // scales how many dots the tone draws
+    bool hiddenLines = false;  // occluded silhouettes drawn faint
+    // Towards the light, x right, y up, z to the viewer, as seen from the default camera; fixed to the model
+    // as the camera moves, unless lightFollowsCamera.
+    std::array<float, 3> light{-0.5f, 0.6f, 0.65f};
+    bool lightFollowsCamera = false;
+    uint32_t supersample = 2;  // Renderer only: draw this many times larger and filter down
+};
+
+struct Image {
+    uint32_t width = 0, height = 0;
+    std::vector<uint8_t> rgba;                     // rows top to bottom
+    void writePng(const std::string& path) const;  // atomically
+};
+
+// Draws into an image of its own and reads it back.
+class Renderer {
+public:
+    Renderer(const Drawing& drawing, uint32_t width, uint32_t height, const Look& look = {});
+    ~Renderer();
+    Renderer(Renderer&&) noexcept;
+    Renderer& operator=(Renderer&&) noexcept;
+
+    void setLook(const Look& look);
+    Image render(const Camera& camera);  // one submission, waited for
+    uint32_t dotsDrawn() const;          // by the last render
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// A colour image of the application's that a frame is drawn into. Its contents are discarded (cleared to the
+// paper); it ends in `finalLayout`.
+struct FrameTarget {
+    VkImage image = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+    VkExtent2D extent{};
+    VkImageLayout finalLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    // The stages the frame's first use of the image must follow (where the application's semaphore waits).
+    VkPipelineStageFlags2 previousStages = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+};
+
+// Records frames into the application's command buffers: compute passes (visibility, dot selection,
+// stamping), then one dynamic-rendering pass over the target. Each of `framesInFlight` frame slots owns its
+// buffers; the application waits for a slot's previous submission before recording it again.
+class FrameRecorder {
+public:
+    FrameRecorder(const Drawing& drawing, VkFormat colorFormat, uint32_t framesInFlight, const Look& look = {});
+    ~FrameRecorder();
+    FrameRecorder(FrameRecorder&&) noexcept;
+    FrameRecorder& operator=(FrameRecorder&&) noexcept;
+
+    // Takes effect in the next recorded frame (recorded into it, after the frames before have read the old one).
+    void setLook(const Look& look);
+    void record(VkCommandBuffer cmd, const Camera& camera, const FrameTarget& target, uint32_t frame);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace inkwell
