@@ -348,10 +348,13 @@ void PointRenderer::recordFrame(VkCommandBuffer cmd, const Camera& camera, const
         stage = VK_PIPELINE_STAGE_2_COPY_BIT;
         access = 0;  // a read: only the layout change must wait for it
     }
-    // What follows (presentation, the caller's sampling) waits on the submission's semaphore or fence.
-    if (target.finalLayout != layout)
+    // Presentation waits on the submission's semaphore; anything else the caller records after the frame in the
+    // same command buffer (a copy, sampling) must follow the layout change.
+    const bool present = target.finalLayout == VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    if (target.finalLayout != layout || !present)
         imageBarrier(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, layout, target.finalLayout, stage, access,
-                     VK_PIPELINE_STAGE_2_NONE, 0);
+                     present ? VK_PIPELINE_STAGE_2_NONE : VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                     present ? 0 : VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
 }
 
 void PointRenderer::writeEnd(VkCommandBuffer cmd, uint32_t frame) const {

@@ -51,7 +51,8 @@ struct StyleBlock {
 };
 
 // A colour image a frame is drawn into: the caller's (a swapchain image, a texture of its own) or the
-// offscreen renderer's. Its contents before the frame are discarded; it ends in `finalLayout`.
+// offscreen renderer's. Its contents before the frame are discarded; it ends in `finalLayout`, visible to
+// any later command (for PRESENT_SRC_KHR, the submission's semaphore orders the presentation).
 struct FrameTarget {
     VkImage image = VK_NULL_HANDLE;
     VkImageView view = VK_NULL_HANDLE;

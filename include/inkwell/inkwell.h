@@ -215,7 +215,8 @@ private:
 };
 
 // A colour image of the application's that a frame is drawn into. Its contents are discarded (cleared to the
-// paper); it ends in `finalLayout`.
+// paper); it ends in `finalLayout`, and whatever the application records after the frame may use it (for
+// PRESENT_SRC_KHR, the submission's semaphore orders the presentation).
 struct FrameTarget {
     VkImage image = VK_NULL_HANDLE;
     VkImageView view = VK_NULL_HANDLE;

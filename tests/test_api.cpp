@@ -1,0 +1,153 @@
+// The public API (include/inkwell/inkwell.h) as an application uses it: errors as inkwell::Error, notes through
+// a Reporter, a device adopted from the application, and frames recorded into the application's own command
+// buffer and image, which must show what the offscreen Renderer shows.
+#include "inkwell/inkwell.h"
+
+#include "gpu_fixture.h"
+#include "resources.h"
+#include "shapes.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+namespace {
+
+std::string asset(const char* name) { return std::string(INKWELL_SOURCE_DIR) + "/" + name; }
+
+// A sphere of radius ½ as oriented points (the fit interpolates it closely).
+void spherePoints(std::vector<inkwell::Vec3>& positions, std::vector<inkwell::Vec3>& normals) {
+    for (const Eigen::Vector3d& p : ink::sphereAxisPoints().positions) {
+        positions.push_back({p.x(), p.y(), p.z()});
+        normals.push_back({p.x(), p.y(), p.z()});
+    }
+}
+
+size_t inked(const inkwell::Image& image) {
+    size_t n = 0;
+    for (size_t i = 0; i < image.rgba.size(); i += 4) n += image.rgba[i] < 128;
+    return n;
+}
+
+}  // namespace
+
+TEST_CASE("api: a fitted sphere evaluates as the sphere, and bad input is an inkwell::Error with a sentence") {
+    std::vector<inkwell::Vec3> positions, normals;
+    spherePoints(positions, normals);
+    inkwell::Model model = inkwell::Model::fit(positions, normals);
+    CHECK(model.report().controlPoints == positions.size());
+    // sphereAxisPoints: radius 0.5.
+    CHECK(model.value({0, 0, 0}) < 0);  // inside
+    CHECK(model.value({2, 0, 0}) > 0);  // outside
+    CHECK(std::abs(model.value({0.3, 0.4, 0})) < 1e-2 * std::abs(model.value({2, 0, 0})));
+    inkwell::Vec3 g = model.gradient({0.3, 0.4, 0});
+    double norm = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    CHECK(std::acos((0.6 * g[0] + 0.8 * g[1]) / norm) < 0.05);  // along the outward normal
+
+    normals[3] = {0, 0, 0};
+    CHECK_THROWS_WITH_AS(inkwell::Model::fit(positions, normals),
+                         "point 3 has a non-finite coordinate or a zero normal", inkwell::Error);
+    normals.pop_back();
+    CHECK_THROWS_AS(inkwell::Model::fit(positions, normals), inkwell::Error);
+    CHECK_THROWS_WITH_AS(inkwell::Model::load(asset("no-such-model.obj")), doctest::Contains("no-such-model.obj"),
+                         inkwell::Error);
+    inkwell::ModelOptions tooMany;
+    tooMany.controlPoints = 100000;
+    CHECK_THROWS_WITH_AS(inkwell::Model::load(asset("assets/bunny.obj"), tooMany), doctest::Contains("4000"),
+                         inkwell::Error);
+}
+
+TEST_CASE("api: notes reach the Reporter, and nothing else is said") {
+    std::vector<std::string> notes;
+    inkwell::Reporter reporter;
+    reporter.note = [&](const std::string& line) { notes.push_back(line); };
+    inkwell::ModelOptions options;
+    options.controlPoints = 200;
+    inkwell::Model model = inkwell::Model::load(asset("assets/bunny.obj"), options, reporter);
+    CHECK(model.report().controlPoints == 200);
+    CHECK(model.report().inputPoints > 1000);
+    // Saved and loaded back with a control-point count: ignored, with a note.
+    std::string path = (std::filesystem::temp_directory_path() / "inkwell-api-test.hrbf").string();
+    model.save(path);
+    inkwell::Model loaded = inkwell::Model::load(path, options, reporter);
+    std::filesystem::remove(path);
+    CHECK(loaded.report().controlPoints == 200);
+    CHECK(loaded.value({0, 0.1, 0}) == model.value({0, 0.1, 0}));
+    REQUIRE(!notes.empty());
+    CHECK(notes.back().find("ignored") != std::string::npos);
+}
+
+TEST_CASE("api: an adopted device draws into the application's own image what the Renderer draws") {
+    GpuFixture gpu;  // the application's instance and device, with validation
+    inkwell::Device device(inkwell::AdoptedDevice{gpu.ctx.instance, gpu.ctx.physicalDevice, gpu.ctx.device,
+                                                  gpu.ctx.queue, gpu.ctx.queueFamily});
+    CHECK(device.name() == gpu.ctx.properties.deviceName);
+    std::vector<inkwell::Vec3> positions, normals;
+    spherePoints(positions, normals);
+    inkwell::DrawingOptions options;
+    options.levels = 5;
+    inkwell::Drawing drawing(device, inkwell::Model::fit(positions, normals), options);
+    std::vector<inkwell::Point> points = drawing.points();
+    REQUIRE(points.size() > 1000);
+    for (const inkwell::Point& p : {points.front(), points.back()}) {
+        CHECK(std::abs(std::hypot(p.position[0], p.position[1], p.position[2]) - 0.5) < 0.01);  // on the sphere
+        CHECK(p.rank >= 0.0f);
+        CHECK(p.rank < 1.0f);
+    }
+
+    const uint32_t size = 160;
+    inkwell::Look look;
+    look.supersample = 1;
+    look.ink = {0.1f, 0.2f, 0.6f, 1.0f};
+    inkwell::Camera camera;
+    camera.azimuthDeg = 70;
+    inkwell::Image offscreen;
+    {
+        inkwell::Renderer renderer(drawing, size, size, look);
+        offscreen = renderer.render(camera);
+    }
+    REQUIRE(inked(offscreen) > 200);
+
+    // The application's frame: its image, its command buffer, its submission; two frames in flight.
+    ink::Image target = ink::createImage(gpu.ctx, size, size, VK_FORMAT_R8G8B8A8_UNORM,
+                                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                         VK_IMAGE_ASPECT_COLOR_BIT);
+    ink::Buffer readback = ink::createBuffer(gpu.ctx, VkDeviceSize(size) * size * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                             ink::MemoryUse::Readback);
+    inkwell::Image recorded{size, size, {}};
+    {
+        inkwell::FrameRecorder recorder(drawing, VK_FORMAT_R8G8B8A8_UNORM, 2, look);
+        for (uint32_t frame : {0u, 1u}) {
+            ink::submitAndWait(gpu.ctx, [&](VkCommandBuffer cmd) {
+                inkwell::FrameTarget t{target.image,
+                                       target.view,
+                                       {size, size},
+                                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                       VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT};
+                recorder.record(cmd, camera, t, frame);
+                VkBufferImageCopy region{};
+                region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                region.imageExtent = {size, size, 1};
+                vkCmdCopyImageToBuffer(cmd, target.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1,
+                                       &region);
+                ink::stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                                  VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+            });
+            recorded.rgba.resize(size_t(size) * size * 4);
+            std::memcpy(recorded.rgba.data(), readback.mapped, recorded.rgba.size());
+            CHECK(recorded.rgba == offscreen.rgba);  // the same passes, the same pixels
+        }
+        CHECK_THROWS_AS(recorder.record(VK_NULL_HANDLE, camera, {}, 2), inkwell::Error);
+    }
+    ink::destroyBuffer(gpu.ctx, readback);
+    ink::destroyImage(gpu.ctx, target);
+    // The ink colour came through: the darkest pixel is the ink's.
+    uint8_t bluest = 0;
+    for (size_t i = 0; i < recorded.rgba.size(); i += 4)
+        if (recorded.rgba[i] < 60) bluest = std::max(bluest, recorded.rgba[i + 2]);
+    CHECK(bluest > 120);
+    gpu.requireNoValidationErrors();
+}
