@@ -1,8 +1,6 @@
 // Cleaning oriented points for fitting: duplicate merging and farthest-point sampling.
 #include "clean.h"
 
-#include "points.h"
-
 #include <algorithm>
 #include <array>
 #include <bit>

@@ -1,13 +1,13 @@
 // Cleaning oriented points before a fit: merging duplicates and picking well-spread control points.
 #pragma once
 
+#include "oriented_points.h"
+
 #include <Eigen/Core>
 #include <cstddef>
 #include <vector>
 
 namespace ink {
-
-struct OrientedPoints;  // points.h
 
 // Merges points closer than `tolerance` (absolute, in the points' units; callers pass ~1e-9 of the
 // bounding-box diagonal), keeping the first of each cluster. Returns how many were merged.

@@ -12,17 +12,13 @@
 #pragma once
 
 #include "clean.h"
+#include "oriented_points.h"
 
 #include <Eigen/Core>
 #include <string>
 #include <vector>
 
 namespace ink {
-
-struct OrientedPoints {
-    std::vector<Eigen::Vector3d> positions;
-    std::vector<Eigen::Vector3d> normals;  // unit length, one per position
-};
 
 // Picks the loader by extension (case-insensitive). Normals are normalized; a zero or non-finite
 // normal, or a non-finite coordinate, is an error naming where it is.

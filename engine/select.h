@@ -15,7 +15,7 @@
 #pragma once
 
 #include "pipelines.h"
-#include "refine.h"
+#include "refine_plan.h"
 #include "resources.h"
 
 #include <cstdint>

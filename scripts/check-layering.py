@@ -1,0 +1,44 @@
+#!/usr/bin/env python3
+"""Checks the engine's layering (CI): no two engine modules include each other, directly or through others
+(a module is NAME.h with NAME.cpp), and the installed headers (include/inkwell/) include nothing of the
+engine's. Prints the cycles it finds and exits 1."""
+import glob, os, re, sys
+
+os.chdir(os.path.join(os.path.dirname(__file__), '..'))
+files = glob.glob('engine/**/*.h', recursive=True) + glob.glob('engine/**/*.cpp', recursive=True)
+module = lambda f: os.path.splitext(os.path.relpath(f, 'engine'))[0]
+edges = {}
+for f in files:
+    for line in open(f, encoding='utf-8'):
+        m = re.match(r'#include "([^"]+)"', line)
+        if not m:
+            continue
+        for candidate in (os.path.join('engine', m.group(1)), os.path.join(os.path.dirname(f), m.group(1))):
+            if os.path.exists(candidate):
+                target = module(os.path.normpath(candidate))
+                if target != module(f):
+                    edges.setdefault(module(f), set()).add(target)
+                break
+
+cycles, done = set(), set()
+def visit(node, path):  # depth first; an edge back into the path closes a cycle
+    for target in sorted(edges.get(node, ())):
+        if target in path:
+            cycles.add(' -> '.join(path[path.index(target):] + [target]))
+        elif target not in done:
+            visit(target, path + [target])
+    done.add(node)
+for node in sorted(edges):
+    if node not in done:
+        visit(node, [node])
+
+public = [f for f in glob.glob('include/inkwell/*.h')
+          for line in open(f, encoding='utf-8')
+          if re.match(r'#include "(?!inkwell/)', line)]
+for c in sorted(cycles):
+    print(f'check-layering: engine modules include each other: {c}')
+for f in sorted(set(public)):
+    print(f'check-layering: {f} includes a header outside include/inkwell/')
+if cycles or public:
+    sys.exit(1)
+print(f'check-layering: {len(edges)} engine modules, no include cycle; the public headers stand alone')
