@@ -1,4 +1,5 @@
 // The inkwell executable as a user meets it: exit codes and one-line messages.
+#include "image.h"
 #include "run_command.h"
 
 #include <doctest/doctest.h>
@@ -52,7 +53,36 @@ TEST_CASE("cli: render with validation writes the bunny PNG and reports its poin
     CHECK(r.status == 0);
     CHECK(r.output.find("validation error") == std::string::npos);
     CHECK(r.output.find("100 control points") != std::string::npos);
-    CHECK(std::filesystem::file_size(out) > 1000);
+
+    // The picture: the default size, opaque, paper all round the edges, and the bunny's dots (a hundred or so
+    // at two levels and 1024 pixels) spread about the middle.
+    ink::RgbaImage image = ink::readPng(out);
+    REQUIRE(image.width == 1024);
+    REQUIRE(image.height == 1024);
+    size_t opaque = 0, inked = 0, edgeInk = 0;
+    std::array<size_t, 4> quadrantInk{};                           // about the centre: left/right + 2 × top/bottom
+    uint32_t x0 = image.width, y0 = image.height, x1 = 0, y1 = 0;  // the inked pixels' bounding box
+    for (uint32_t y = 0; y < image.height; ++y)
+        for (uint32_t x = 0; x < image.width; ++x) {
+            const uint8_t* p = &image.pixels[(size_t(y) * image.width + x) * 4];
+            opaque += p[3] == 255;
+            if (299 * p[0] + 587 * p[1] + 114 * p[2] >= 128'000) continue;  // luma: paper or a faint edge
+            ++inked;
+            x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+            edgeInk += std::min({x, y, image.width - 1 - x, image.height - 1 - y}) < 64;
+            ++quadrantInk[(x >= 512) + 2 * (y >= 512)];
+        }
+    size_t pixels = size_t(image.width) * image.height;
+    CHECK(opaque == pixels);
+    CHECK(edgeInk == 0);
+    CHECK(inked > 100);
+    CHECK(double(inked) / double(pixels) < 0.02);  // dots on paper, not a filled shape
+    for (size_t q = 0; q < 4; ++q) CHECK_MESSAGE(quadrantInk[q] > 10, "quadrant " << q);
+    // The bunny fills a good part of the frame and is centred in it (the camera looks at the model's centre).
+    CHECK(x1 - x0 > 400);
+    CHECK(y1 - y0 > 400);
+    CHECK(std::abs(int(x0 + x1) / 2 - 512) < 80);
+    CHECK(std::abs(int(y0 + y1) / 2 - 512) < 80);
 }
 
 TEST_CASE("cli: sample writes ranked stipples as a binary PLY in the input's units, and their spacing in stats") {

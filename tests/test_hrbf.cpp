@@ -82,18 +82,60 @@ TEST_CASE("hrbf: gradient and Hessian agree with finite differences of f") {
     }
 }
 
-TEST_CASE("hrbf: principal curvatures of a sphere and a cylinder-like ellipsoid") {
-    std::vector<Vector3d> p, n;
-    ellipsoid(200, p, n, {0.4, 0.4, 0.4});
-    ink::Hrbf h = ink::fitHrbf(p, n);
-    Vector3d g;
-    Eigen::Matrix3d H;
-    Vector3d x(0.0, 0.4, 0.0);
-    h.eval(x, g, &H);
-    ink::Curvature c = ink::principalCurvatures(g, H);
-    CHECK(c.k1 == doctest::Approx(2.5).epsilon(0.02));  // 1 / 0.4
-    CHECK(c.k2 == doctest::Approx(2.5).epsilon(0.02));
-    CHECK(std::abs(c.d1.dot(g.normalized())) < 1e-6);
+TEST_CASE("hrbf: principal curvatures of a sphere and of an ellipsoid with unequal axes match the analytic ones") {
+    SUBCASE("sphere of radius 0.4: both 1/0.4") {
+        std::vector<Vector3d> p, n;
+        ellipsoid(200, p, n, {0.4, 0.4, 0.4});
+        ink::Hrbf h = ink::fitHrbf(p, n);
+        Vector3d g;
+        Eigen::Matrix3d H;
+        h.eval(Vector3d(0.0, 0.4, 0.0), g, &H);
+        ink::Curvature c = ink::principalCurvatures(g, H);
+        CHECK(c.k1 == doctest::Approx(2.5).epsilon(0.02));
+        CHECK(c.k2 == doctest::Approx(2.5).epsilon(0.02));
+        CHECK(std::abs(c.d1.dot(g.normalized())) < 1e-6);
+    }
+    SUBCASE("ellipsoid with semi-axes 0.5, 0.35, 0.25") {
+        const double a = 0.5, b = 0.35, c = 0.25;
+        std::vector<Vector3d> p, n;
+        ellipsoid(300, p, n, {a, b, c});
+        ink::Hrbf h = ink::fitHrbf(p, n);
+        auto curvature = [&](const Vector3d& x) {
+            Vector3d g;
+            Eigen::Matrix3d H;
+            h.eval(x, g, &H);
+            return ink::principalCurvatures(g, H);
+        };
+        auto along = [](const Vector3d& d, const Vector3d& axis) { return std::abs(d.dot(axis)) > 0.99; };
+
+        // At the end of an axis the principal directions are the other two axes, and the curvature along
+        // axis k is (this semi-axis) / r_k²: at (0, b, 0) b/a² = 1.4 along x and b/c² = 5.6 along z.
+        ink::Curvature y = curvature({0, b, 0});
+        CHECK(y.k1 == doctest::Approx(b / (a * a)).epsilon(0.02));
+        CHECK(y.k2 == doctest::Approx(b / (c * c)).epsilon(0.02));
+        CHECK(along(y.d1, Vector3d::UnitX()));
+        CHECK(along(y.d2, Vector3d::UnitZ()));
+        // At (0, 0, c): c/a² = 1.0 along x, c/b² = 2.04 along y.
+        ink::Curvature z = curvature({0, 0, c});
+        CHECK(z.k1 == doctest::Approx(c / (a * a)).epsilon(0.02));
+        CHECK(z.k2 == doctest::Approx(c / (b * b)).epsilon(0.02));
+        CHECK(along(z.d1, Vector3d::UnitX()));
+        CHECK(along(z.d2, Vector3d::UnitY()));
+
+        // Elsewhere, between control points: the Gaussian curvature K = κ1 κ2 = 1 / ((abc)² s⁴) and the mean
+        // H = (κ1 + κ2)/2 = (a² + b² + c² − |x|²) / (2 (abc)² s³), s = ‖(x/a², y/b², z/c²)‖.
+        std::vector<Vector3d> q, m;
+        ellipsoid(37, q, m, {a, b, c});
+        for (const Vector3d& x : q) {
+            CAPTURE(x.transpose());
+            ink::Curvature k = curvature(x);
+            double s = x.cwiseQuotient(Vector3d(a * a, b * b, c * c)).norm(), abc2 = (a * b * c) * (a * b * c);
+            CHECK(k.k1 * k.k2 == doctest::Approx(1.0 / (abc2 * std::pow(s, 4))).epsilon(0.02));
+            CHECK(
+                (k.k1 + k.k2) / 2 ==
+                doctest::Approx((a * a + b * b + c * c - x.squaredNorm()) / (2 * abc2 * std::pow(s, 3))).epsilon(0.01));
+        }
+    }
 }
 
 TEST_CASE("model: fitModel normalizes, reports in normalized units, and refuses too few points") {
