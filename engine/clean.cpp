@@ -88,6 +88,49 @@ size_t mergeDuplicates(OrientedPoints& points, double tolerance) {
     return merged;
 }
 
+NearMerge mergeNearPoints(OrientedPoints& points, double tolerance) {
+    std::vector<Vector3d>& pos = points.positions;
+    std::vector<Vector3d>& nor = points.normals;
+    const size_t n = pos.size();
+    const double t2 = tolerance * tolerance;
+    std::vector<size_t> cluster(n);
+    for (size_t i = 0; i < n; ++i) cluster[i] = i;
+    // Each point joins the cluster of the first earlier point within the tolerance (single linkage on the
+    // first match: clusters are as small as the creases that make them).
+    for (size_t i = 0; i < n; ++i)
+        for (size_t j = 0; j < i; ++j)
+            if (cluster[j] == j && (pos[i] - pos[j]).squaredNorm() <= t2) {
+                cluster[i] = j;
+                break;
+            }
+    std::vector<Vector3d> sum(n, Vector3d::Zero());
+    std::vector<size_t> size(n, 0);
+    for (size_t i = 0; i < n; ++i) {
+        sum[cluster[i]] += nor[i];
+        ++size[cluster[i]];
+    }
+    NearMerge result;
+    size_t kept = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (cluster[i] != i) continue;
+        if (size[i] > 1) {
+            Vector3d mean = sum[i] / double(size[i]);
+            if (!(mean.norm() >= 0.5)) {
+                result.dropped += size[i];
+                continue;
+            }
+            result.merged += size[i] - 1;
+            nor[i] = mean.normalized();
+        }
+        pos[kept] = pos[i];
+        nor[kept] = nor[i];
+        ++kept;
+    }
+    pos.resize(kept);
+    nor.resize(kept);
+    return result;
+}
+
 std::vector<size_t> farthestPointSample(const std::vector<Vector3d>& positions, size_t count) {
     size_t n = positions.size();
     std::vector<size_t> picked;

@@ -6,9 +6,28 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 
 namespace ink {
+
+namespace {
+
+// About the distance between neighbouring points, if they cover a surface as large as the faces of their
+// bounding box: sqrt(box surface / 2 / count) (a closed surface fills about half of it).
+double typicalSpacing(const std::vector<Eigen::Vector3d>& points) {
+    if (points.size() < 2) return 0;
+    Eigen::Vector3d lo = points.front(), hi = points.front();
+    for (const auto& p : points) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    Eigen::Vector3d d = hi - lo;
+    double area = d.x() * d.y() + d.y() * d.z() + d.z() * d.x();
+    return std::sqrt(area / double(points.size()));
+}
+
+}  // namespace
 
 void checkModelOptions(const ModelOptions& options) {
     if (options.controlPoints > kMaxControlPoints)
@@ -41,16 +60,40 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     }
     wanted = std::min(wanted, distinct);
 
-    std::vector<Eigen::Vector3d> p, n;
     // On a terminal: the stages of the fit (the dense solve, the last, dominates from about 1000 points on).
     Progress progress("fit", 2);
     progress.update(0);
+    OrientedPoints chosen;
     for (size_t i : farthestPointSample(points.positions, wanted)) {
-        p.push_back(frame.toNormalized(points.positions[i]));
-        n.push_back(points.normals[i]);
+        chosen.positions.push_back(frame.toNormalized(points.positions[i]));
+        chosen.normals.push_back(points.normals[i]);
     }
+    // Control points within 1% of the typical spacing of another (a crease's split vertices, a seam) leave the
+    // system too ill-conditioned to trust: merged, their normals averaged. The spacing is that of the chosen
+    // points spread over about the surface of their box, robust to how many of them sit in such pairs.
+    const double tolerance = 0.01 * typicalSpacing(chosen.positions);
+    NearMerge near = mergeNearPoints(chosen, tolerance);
+    if (near.merged)
+        note("merged " + std::to_string(near.merged) + " control point" + (near.merged == 1 ? "" : "s") +
+             " within 1% of the point spacing of another (creases or seams), their normals averaged");
+    if (near.dropped)
+        note("dropped " + std::to_string(near.dropped) + " control point" + (near.dropped == 1 ? "" : "s") +
+             " in clusters whose normals cancel (both sides of a thin sheet at one place)");
+    if (chosen.positions.size() < 2)
+        throw Error("too few distinct points to fit a surface: " + std::to_string(chosen.positions.size()) +
+                    " (need at least 2)");
     progress.update(1);
-    model.hrbf = fitHrbf(p, n, &model.fit);
+    try {
+        model.hrbf = fitHrbf(chosen.positions, chosen.normals, &model.fit);
+    } catch (const Error& e) {
+        // The one change that helps: farthest-point sampling keeps fewer points farther apart.
+        const size_t fewer = std::max<size_t>(4, chosen.positions.size() / 2);
+        if (std::string(e.what()).find("ill-conditioned") == std::string::npos &&
+            std::string(e.what()).find("singular") == std::string::npos)
+            throw;
+        throw Error(std::string(e.what()) + "; fit fewer control points (--control-points " + std::to_string(fewer) +
+                    ")");
+    }
     progress.update(2);
     model.hrbf.frame = frame;
     return model;
