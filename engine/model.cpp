@@ -58,6 +58,9 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
             note("using " + std::to_string(wanted) + " of " + std::to_string(distinct) +
                  " points as control points (--control-points to change)");
     }
+    if (wanted > distinct)
+        note("asked for " + std::to_string(wanted) + " control points, but the model has " + std::to_string(distinct) +
+             " distinct points: using all of them");
     wanted = std::min(wanted, distinct);
 
     // On a terminal: the stages of the fit (the dense solve, the last, dominates from about 1000 points on).

@@ -58,19 +58,29 @@ RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& o, uint64_t max
         lo.array() -= cell;
         Eigen::Vector3i n = ((hi - lo).array() / cell).ceil().cast<int>() + 1;
         uint64_t cells = uint64_t(n.x()) * uint64_t(n.y()) * uint64_t(n.z());
-        if (cells > maxPoints)
+        if (cells > (uint64_t(1) << 27))
             throw Error("--grid " + std::to_string(o.grid) + " makes " + std::to_string(cells) +
-                        " seeds, more than fit (" + std::to_string(maxPoints) + ")");
+                        " cells: use a coarser --grid");
         plan.seedJumpLimit = float(std::sqrt(3.0) * cell);  // the cell's neighbourhood
         plan.gridCell = cell;
+        // Most cells are far from the surface. Their seeds would be dropped by the projection's jump limit
+        // anyway; leaving out those whose first-order distance |f|/‖∇f‖ is over 1.25 times that limit keeps the
+        // seeds (and the buffers sized for their children) to the cells near the surface.
         for (int z = 0; z < n.z(); ++z)
             for (int y = 0; y < n.y(); ++y)
                 for (int x = 0; x < n.x(); ++x) {
                     uint32_t id = uint32_t((z * n.y() + y) * n.x() + x);
                     auto u = unitFloats(pcg4d({o.seed, 0xFFFF0000u, id, 0u}));
-                    Eigen::Vector3d c = lo + cell * Eigen::Vector3d(x + u[0], y + u[1], z + u[2]);
+                    Eigen::Vector3d c = lo + cell * Eigen::Vector3d(x + u[0], y + u[1], z + u[2]), g;
+                    double f = hrbf.eval(c, g);
+                    if (!(std::abs(f) <= 1.25 * double(plan.seedJumpLimit) * g.norm())) continue;
                     plan.seeds.push_back(c.cast<float>());
                 }
+        if (plan.seeds.size() > maxPoints)
+            throw Error("--grid " + std::to_string(o.grid) + " makes " + std::to_string(plan.seeds.size()) +
+                        " seeds near the surface, more than fit (" + std::to_string(maxPoints) +
+                        "): use a coarser --grid");
+        if (plan.seeds.empty()) throw Error("--grid " + std::to_string(o.grid) + " finds no cell near the surface");
         // ρ₀ follows the grid: projected seeds are about one cell apart.
         base.clear();
     }
@@ -89,12 +99,24 @@ RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& o, uint64_t max
         plan.maxCandidates.push_back(candidates);
         plan.maxPoints += candidates;
     }
-    if (plan.maxPoints > maxPoints)
+    if (plan.maxPoints > maxPoints) {
+        // Advice that helps: the levels that would fit, and what else sets the count (the seeds: control
+        // points, or the grid's cells).
+        uint32_t fitting = 0;
+        for (uint64_t total = 0, n = plan.seeds.size(); fitting + 1 < plan.levelCount; ++fitting) {
+            total += n;
+            n *= plan.childCount[fitting + 1];
+            if (total + n > maxPoints) break;
+        }
+        std::string advice = fitting > 0 ? "use --levels " + std::to_string(fitting) + " or fewer" : "use fewer levels";
+        if (plan.passes > 1) advice += ", fewer passes";
+        advice += o.seeds == SeedMode::Grid ? ", or a coarser --grid" : ", or fewer control points";
         throw Error("the refinement asks for up to " + std::to_string(plan.maxPoints) + " points (" +
                     std::to_string(plan.seeds.size()) + " seeds, " + std::to_string(o.levels) + " levels of " +
                     std::to_string(children) + " children, " + std::to_string(plan.passes) +
                     (plan.passes == 1 ? " pass" : " passes") + "), but at most " + std::to_string(maxPoints) +
-                    " fit: use fewer levels, passes or control points");
+                    " fit: " + advice);
+    }
     return plan;
 }
 

@@ -383,7 +383,14 @@ TEST_CASE("robust: absurd sizes, levels and control point counts are refused up 
                                   (dir / "out.png"));
     checkRefusal(
         levels, {"the refinement asks for up to ", " points (100 seeds, 14 levels of 4 children, 1 pass), but at most ",
-                 " fit: use fewer levels, passes or control points"});
+                 " fit: use --levels ", " or fewer, or fewer control points"});
+    CHECK_FALSE(fs::exists(dir / "out.png"));
+    // With grid seeds the advice is the levels and the grid, never the control points (they do not count).
+    Outcome grid = run(dir, "render " INKWELL_SOURCE_DIR
+                            "/assets/bunny.obj --control-points 100 --seeds grid --levels 9 "
+                            "-q -o " +
+                                (dir / "out.png"));
+    checkRefusal(grid, {"the refinement asks for up to ", " fit: use --levels ", " or fewer, or a coarser --grid"});
     CHECK_FALSE(fs::exists(dir / "out.png"));
 
     // 16384² pixels need a 256 MiB splat depth grid, over lavapipe's 128 MiB storage buffers: refused once the
