@@ -81,6 +81,8 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
                     "Direction towards the light, X Y Z as seen from the default camera (x right, y up, z out); "
                     "it stays fixed to the model")
         ->expected(3);
+    cmd->add_option("--up", o.up, "The model's up axis, which the camera orbits: x, -x, y, -y, z or -z")
+        ->capture_default_str();
     cmd->add_flag("--light-follows-camera", s.lightFollowsCamera,
                   "Keep the light fixed to the camera instead (the shading, and the dots, change as it moves)");
     cmd->add_flag("--hidden-lines", s.hiddenLines, "Draw occluded silhouettes faint");
@@ -131,6 +133,8 @@ static void applyPreset(Options& o) {
                 o.render.inkDensity = value.get<float>();
             else if (key == "hidden_lines" && !given("--hidden-lines"))
                 o.render.hiddenLines = value.get<bool>();
+            else if (key == "up" && !given("--up"))
+                o.up = value.get<std::string>();
             else if (key == "light" && !given("--light"))
                 o.light = value.get<std::vector<float>>();
             else if (key == "levels" && !given("--levels"))
@@ -141,7 +145,7 @@ static void applyPreset(Options& o) {
                 o.direction = value.get<std::string>();
             else if (key != "style" && key != "ink" && key != "paper" && key != "dot_size" &&
                      key != "silhouette_size" && key != "tau" && key != "tone" && key != "ink_density" &&
-                     key != "hidden_lines" && key != "light" && key != "levels" && key != "passes" &&
+                     key != "hidden_lines" && key != "light" && key != "up" && key != "levels" && key != "passes" &&
                      key != "direction")
                 throw ink::Error("preset '" + o.preset + "': unknown key '" + key + "'");
         }
@@ -179,6 +183,11 @@ void finishOptions(Options& o) {
     o.render.ink = parseColour(o.ink, "ink");
     o.render.paper = parseColour(o.paper, "paper");
     o.render.hiddenInk = glm::vec4(glm::vec3(o.render.ink), ink::RenderStyle{}.hiddenInk.a);
+    try {
+        o.render.up = ink::parseUpAxis(o.up);
+    } catch (const ink::Error& e) {
+        throw ink::Error(std::string("--up: ") + e.what());
+    }
     if (!o.light.empty()) {
         glm::vec3 l(o.light[0], o.light[1], o.light[2]);
         if (!(glm::length(l) > 0) || !std::isfinite(glm::length(l)))
@@ -206,6 +215,7 @@ void finishOptions(Options& o) {
 
 ink::Camera cameraFrom(const Options& o) {
     ink::Camera c;
+    c.up = o.render.up;
     if (o.camera.size() == 3) {
         c.azimuthDeg = o.camera[0];
         c.elevationDeg = std::clamp(o.camera[1], -89.0f, 89.0f);

@@ -43,6 +43,7 @@ struct Options {
     std::vector<uint32_t> size{1024, 1024};
     std::string ink = "#000000", paper = "#ffffff", preset;
     std::vector<float> light;
+    std::string up = "y";
     CLI::App* command = nullptr;  // the chosen subcommand (set by main): tells a preset which options were given
 };
 

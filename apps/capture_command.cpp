@@ -80,7 +80,8 @@ ordered parametersJson(const Options& o, const Scene& scene, const CaptureOption
             {"ink", o.ink},
             {"paper", o.paper},
             {"light", vec3Json(s.light)},
-            {"light_follows_camera", s.lightFollowsCamera}};
+            {"light_follows_camera", s.lightFollowsCamera},
+            {"up", ink::upAxisName(s.up)}};
 }
 
 ordered cameraJson(const ink::Camera& c) {

@@ -313,6 +313,17 @@ void Viewer::onKey(int key, int action) {
             s.light = kLights[light_];
             restyle_ = true;
             break;
+        case GLFW_KEY_U:  // the next up axis: y, z, x, -y, -z, -x (a z-up scan stands up in one press)
+        {
+            static constexpr ink::UpAxis kOrder[] = {ink::UpAxis::PosY, ink::UpAxis::PosZ, ink::UpAxis::PosX,
+                                                     ink::UpAxis::NegY, ink::UpAxis::NegZ, ink::UpAxis::NegX};
+            size_t k = 0;
+            while (kOrder[k] != s.up) ++k;
+            s.up = kOrder[(k + 1) % 6];
+            camera_.up = home_.up = s.up;
+            restyle_ = true;  // the light is fixed to the model as seen from the default camera of this axis
+            break;
+        }
         case GLFW_KEY_S:
             screenshotKey_ = true;
             break;

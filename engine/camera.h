@@ -3,10 +3,23 @@
 
 #include <glm/glm.hpp>
 
+#include <string>
+
 namespace ink {
 
+// The model's up axis: the camera orbits it, and "above the horizon" is towards it. Scans and CAD models are
+// often z-up; meshes from most modelling tools y-up.
+enum class UpAxis { PosX, NegX, PosY, NegY, PosZ, NegZ };
+// "x", "-x", "y", ... ; throws ink::Error naming the accepted values.
+UpAxis parseUpAxis(const std::string& name);
+const char* upAxisName(UpAxis up);
+// The rotation from the y-up frame the orbit is written in to the model's: its columns are where the y-up
+// frame's x, y and z axes point in the model (a proper rotation).
+glm::mat3 upBasis(UpAxis up);
+
 struct Camera {
-    float azimuthDeg = 30.0f;    // around the up axis (+y)
+    UpAxis up = UpAxis::PosY;
+    float azimuthDeg = 30.0f;    // around the up axis
     float elevationDeg = 15.0f;  // above the horizon
     float distance = 1.6f;       // from the origin, in bounding-box diagonals
     float fovyDeg = 40.0f;

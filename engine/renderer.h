@@ -30,6 +30,7 @@ struct RenderStyle {
     // stays fixed to the model as the camera moves (so do the dots tone draws), unless it follows the camera.
     glm::vec3 light{-0.5f, 0.6f, 0.65f};
     bool lightFollowsCamera = false;
+    UpAxis up = UpAxis::PosY;  // the default camera's up axis, which a light fixed to the model is given from
     // Tone: a front dot is drawn when its rank (PointRecord::tone: a selected stipple's rank, a refined point's
     // fixed random value) is below
     //   (ambient + (1 − max(0, n·l))^γ) · inkDensity · k,

@@ -177,3 +177,79 @@ TEST_CASE("cli: bench runs the sphere workload and reports the documented keys")
           "\"driver\"", "\"level_gpu_ms\"", "\"frame_passes_ms_median\"", "\"stamp\"", "\"dots_drawn_first_frame\""})
         CHECK_MESSAGE(text.find(key) != std::string::npos, key);
 }
+
+namespace {
+
+// The inked pixels' count and bounding box.
+struct Ink {
+    size_t count = 0;
+    uint32_t x0 = UINT32_MAX, y0 = UINT32_MAX, x1 = 0, y1 = 0;
+};
+Ink inkOf(const ink::RgbaImage& image) {
+    Ink ink;
+    for (uint32_t y = 0; y < image.height; ++y)
+        for (uint32_t x = 0; x < image.width; ++x)
+            if (image.pixels[(size_t(y) * image.width + x) * 4] < 128) {
+                ++ink.count;
+                ink.x0 = std::min(ink.x0, x), ink.x1 = std::max(ink.x1, x);
+                ink.y0 = std::min(ink.y0, y), ink.y1 = std::max(ink.y1, y);
+            }
+    return ink;
+}
+
+}  // namespace
+
+TEST_CASE("cli: --up z stands a z-up model up as the y-up original, also from a preset") {
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / "inkwell-cli-up";
+    fs::create_directories(dir);
+    // The bunny turned z-up: (x, y, z) -> (x, -z, y).
+    {
+        std::ifstream in(INKWELL_SOURCE_DIR "/assets/bunny.obj");
+        std::ofstream out(dir / "bunny-zup.obj");
+        std::string line;
+        while (std::getline(in, line)) {
+            if (line.rfind("v ", 0) == 0 || line.rfind("vn ", 0) == 0) {
+                char kind[4];
+                double x, y, z;
+                REQUIRE(std::sscanf(line.c_str(), "%3s %lf %lf %lf", kind, &x, &y, &z) == 4);
+                char text[160];
+                std::snprintf(text, sizeof text, "%s %.9g %.9g %.9g", kind, x, -z, y);
+                line = text;
+            }
+            out << line << "\n";
+        }
+    }
+    std::ofstream(dir / "zup.json") << R"({"up": "z"})";
+    const std::string common = " --control-points 200 --levels 3 --size 256 256 -q -o ";
+    REQUIRE(run("render " INKWELL_SOURCE_DIR "/assets/bunny.obj" + common + (dir / "yup.png").string()).status == 0);
+    REQUIRE(
+        run("render " + (dir / "bunny-zup.obj").string() + " --up z" + common + (dir / "zup.png").string()).status ==
+        0);
+    REQUIRE(run("render " + (dir / "bunny-zup.obj").string() + " --preset " + (dir / "zup.json").string() + common +
+                (dir / "preset.png").string())
+                .status == 0);
+    REQUIRE(run("render " + (dir / "bunny-zup.obj").string() + common + (dir / "lying.png").string()).status == 0);
+    Ink yup = inkOf(ink::readPng((dir / "yup.png").string()));
+    REQUIRE(yup.count > 500);
+    for (const char* name : {"zup.png", "preset.png"}) {
+        CAPTURE(std::string(name));
+        Ink zup = inkOf(ink::readPng((dir / name).string()));
+        // The same view: the same outline within a few pixels (the fit picks other control points, the ear tips
+        // move a little), about the same ink.
+        CHECK(std::abs(int(zup.x0) - int(yup.x0)) <= 4);
+        CHECK(std::abs(int(zup.x1) - int(yup.x1)) <= 4);
+        CHECK(std::abs(int(zup.y0) - int(yup.y0)) <= 4);
+        CHECK(std::abs(int(zup.y1) - int(yup.y1)) <= 4);
+        CHECK(double(zup.count) == doctest::Approx(double(yup.count)).epsilon(0.1));
+    }
+    // Without --up it lies on its back: wider than tall, unlike the sitting bunny.
+    Ink lying = inkOf(ink::readPng((dir / "lying.png").string()));
+    CHECK(lying.x1 - lying.x0 > lying.y1 - lying.y0);
+    CHECK(yup.x1 - yup.x0 < yup.y1 - yup.y0 + 20);
+
+    Run bad = run("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --up w -o " + (dir / "bad.png").string());
+    CHECK(bad.status == 1);
+    CHECK(bad.output == "inkwell: --up: up axis 'w' is not one of x, -x, y, -y, z, -z\n");
+    fs::remove_all(dir);
+}
