@@ -23,6 +23,7 @@ Vec3 toVec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 ink::Camera toCamera(const Camera& c) {
     ink::Camera camera;
+    camera.up = ink::UpAxis(int(c.up));  // the same order
     camera.azimuthDeg = c.azimuthDeg;
     camera.elevationDeg = std::clamp(c.elevationDeg, -89.0f, 89.0f);
     camera.distance = c.distance;
@@ -67,6 +68,8 @@ ink::DrawStyle toDrawStyle(Style s) {
            : s == Style::Direction ? ink::DrawStyle::Direction
                                    : ink::DrawStyle::Both;
 }
+
+static_assert(int(Up::NegZ) == int(ink::UpAxis::NegZ) && int(Up::Y) == int(ink::UpAxis::PosY));
 
 }  // namespace
 
@@ -197,8 +200,9 @@ void Image::writePng(const std::string& path) const { ink::writePng(path, {width
 
 struct Renderer::Impl {
     ink::OffscreenRenderer renderer;
-    Impl(ink::Scene& scene, uint32_t width, uint32_t height, const ink::RenderStyle& style)
-        : renderer(scene.ctx, width, height, style, scene.pointers()) {}
+    ink::RenderStyle style;
+    Impl(ink::Scene& scene, uint32_t width, uint32_t height, const ink::RenderStyle& s)
+        : renderer(scene.ctx, width, height, s, scene.pointers()), style(s) {}
 };
 
 Renderer::Renderer(const Drawing& drawing, uint32_t width, uint32_t height, const Look& look) {
@@ -212,9 +216,18 @@ Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
-void Renderer::setLook(const Look& look) { impl_->renderer.setStyle(toStyle(look)); }
+void Renderer::setLook(const Look& look) {
+    ink::UpAxis up = impl_->style.up;
+    impl_->style = toStyle(look);
+    impl_->style.up = up;
+    impl_->renderer.setStyle(impl_->style);
+}
 
 Image Renderer::render(const Camera& camera) {
+    if (impl_->style.up != ink::UpAxis(int(camera.up))) {  // the fixed light is given about the up axis
+        impl_->style.up = ink::UpAxis(int(camera.up));
+        impl_->renderer.setStyle(impl_->style);
+    }
     ink::RgbaImage image = impl_->renderer.render(toCamera(camera));
     return {image.width, image.height, std::move(image.pixels)};
 }
@@ -247,6 +260,10 @@ void FrameRecorder::record(VkCommandBuffer cmd, const Camera& camera, const Fram
     if (frame >= impl_->renderer.framesInFlight())
         throw Error("frame " + std::to_string(frame) + " is not one of the " +
                     std::to_string(impl_->renderer.framesInFlight()) + " frames in flight");
+    if (impl_->style.up != ink::UpAxis(int(camera.up))) {
+        impl_->style.up = ink::UpAxis(int(camera.up));
+        impl_->restyle = true;
+    }
     if (impl_->restyle) {
         impl_->renderer.setStyle(cmd, impl_->style, 1.0f);
         impl_->restyle = false;

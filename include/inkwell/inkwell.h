@@ -166,9 +166,13 @@ private:
 
 // ---- Drawing it ---------------------------------------------------------------------------------------
 
+// The model's up axis (scans and CAD models are often Z).
+enum class Up { X, NegX, Y, NegY, Z, NegZ };
+
 // An orbit camera around the model's centre.
 struct Camera {
-    float azimuthDeg = 30.0f;    // around the up axis (+y)
+    Up up = Up::Y;               // the axis it orbits; a light fixed to the model is given about it too
+    float azimuthDeg = 30.0f;    // around the up axis
     float elevationDeg = 15.0f;  // above the horizon, within ±89
     float distance = 1.6f;       // from the centre, in bounding-box diagonals
     float fovyDeg = 40.0f;
