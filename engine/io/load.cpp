@@ -14,6 +14,8 @@
 namespace ink {
 namespace {
 
+const char* const kSupported = ".obj .ply .pts .xyzn .txt .xyz .pwn .off .stl .gltf .glb";
+
 std::string readFile(const std::string& path) {
     namespace fs = std::filesystem;
     std::error_code ec;
@@ -42,9 +44,13 @@ OrientedPoints loadPoints(const std::string& path) {
         format = "ply";
     else if (ext == "pts" || ext == "xyzn" || ext == "txt")
         format = "pts";
+    else if (ext == "xyz" || ext == "pwn")
+        format = "xyz";
+    else if (ext == "off" || ext == "stl" || ext == "gltf" || ext == "glb")
+        format = ext;
     else
         io::fail(path, (ext.empty() ? std::string("no file extension") : "unsupported file extension '." + ext + "'") +
-                           "; supported: .obj .ply .pts .xyzn .txt");
+                           "; supported: " + kSupported);
     return parsePoints(readFile(path), format, path);
 }
 
@@ -52,7 +58,12 @@ OrientedPoints parsePoints(const std::string& bytes, const std::string& format, 
     if (format == "obj") return io::parseObj(bytes, name);
     if (format == "ply") return io::parsePly(bytes, name);
     if (format == "pts") return io::parsePts(bytes, name);
-    io::fail(name, "unknown point format '" + format + "' (expected obj, ply or pts)");
+    if (format == "xyz") return io::parsePts(bytes, name, true);
+    if (format == "off") return io::parseOff(bytes, name);
+    if (format == "stl") return io::parseStl(bytes, name);
+    // External buffers are looked for beside `name`, the file the bytes came from.
+    if (format == "gltf" || format == "glb") return io::parseGltf(bytes, name, format == "glb", true);
+    io::fail(name, "unknown point format '" + format + "' (expected obj, ply, pts, xyz, off, stl, gltf or glb)");
 }
 
 }  // namespace ink

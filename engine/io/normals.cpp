@@ -2,7 +2,10 @@
 #include "normals.h"
 
 #include <Eigen/Geometry>
+#include <bit>
+#include <cstring>
 #include <limits>
+#include <unordered_map>
 
 namespace ink::io {
 
@@ -37,6 +40,61 @@ double usedDiagonal(const std::vector<Vector3d>& positions, const std::vector<ch
         hi = hi.cwiseMax(positions[i]);
     }
     return safeNorm(hi - lo);
+}
+
+namespace {
+struct Key {
+    uint64_t bits[3];
+    bool operator==(const Key& o) const { return bits[0] == o.bits[0] && bits[1] == o.bits[1] && bits[2] == o.bits[2]; }
+};
+struct KeyHash {
+    size_t operator()(const Key& k) const {
+        uint64_t h = 0x9e3779b97f4a7c15ull;
+        for (uint64_t b : k.bits) h = (h ^ b) * 0x100000001b3ull + (h >> 29);
+        return size_t(h);
+    }
+};
+}  // namespace
+
+std::vector<uint32_t> weld(const std::vector<Vector3d>& positions, std::vector<Vector3d>& unique) {
+    std::unordered_map<Key, uint32_t, KeyHash> index;
+    index.reserve(positions.size() / 4 + 1);
+    std::vector<uint32_t> out(positions.size());
+    unique.clear();
+    for (size_t i = 0; i < positions.size(); ++i) {
+        Key key;
+        for (int k = 0; k < 3; ++k) key.bits[k] = std::bit_cast<uint64_t>(positions[i][k] + 0.0);  // -0 -> +0
+        auto [it, added] = index.try_emplace(key, uint32_t(unique.size()));
+        if (added) unique.push_back(positions[i]);
+        out[i] = it->second;
+    }
+    return out;
+}
+
+OrientedPoints areaNormalPoints(const std::vector<Vector3d>& positions, const Polygons& polygons,
+                                std::vector<size_t>& kept, size_t& degenerate) {
+    std::vector<Vector3d> sums(positions.size(), Vector3d::Zero());
+    std::vector<char> used(positions.size(), 0);
+    addAreaNormals(positions, polygons, sums, used);
+    double diagonal = usedDiagonal(positions, used);
+    OrientedPoints out;
+    kept.clear();
+    degenerate = 0;
+    for (size_t i = 0; i < positions.size(); ++i) {
+        if (!used[i]) continue;
+        Vector3d n = sums[i];
+        double length = safeNorm(n);
+        if (std::isfinite(length) &&
+            (length == 0 || (std::isfinite(diagonal) && length / diagonal / diagonal <= 1e-12))) {
+            ++degenerate;
+            continue;
+        }
+        if (std::isfinite(length)) n /= length;  // otherwise finish() reports it
+        kept.push_back(i);
+        out.positions.push_back(positions[i]);
+        out.normals.push_back(n);
+    }
+    return out;
 }
 
 }  // namespace ink::io

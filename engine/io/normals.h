@@ -46,6 +46,17 @@ void settleAreaNormal(Eigen::Vector3d& n, double diagonal, const std::string& na
     n /= length;
 }
 
+// Merges positions that are bit for bit the same (+0 and -0 alike), as triangle soups (STL, glTF without
+// normals) need before their vertices can have normals: `unique` gets each distinct position once, in order of
+// first appearance; the result gives, for each input position, the index of its copy in `unique`.
+std::vector<uint32_t> weld(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& unique);
+
+// For welded soups: the vertices the polygons use, in order, with their area-weighted normals (unit length).
+// A vertex whose polygons have no area (only slivers and repeated corners around it, common in STL) is dropped
+// rather than refused, and counted in `degenerate`; `kept` gets the index of each vertex kept.
+OrientedPoints areaNormalPoints(const std::vector<Eigen::Vector3d>& positions, const Polygons& polygons,
+                                std::vector<size_t>& kept, size_t& degenerate);
+
 // Checks and normalizes; `where(i)` names point i for messages ("vertex 17", "line 4").
 template <class Where>
 void finish(OrientedPoints& points, const std::string& name, Where where) {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -91,6 +92,33 @@ struct PlyHeader {
     size_t bodyFirstLine = 0;  // for ascii messages
 };
 
+size_t editDistance(std::string_view a, std::string_view b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diagonal = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            size_t up = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+            diagonal = up;
+        }
+    }
+    return row[b.size()];
+}
+
+// An unknown header line that is free text a writer added (it starts with a word, and is printable), rather
+// than garbage (control bytes, a number: body data where the header should be) or a misspelt keyword, which
+// would otherwise be skipped and leave a more puzzling error later.
+bool looksLikeWriterNote(std::string_view line, std::string_view word) {
+    if (!std::isalpha(static_cast<unsigned char>(word[0]))) return false;
+    for (char c : line)
+        if (static_cast<unsigned char>(c) < 32 && c != '\t') return false;
+    for (std::string_view keyword : {"ply", "format", "element", "property", "end_header", "comment", "obj_info"})
+        if (editDistance(word.substr(0, 16), keyword) <= (keyword.size() > 6 ? 2u : 1u)) return false;
+    return true;
+}
+
 PlyHeader parsePlyHeader(const std::string& bytes, const std::string& name) {
     PlyHeader header;
     size_t pos = 0, number = 0;
@@ -114,6 +142,8 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& name) {
     while (next(line)) {
         auto where = [&] { return "header line " + std::to_string(number); };
         splitFields(line, f);
+        // obj_info is not in the original specification but common (Paul Bourke's, VTK and others write it):
+        // like comment, free text.
         if (f.empty() || f[0] == "comment" || f[0] == "obj_info") continue;
         if (f[0] == "end_header") {
             if (!haveFormat) fail(name, "header has no format line");
@@ -166,6 +196,10 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& name) {
             PlyElement& e = header.elements.back();
             if (e.find(p.name) >= 0) fail(name, where() + ": a second property '" + p.name + "' in '" + e.name + "'");
             e.properties.push_back(std::move(p));
+        } else if (looksLikeWriterNote(line, f[0])) {
+            // Lines the format does not define but writers add ("Created by ...", "TextureFile x.png"):
+            // passed over with a note, as other readers do.
+            note(name + ": " + where() + ": ignored the unknown header line " + quoted(line));
         } else {
             fail(name, where() + ": unknown header keyword " + quoted(f[0]));
         }
