@@ -288,7 +288,7 @@ TEST_CASE("points: bad ply input") {
         bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n", "bad property line");
         bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty list float int x\nend_header\n", "bad property line");
         bad("ply\nformat ascii 1.0\nproperty float x\nend_header\n", "property before any element");
-        bad("ply\nformat ascii 1.0\nbogus\nend_header\n", "header line 3: unknown header keyword 'bogus'");
+        bad("ply\nformat ascii 1.0\n3 bogus\nend_header\n", "header line 3: unknown header keyword '3'");
         bad("ply\nformat ascii 1.0\nelement face 1\nend_header\n", "has no 'element vertex'");
         bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n",
             "lacks x, y or z");
@@ -399,7 +399,7 @@ TEST_CASE("points: bad oriented point text") {
 }
 
 TEST_CASE("points: parsePoints refuses an unknown format") {
-    CHECK_THROWS_WITH_AS(parsePoints("", "stl", "x.stl"), doctest::Contains("unknown point format 'stl'"), Error);
+    CHECK_THROWS_WITH_AS(parsePoints("", "3ds", "x.3ds"), doctest::Contains("unknown point format '3ds'"), Error);
 }
 
 TEST_CASE("points: garbage input only ever throws ink::Error") {
@@ -560,8 +560,9 @@ TEST_CASE("points: loadPoints") {
                              Error);
     }
     SUBCASE("unsupported extension") {
-        CHECK_THROWS_WITH_AS(ink::loadPoints("model.stl"),
-                             doctest::Contains("model.stl: unsupported file extension '.stl'; supported: .obj .ply"),
+        CHECK_THROWS_WITH_AS(ink::loadPoints("model.3ds"),
+                             doctest::Contains("model.3ds: unsupported file extension '.3ds'; supported: .obj .ply "
+                                               ".pts .xyzn .txt .xyz .pwn .off .stl .gltf .glb"),
                              Error);
         CHECK_THROWS_WITH_AS(ink::loadPoints("model"), doctest::Contains("no file extension"), Error);
     }
