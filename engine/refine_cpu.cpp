@@ -4,7 +4,15 @@
 #include "random.h"
 #include "refine.h"
 
+// The AVX2+FMA evaluation exists only where it can be compiled: x86-64 with GCC or Clang (target attributes,
+// __builtin_cpu_supports). Everywhere else (ARM64, ...) the portable path is the only one.
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define INKWELL_REFINE_AVX2 1
 #include <immintrin.h>
+#else
+#define INKWELL_REFINE_AVX2 0
+#endif
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -20,8 +28,9 @@ constexpr uint32_t kKept = DropReasonCount;
 
 using Eigen::Vector3d;
 
-// f and ∇f over centres stored as arrays (structure of arrays), so that the loop runs 4 centres at a time in
-// AVX2 registers where the CPU has them: the CPU reference is plain vectorized C++, a fair peer for the GPU.
+// f and ∇f over centres stored as arrays (structure of arrays), so that the loop runs 4 centres at a time: in
+// AVX2 registers where the CPU has them (chosen at run time on x86-64), otherwise on Eigen arrays of 4 (the
+// portable path). The CPU reference is plain vectorized C++, a fair peer for the GPU.
 struct HrbfArrays {
     std::vector<double> px, py, pz, alpha, bx, by, bz;
     Vector3d a;
@@ -37,27 +46,42 @@ struct HrbfArrays {
         }
     }
 
-    double eval(const Vector3d& x, Vector3d& g) const { return avx2 ? evalAvx2(x, g) : evalScalar(x, g); }
+#if INKWELL_REFINE_AVX2
+    double eval(const Vector3d& x, Vector3d& g) const { return avx2 ? evalAvx2(x, g) : evalPortable(x, g); }
+#else
+    double eval(const Vector3d& x, Vector3d& g) const { return evalPortable(x, g); }
+#endif
 
 private:
-    bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-
-    double evalScalar(const Vector3d& x, Vector3d& grad) const {
-        double f = a.dot(x) + b, gx = a.x(), gy = a.y(), gz = a.z();
-        for (size_t j = 0; j < px.size(); ++j) {
-            double dx = x.x() - px[j], dy = x.y() - py[j], dz = x.z() - pz[j];
-            double r = std::sqrt(dx * dx + dy * dy + dz * dz);
-            double db = dx * bx[j] + dy * by[j] + dz * bz[j];
-            double inv = r > 0 ? 1.0 / r : 0.0;
-            f += alpha[j] * r * r * r - 3.0 * r * db;
-            double s = 3.0 * alpha[j] * r - 3.0 * db * inv;  // ∇: 3α r d − 3(r β + d ⟨d,β⟩/r)
-            gx += s * dx - 3.0 * r * bx[j];
-            gy += s * dy - 3.0 * r * by[j];
-            gz += s * dz - 3.0 * r * bz[j];
+    // The portable path: the AVX2 path's arithmetic, term for term, on Eigen arrays of 4 centres, which Eigen
+    // evaluates in the SIMD registers the target always has (SSE2 on x86-64, NEON on ARM64), 2 doubles at a
+    // time. Lane k sums the centres j ≡ k (mod 4), and the lanes are added up in the AVX2 path's order, so the
+    // results differ from the AVX2 path's only in the roundings of its fused multiply-adds (which a compiler may
+    // also contract here, as GCC does on ARM64).
+    double evalPortable(const Vector3d& x, Vector3d& grad) const {
+        using A4 = Eigen::Array4d;
+        A4 f = A4::Zero(), gx = A4::Zero(), gy = A4::Zero(), gz = A4::Zero();
+        for (size_t j = 0; j < px.size(); j += 4) {
+            A4 dx = x.x() - A4::Map(&px[j]), dy = x.y() - A4::Map(&py[j]), dz = x.z() - A4::Map(&pz[j]);
+            A4 r2 = dx * dx + dy * dy + dz * dz, r = r2.sqrt();
+            A4 Bx = A4::Map(&bx[j]), By = A4::Map(&by[j]), Bz = A4::Map(&bz[j]);
+            A4 db = dx * Bx + dy * By + dz * Bz;
+            A4 inv = (r > 0.0).select(A4(r.inverse()), 0.0);
+            A4 A = A4::Map(&alpha[j]);
+            A4 r3 = r2 * r, tr = 3.0 * r;
+            f += A * r3 - tr * db;
+            A4 s = 3.0 * (A * r - db * inv);  // ∇: 3α r d − 3(r β + d ⟨d,β⟩/r)
+            gx += s * dx - tr * Bx;
+            gy += s * dy - tr * By;
+            gz += s * dz - tr * Bz;
         }
-        grad = {gx, gy, gz};
-        return f;
+        auto total = [](const A4& v) { return (v[0] + v[2]) + (v[1] + v[3]); };
+        grad = {a.x() + total(gx), a.y() + total(gy), a.z() + total(gz)};
+        return a.dot(x) + b + total(f);
     }
+
+#if INKWELL_REFINE_AVX2
+    bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 
     __attribute__((target("avx2,fma"))) static double sum(__m256d v) {
         __m128d lo = _mm256_castpd256_pd128(v), hi = _mm256_extractf128_pd(v, 1);
@@ -89,6 +113,7 @@ private:
         grad = {a.x() + sum(gx), a.y() + sum(gy), a.z() + sum(gz)};
         return a.dot(x) + b + sum(f);
     }
+#endif
 };
 
 // Eq. 11 with the Armijo rule, in double as in refine.comp.
