@@ -2,7 +2,7 @@
 // random numbers, so that its points match the GPU's (up to the drivers' rounding) and its speed is a fair
 // comparison. Each level is split across threads; compaction is sequential and stable.
 #include "random.h"
-#include "refine.h"
+#include "refine_plan.h"
 
 // The AVX2+FMA evaluation exists only where it can be compiled: x86-64 with GCC or Clang (target attributes,
 // __builtin_cpu_supports). Everywhere else (ARM64, ...) the portable path is the only one.

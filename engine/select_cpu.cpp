@@ -5,8 +5,8 @@
 // Built with -ffp-contract=off (CMakeLists.txt): the shaders mark these expressions `precise`, so neither side
 // fuses a multiply and an add, and every comparison sees the same bits.
 #include "random.h"
-#include "select.h"
 #include "select_math.h"
+#include "select_plan.h"
 
 #include <algorithm>
 #include <unordered_map>

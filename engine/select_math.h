@@ -4,7 +4,7 @@
 #pragma once
 
 #include "random.h"
-#include "select.h"
+#include "select_plan.h"
 
 #include <cmath>
 

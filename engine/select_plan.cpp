@@ -1,6 +1,6 @@
 // The stipple selection's plan (select.h): R₀ from the surface area and the candidate count, then the stages.
+#include "select_plan.h"
 #include "random.h"
-#include "select.h"
 
 #include <algorithm>
 #include <bit>

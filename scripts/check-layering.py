@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Checks the engine's layering (CI): no two engine modules include each other, directly or through others
-(a module is NAME.h with NAME.cpp), and the installed headers (include/inkwell/) include nothing of the
-engine's. Prints the cycles it finds and exits 1."""
+(a module is NAME.h with NAME.cpp); the CPU-only modules reach no Vulkan header; the installed headers
+(include/inkwell/) include nothing of the engine's. Prints what it finds and exits 1."""
 import glob, os, re, sys
 
 os.chdir(os.path.join(os.path.dirname(__file__), '..'))
@@ -32,6 +32,21 @@ for node in sorted(edges):
     if node not in done:
         visit(node, [node])
 
+# CPU-only modules: the loaders, the fit, the plans and CPU references, exports. They must not reach Vulkan
+# (the fuzz build and the ARM64 cross-build of these files need no Vulkan headers).
+cpu_only = [m for m in edges.keys() | set(module(f) for f in files)
+            if m.startswith('io/') or m in ('clean', 'hrbf', 'hrbf_io', 'model', 'refine_plan', 'refine_cpu',
+                                            'select_plan', 'select_cpu', 'select_math', 'export', 'spacing',
+                                            'image', 'files', 'common', 'points', 'shapes', 'compare')]
+vulkan = {module(f) for f in files if '<vulkan/vulkan.h>' in open(f, encoding='utf-8').read()}
+def reaches(node, seen):
+    for target in edges.get(node, ()):
+        if target not in seen:
+            seen.add(target)
+            reaches(target, seen)
+    return seen
+leaks = sorted(m for m in cpu_only if (reaches(m, {m}) & vulkan))
+
 public = [f for f in glob.glob('include/inkwell/*.h')
           for line in open(f, encoding='utf-8')
           if re.match(r'#include "(?!inkwell/)', line)]
@@ -39,6 +54,9 @@ for c in sorted(cycles):
     print(f'check-layering: engine modules include each other: {c}')
 for f in sorted(set(public)):
     print(f'check-layering: {f} includes a header outside include/inkwell/')
-if cycles or public:
+for m in leaks:
+    print(f'check-layering: the CPU-only module {m} reaches a Vulkan header')
+if cycles or public or leaks:
     sys.exit(1)
-print(f'check-layering: {len(edges)} engine modules, no include cycle; the public headers stand alone')
+print(f'check-layering: {len(edges)} engine modules, no include cycle, {len(cpu_only)} CPU-only ones without Vulkan; '
+      'the public headers stand alone')
