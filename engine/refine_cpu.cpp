@@ -36,7 +36,12 @@ struct HrbfArrays {
     Vector3d a;
     double b;
 
-    explicit HrbfArrays(const Hrbf& h) : a(h.a), b(h.b) {
+    HrbfArrays(const Hrbf& h, CpuKernel kernel) : a(h.a), b(h.b) {
+#if INKWELL_REFINE_AVX2
+        avx2 = avx2 && kernel == CpuKernel::Best;
+#else
+        (void)kernel;
+#endif
         size_t m = h.size(), padded = (m + 3) / 4 * 4;  // zero centres pad to a multiple of 4: α = β = 0
         for (auto* v : {&px, &py, &pz, &alpha, &bx, &by, &bz}) v->assign(padded, 0.0);
         for (size_t j = 0; j < m; ++j) {
@@ -194,9 +199,9 @@ Vector3f tangentDirection(const Hrbf& hrbf, const LevelParams& pc, const Vector3
 }  // namespace
 
 std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& options, const RefinePlan& plan,
-                                     std::vector<LevelStats>* stats, unsigned threads) {
+                                     std::vector<LevelStats>* stats, unsigned threads, CpuKernel kernel) {
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-    const HrbfArrays arrays(hrbf);
+    const HrbfArrays arrays(hrbf, kernel);
     std::vector<PointRecord> points;
     points.reserve(plan.maxPoints);
     std::vector<LevelStats> levelStats(plan.levelCount);

@@ -95,8 +95,13 @@ static_assert(sizeof(LevelParams) == 84);
 LevelParams levelParams(const RefinePlan& plan, const RefineOptions& options, uint32_t level);
 double levelRho(const RefinePlan& plan, uint32_t level);  // ρ of a level: 0 for the seeds, ρ₀ for level 1
 
+// How the CPU reference evaluates f and ∇f: the fastest this CPU has (AVX2 with FMA where there is one), or
+// the portable code every target builds (what ARM64 runs; tests run it on x86-64 too).
+enum class CpuKernel { Best, Portable };
+
 // The CPU reference backend: the same plan, rules and random numbers, on all hardware threads.
 std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& options, const RefinePlan& plan,
-                                     std::vector<LevelStats>* stats = nullptr, unsigned threads = 0);
+                                     std::vector<LevelStats>* stats = nullptr, unsigned threads = 0,
+                                     CpuKernel kernel = CpuKernel::Best);
 
 }  // namespace ink

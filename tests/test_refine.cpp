@@ -203,3 +203,23 @@ TEST_CASE("refine: requests that cannot fit are refused with the numbers") {
                           "but at most 4194304 fit"),
         ink::Error);
 }
+
+TEST_CASE("refine: the portable CPU kernel (what ARM64 runs) gives the AVX2 kernel's points, to rounding") {
+    ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {150});
+    ink::RefineOptions options;
+    options.levels = 3;
+    ink::RefinePlan plan = ink::planRefinement(model.hrbf, options, 1u << 22);
+    std::vector<ink::LevelStats> bestLevels, portableLevels;
+    auto best = ink::refineOnCpu(model.hrbf, options, plan, &bestLevels, 2, ink::CpuKernel::Best);
+    auto portable = ink::refineOnCpu(model.hrbf, options, plan, &portableLevels, 2, ink::CpuKernel::Portable);
+    REQUIRE(best.size() > 10000);
+    REQUIRE(portable.size() == best.size());
+    for (size_t l = 0; l < bestLevels.size(); ++l) CHECK(portableLevels[l].kept == bestLevels[l].kept);
+    // The kernels differ only in fused multiply-adds: the same points to float rounding, all but a handful.
+    size_t same = 0;
+    for (size_t i = 0; i < best.size(); ++i) {
+        Eigen::Vector3f a(best[i].position), b(portable[i].position);
+        same += (a - b).norm() < 1e-6f && best[i].level == portable[i].level;
+    }
+    CHECK(double(same) / double(best.size()) > 0.999);
+}
