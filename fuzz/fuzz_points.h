@@ -20,11 +20,13 @@ namespace fuzz {
     std::abort();
 }
 
-inline int parsePointsOnce(const uint8_t* data, size_t size, const char* format) {
+// Runs `parse` on the input and checks the outcome as above.
+template <class Parse>
+int parseOnce(const uint8_t* data, size_t size, Parse parse) {
     std::string bytes(reinterpret_cast<const char*>(data), size);
     ink::OrientedPoints p;
     try {
-        p = ink::parsePoints(bytes, format, std::string("fuzz.") + format);
+        p = parse(bytes);
     } catch (const ink::Error& e) {
         // One line: the apps print it as "inkwell: <message>".
         std::string message = e.what();
@@ -39,6 +41,12 @@ inline int parsePointsOnce(const uint8_t* data, size_t size, const char* format)
             broken("a normal is not of unit length");
     }
     return 0;
+}
+
+inline int parsePointsOnce(const uint8_t* data, size_t size, const char* format) {
+    return parseOnce(data, size, [format](const std::string& bytes) {
+        return ink::parsePoints(bytes, format, std::string("fuzz.") + format);
+    });
 }
 
 }  // namespace fuzz

@@ -7,6 +7,7 @@
 
 #include <doctest/doctest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -432,6 +433,35 @@ TEST_CASE("readers: ply header lines writers add are passed over with a note, ga
     bad("ply\nformat ascii 1.0\n\x01\x02garbage\n" + body, "ply", "header line 3: unknown header keyword");
     bad("ply\nformat ascii 1.0\n0.5 0.25 1\n" + body, "ply", "header line 3: unknown header keyword '0.5'");
     bad("ply\nformat ascii 1.0\nelment vertex 1\n" + body, "ply", "header line 3: unknown header keyword 'elment'");
+}
+
+TEST_CASE("readers: every fuzz seed and regression of the new readers parses or throws ink::Error naming the file") {
+    size_t files = 0;
+    for (const char* root : {INKWELL_SOURCE_DIR "/tests/regressions", INKWELL_SOURCE_DIR "/fuzz/corpus"}) {
+        for (const char* format : {"off", "stl", "glb"}) {
+            fs::path folder = fs::path(root) / format;
+            if (!fs::exists(folder)) continue;
+            for (const auto& entry : fs::directory_iterator(folder)) {
+                std::ifstream in(entry.path(), std::ios::binary);
+                std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+                std::string name = entry.path().filename().string();
+                CAPTURE(entry.path().string());
+                auto start = std::chrono::steady_clock::now();
+                try {
+                    parsePoints(bytes, format, name);
+                } catch (const Error& e) {
+                    std::string message = e.what();
+                    CHECK(message.rfind(name + ": ", 0) == 0);
+                    CHECK(message.find('\n') == std::string::npos);
+                } catch (const std::exception& e) {
+                    FAIL_CHECK("not an ink::Error: " << e.what());
+                }
+                CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(5));
+                ++files;
+            }
+        }
+    }
+    CHECK(files >= 15);
 }
 
 TEST_CASE("readers: each new format fits and renders through the command line") {

@@ -328,7 +328,8 @@ void addMesh(const tinygltf::Model& model, int meshIndex, const Matrix4d& world,
         std::string at = "glTF mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(p);
         auto position = prim.attributes.find("POSITION");
         auto normal = prim.attributes.find("NORMAL");
-        bool triangles = prim.mode == TINYGLTF_MODE_TRIANGLES;
+        bool triangles = prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP ||
+                         prim.mode == TINYGLTF_MODE_TRIANGLE_FAN;
         bool points = prim.mode == TINYGLTF_MODE_POINTS && normal != prim.attributes.end();
         if ((!triangles && !points) || position == prim.attributes.end()) {
             ++out.skippedPrimitives;
@@ -374,8 +375,21 @@ void addMesh(const tinygltf::Model& model, int meshIndex, const Matrix4d& world,
                 corners.resize(pos.count);
                 for (uint64_t i = 0; i < pos.count; ++i) corners[i] = i;
             }
-            if (corners.size() % 3 != 0)
+            if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP || prim.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+                // As a list: strip triangle i is (i, i+1, i+2), every other one turned round; fan triangle i is
+                // (i+1, i+2, 0).
+                std::vector<uint64_t> list;
+                for (size_t i = 0; i + 2 < corners.size(); ++i) {
+                    bool strip = prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP;
+                    uint64_t a = strip ? corners[i] : corners[i + 1],
+                             b = strip ? corners[i + 1 + i % 2] : corners[i + 2],
+                             c = strip ? corners[i + 2 - i % 2] : corners[0];
+                    list.insert(list.end(), {a, b, c});
+                }
+                corners = std::move(list);
+            } else if (corners.size() % 3 != 0) {
                 fail(name, at + ": " + std::to_string(corners.size()) + " corners is not a whole number of triangles");
+            }
         }
         if (nrm.count > 0) {
             // The file's normals, for every vertex of the primitive.
@@ -475,7 +489,7 @@ OrientedPoints parseGltf(const std::string& bytes, const std::string& name, bool
     } else {
         ok = loader.LoadASCIIFromString(&model, &err, &warn, cleanJson.data(), unsigned(cleanJson.size()), files.dir);
     }
-    if (!files.error.empty()) throw Error(files.error);
+    if (!files.error.empty()) fail(name, "glTF buffer: " + files.error);
     if (!ok) fail(name, "glTF: " + (err.empty() ? std::string("tinygltf could not read it") : firstLine(err)));
 
     // The default scene's root nodes; without one, every scene's; without scenes, every node no node has as
@@ -530,7 +544,7 @@ OrientedPoints parseGltf(const std::string& bytes, const std::string& name, bool
 
     if (out.skippedPrimitives > 0)
         note(name + ": skipped " + std::to_string(out.skippedPrimitives) +
-             " glTF primitive(s) that are not triangles (or points with normals) or have no POSITION");
+             " glTF primitive(s) that are lines, points without normals, or have no POSITION");
     if (out.singularNodes > 0)
         note(name + ": skipped " + std::to_string(out.singularNodes) +
              " mesh instance(s) whose node transform is singular or not finite");
@@ -550,7 +564,11 @@ OrientedPoints parseGltf(const std::string& bytes, const std::string& name, bool
         points.positions.insert(points.positions.end(), computed.positions.begin(), computed.positions.end());
         points.normals.insert(points.normals.end(), computed.normals.begin(), computed.normals.end());
     }
-    if (points.positions.empty()) fail(name, "glTF: the scene has no triangles (or points with normals) to read");
+    if (points.positions.empty())
+        fail(name, "glTF: the scene has no triangles (or points with normals) to read" +
+                       (out.skippedPrimitives ? " (" + std::to_string(out.skippedPrimitives) +
+                                                    " primitive(s) of lines, or points without normals, skipped)"
+                                              : std::string()));
     finish(points, name, [](size_t i) { return "glTF vertex " + std::to_string(i) + " (in scene order)"; });
     return points;
 }

@@ -31,8 +31,8 @@ OrientedPoints parsePts(const std::string& bytes, const std::string& name, bool 
             continue;
         }
         if (fields.size() != 6)
-            fail(name,
-                 where + ": expected 6 numbers (x y z nx ny nz), found " + std::to_string(fields.size()) + " fields");
+            fail(name, where + ": expected 6 numbers (x y z nx ny nz), found " + std::to_string(fields.size()) +
+                           " fields" + (fields.size() == 3 ? " (points without normals cannot be oriented)" : ""));
         double v[6];
         for (size_t k = 0; k < 6; ++k)
             if (!toDouble(fields[k], v[k])) fail(name, where + ": " + quoted(fields[k]) + " is not a number");
