@@ -118,7 +118,7 @@ TEST_CASE("points: computed normals do not depend on the model's scale") {
     // A sliver next to a big triangle is still a real face, but a needle with no area is not.
     CHECK(obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 1e-5\nv 6 5 0\nv 5 6 0\nf 1 2 3\nf 4 5 6\n").positions.size() == 6);
     CHECK_THROWS_WITH_AS(obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 0\nv 6 5 0\nv 7 5 1e-300\nf 1 2 3\nf 4 5 6\n"),
-                         doctest::Contains("vertex 4 (line 4): normal is zero (the faces around it have no area)"),
+                         doctest::Contains("vertex 4 (line 4): normal is zero (the faces around it have no area, or their windings cancel)"),
                          Error);
 }
 
@@ -348,7 +348,7 @@ TEST_CASE("points: bad ply input") {
         Bytes z{false, binaryTriangleHeader()};
         for (int i = 0; i < 9; ++i) z.put(float(i == 3 || i == 6));  // three points on a line
         z.put(uint8_t(3)).put(int32_t(0)).put(int32_t(1)).put(int32_t(2));
-        bad(z.data, "t.ply: vertex 0: normal is zero (the faces around it have no area)");
+        bad(z.data, "t.ply: vertex 0: normal is zero (the faces around it have no area, or their windings cancel)");
 
         Bytes s{false, binaryTriangleHeader()};
         for (int i = 0; i < 9; ++i) s.put(float(i == 3 || i == 7));

@@ -315,7 +315,7 @@ TEST_CASE("readers: off and its variants") {
         bad("4OFF\n", "off", "line 1: '4OFF' (homogeneous or n-dimensional vertices) is not supported");
         bad("OFF BINARY\n", "off", "line 1: binary OFF is not supported");
         bad("OFF\n3 1 0\n0 0 0\n0 0 0\n0 0 0\n3 0 1 2\n", "off",
-            "vertex 0 (line 3): normal is zero (the faces around it have no area)");
+            "vertex 0 (line 3): normal is zero (the faces around it have no area, or their windings cancel)");
     }
 }
 

@@ -42,7 +42,7 @@ void settleAreaNormal(Eigen::Vector3d& n, double diagonal, const std::string& na
     double length = safeNorm(n);
     if (!std::isfinite(length)) return;  // finish() reports it
     if (length == 0 || (std::isfinite(diagonal) && length / diagonal / diagonal <= 1e-12))
-        fail(name, where() + ": normal is zero (the faces around it have no area)");
+        fail(name, where() + ": normal is zero (the faces around it have no area, or their windings cancel)");
     n /= length;
 }
 
