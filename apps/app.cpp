@@ -306,12 +306,7 @@ json spacingJson(const std::vector<ink::PointRecord>& points) {
 
 void writeJson(const std::string& path, const json& j) {
     if (path.empty()) return;
-    ink::writeAtomically(path, [&](const std::string& tmp) {
-        std::ofstream out(tmp);
-        out << j.dump(2) << "\n";
-        out.close();
-        if (!out) throw ink::Error("cannot write '" + path + "'");
-    });
+    ink::writeFileAtomically(path, j.dump(2) + "\n");  // every write and the close checked
 }
 
 }  // namespace app

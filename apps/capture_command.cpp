@@ -5,6 +5,7 @@
 #include "files.h"
 #include "image.h"
 
+#include <unistd.h>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -92,12 +93,7 @@ ordered cameraJson(const ink::Camera& c) {
 }
 
 void writeOrdered(const std::string& path, const ordered& j) {
-    ink::writeAtomically(path, [&](const std::string& tmp) {
-        std::ofstream out(tmp);
-        out << j.dump(2) << "\n";
-        out.close();
-        if (!out) throw ink::Error("cannot write '" + path + "'");
-    });
+    ink::writeFileAtomically(path, j.dump(2) + "\n");  // every write and the close checked
 }
 
 // The output directory of one capture: created (with missing parents) up front, so that a bad path fails
@@ -146,8 +142,13 @@ int runCapture(Options& o, const CaptureOptions& c) {
     if (!std::isfinite(c.orbitDeg)) throw ink::Error("--orbit must be a finite number of degrees");
     CaptureOutput output(c.directory);
     std::string manifestPath = (std::filesystem::path(c.directory) / "manifest.json").string();
-    ink::checkWritable(manifestPath);  // a directory that exists but cannot be written to
-    ink::checkWritable(o.statsPath);   // after the directory: the stats may go into it
+    // After the directory: the stats may go into it. A directory that exists but cannot be written to is
+    // refused here, as is an output that is an input.
+    ink::checkOutputs({manifestPath, o.statsPath}, {o.model, o.preset});
+    // A re-capture first removes the old manifest: killed halfway, it must not leave a manifest that
+    // describes frames it has replaced. The new one is written last, so a manifest means a complete capture.
+    if (::unlink(manifestPath.c_str()) != 0 && errno != ENOENT)
+        throw ink::Error("cannot remove the old '" + manifestPath + "': " + std::strerror(errno));
     auto start = Clock::now();
     Session session(o);
     ink::checkOffscreenSize(session.ctx, o.size[0], o.size[1], std::max(1u, o.render.supersample));
@@ -181,9 +182,9 @@ int runCapture(Options& o, const CaptureOptions& c) {
                         {"device", session.ctx.properties.deviceName},
                         {"driver", session.ctx.driverInfo},
                         {"points", points}};
-    // Written last: a manifest says the capture is complete.
+    // Written last, with the stats, both or neither: a manifest says the capture is complete.
+    ink::OutputBatch outputs;
     writeOrdered(manifestPath, manifest);
-    output.wrote(manifestPath);
     double seconds = secondsSince(start);
     writeJson(o.statsPath, {{"control_points", scene.model.fit.controlPoints},
                             {"fit", fitJson(scene.model)},
@@ -192,6 +193,7 @@ int runCapture(Options& o, const CaptureOptions& c) {
                             {"seconds", seconds},
                             {"device", session.ctx.properties.deviceName},
                             {"driver", session.ctx.driverInfo}});
+    outputs.commit();
     output.commit();
     std::printf("%s: %zu control points, %llu points, %u frames, %.2f s -> %s\n", o.model.c_str(),
                 scene.model.fit.controlPoints, (unsigned long long)points, c.frames, seconds, manifestPath.c_str());
@@ -215,6 +217,11 @@ std::string defaultDiffPath(const std::string& b) {
 
 // 0: within tolerance; 1: the images differ (or cannot be compared). Prints one line either way.
 int runCompare(const CompareOptions& c) {
+    std::string diffPath = c.diff.empty() ? defaultDiffPath(c.b) : c.diff;
+    for (const std::string& input : {c.a, c.b})  // never over a reference: refused before the images are read
+        if (ink::sameFile(diffPath, input))
+            throw ink::Error("cannot write '" + diffPath +
+                             "': it is also an input of this command (inputs are never modified)");
     ink::RgbaImage a = readImage(c.a), b = readImage(c.b);
     if (a.width != b.width || a.height != b.height) {
         std::printf("images differ in size: '%s' is %ux%u, '%s' is %ux%u\n", c.a.c_str(), a.width, a.height,
@@ -227,7 +234,6 @@ int runCompare(const CompareOptions& c) {
         std::printf("%s\n", ink::describe(result).c_str());
         return 0;
     }
-    std::string diffPath = c.diff.empty() ? defaultDiffPath(c.b) : c.diff;
     ink::writePng(diffPath, ink::diffImage(a, b, threshold));
     std::printf("%s: over %.3f%%, diff -> %s\n", ink::describe(result).c_str(), 100.0 * c.maxFraction,
                 diffPath.c_str());

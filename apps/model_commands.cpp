@@ -12,15 +12,16 @@ namespace app {
 
 static int runFit(Options& o, const std::string& output) {
     ink::checkModelOptions({o.controlPoints});
-    ink::checkWritable(output);
-    ink::checkWritable(o.statsPath);
+    ink::checkOutputs({output, o.statsPath}, {o.model, o.preset});
     ink::Model model = ink::loadModel(o.model, {o.controlPoints});
+    ink::OutputBatch outputs;  // the model and the stats, both or neither
     ink::saveHrbf(output, model.hrbf);
     writeJson(o.statsPath, {{"control_points", model.fit.controlPoints},
                             {"input_points", model.inputPoints},
                             {"merged_duplicates", model.mergedDuplicates},
                             {"load_seconds", model.loadSeconds},
                             {"fit", fitJson(model)}});
+    outputs.commit();
     std::printf("%s: %zu control points, fitted in %.3f s, max distance %.2g, max angle %.2g deg -> %s\n",
                 o.model.c_str(), model.fit.controlPoints, model.fit.seconds, model.fit.maxDistance,
                 model.fit.maxNormalAngleDeg, output.c_str());
@@ -37,8 +38,7 @@ static json selectJson(const ink::SelectPlan& plan, size_t candidates, const std
 
 static int runSample(Options& o, const std::string& pointsPath) {
     finishOptions(o);
-    ink::checkWritable(pointsPath);
-    ink::checkWritable(o.statsPath);
+    ink::checkOutputs({pointsPath, o.statsPath}, {o.model, o.preset});
     // The device first: without one there is no point in fitting.
     std::unique_ptr<Session> session;
     if (o.backend != "cpu") session = std::make_unique<Session>(o);
@@ -82,8 +82,10 @@ static int runSample(Options& o, const std::string& pointsPath) {
     stats["refine"]["points"] = points.size();
     stats["refine"]["levels"] = levelsJson(levels);
     if (!o.statsPath.empty()) stats["spacing"] = spacingJson(points);  // nearest neighbours: only when asked
+    ink::OutputBatch outputs;                                          // the points and the stats, both or neither
     ink::writePointsPly(pointsPath, points, model.hrbf.frame);
     writeJson(o.statsPath, stats);
+    outputs.commit();
     std::printf("%s: %zu control points, %zu points -> %s\n", o.model.c_str(), model.fit.controlPoints, points.size(),
                 pointsPath.c_str());
     return 0;
@@ -91,8 +93,7 @@ static int runSample(Options& o, const std::string& pointsPath) {
 
 static int runRender(Options& o, const std::string& output) {
     finishOptions(o);
-    ink::checkWritable(output);
-    ink::checkWritable(o.statsPath);
+    ink::checkOutputs({output, o.statsPath}, {o.model, o.preset});
     auto start = Clock::now();
     Session session(o);
     ink::checkOffscreenSize(session.ctx, o.size[0], o.size[1], std::max(1u, o.render.supersample));
@@ -103,6 +104,7 @@ static int runRender(Options& o, const std::string& output) {
         image = renderer.render(cameraFrom(o));
     }
     session.checkValidation();
+    ink::OutputBatch outputs;  // the image and the stats, both or neither
     ink::writePng(output, image);
     uint64_t points = scene.points();
     json levels = json::array();
@@ -113,6 +115,7 @@ static int runRender(Options& o, const std::string& output) {
                   {"seconds", secondsSince(start)}};
     stats.update(deviceJson(session.ctx));
     writeJson(o.statsPath, stats);
+    outputs.commit();
     std::printf("%s: %zu control points, %llu points, %.2f s -> %s\n", o.model.c_str(), scene.model.fit.controlPoints,
                 (unsigned long long)points, secondsSince(start), output.c_str());
     return 0;

@@ -2,6 +2,7 @@
 // same PointRenderer as `render` draws straight into the swapchain image (no readback unless a screenshot
 // is asked for). The keys and the mouse only set state; the frame loop applies it between frames.
 #include "commands.h"
+#include "files.h"
 #include "image.h"
 #include "swapchain.h"
 
@@ -15,6 +16,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -562,6 +564,7 @@ ViewResult Viewer::run() {
 
 int runView(Options& o, const ViewOptions& v) {
     finishOptions(o);
+    ink::checkOutputs({v.screenshot, o.statsPath}, {o.model, o.preset});  // before the window opens
     VkExtent2D size = kDefaultWindow;
     if (o.command && o.command->count("--size")) size = {o.size[0], o.size[1]};
 
@@ -569,6 +572,10 @@ int runView(Options& o, const ViewOptions& v) {
     Window window(size, "inkwell view - " + std::filesystem::path(o.model).filename().string());
     Session session(o, GlfwLibrary::instanceExtensions(), true);
     ViewResult result;
+    // With --screenshot (every screenshot then goes to that one file), it and the stats are renamed into place
+    // together once both are written; S-key screenshots to fresh names are saved at once.
+    std::optional<ink::OutputBatch> outputs;
+    if (!v.screenshot.empty()) outputs.emplace();
     {
         Surface surface(session.ctx.instance, window.handle);
         ink::checkPresentSupport(session.ctx, surface.surface);
@@ -589,6 +596,7 @@ int runView(Options& o, const ViewOptions& v) {
                   {"control_points", result.controlPoints}};
     stats.update(deviceJson(session.ctx));
     writeJson(o.statsPath, stats);
+    if (outputs) outputs->commit();
     std::printf("view: %u frames, median %.2f ms (%ux%u, %llu points)\n", result.frames, medianMs, result.extent.width,
                 result.extent.height, (unsigned long long)result.points);
     return 0;

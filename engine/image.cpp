@@ -26,13 +26,17 @@
 
 namespace ink {
 
+// Encoded in memory, then written with every write and the close checked (writeFileAtomically): stb's own
+// file writer ignores write errors, so a full disk gave a truncated PNG and success.
 void writePng(const std::string& path, const RgbaImage& image) {
-    writeAtomically(path, [&](const std::string& tmp) {
-        errno = 0;
-        if (!stbi_write_png(tmp.c_str(), int(image.width), int(image.height), 4, image.pixels.data(),
-                            int(image.width * 4)))
-            throw Error("cannot write '" + path + "': " + (errno ? std::strerror(errno) : "PNG encoding failed"));
-    });
+    std::string bytes;
+    auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+    };
+    if (!stbi_write_png_to_func(append, &bytes, int(image.width), int(image.height), 4, image.pixels.data(),
+                                int(image.width * 4)))
+        throw Error("cannot write '" + path + "': PNG encoding failed");
+    writeFileAtomically(path, bytes);
 }
 
 RgbaImage readPng(const std::string& path) {
