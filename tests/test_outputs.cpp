@@ -257,5 +257,15 @@ TEST_CASE("outputs: a full disk is exit 1 with the reason, and leaves no output,
     CHECK(r.output.find("No space left on device") != std::string::npos);
     CHECK(!fs::exists(dir / "ok.hrbf"));
     CHECK(!fs::exists(full.path + "/s.json"));
+
+    // A re-capture that fails (its stats do not fit) leaves no manifest: not the old one, which described
+    // the frames it replaced, and not a new one.
+    fs::create_directories(dir.path / "cap");
+    dir.write("cap/manifest.json", "{\"frames\": [\"old\"]}\n");
+    r = runInkwell("capture " + kBunny + kFit + kSmall + "--frames 2 -o " + (dir / "cap") + " --stats " + full.path +
+                   "/s.json");
+    CHECK(r.status == 1);
+    CHECK(r.output.find("No space left on device") != std::string::npos);
+    CHECK(!fs::exists(dir / "cap/manifest.json"));
     CHECK(noTemporaries(dir.path));
 }
