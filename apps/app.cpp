@@ -2,6 +2,7 @@
 
 #include "files.h"
 #include "image.h"
+#include "preset.h"
 #include "spacing.h"
 
 #include <unistd.h>
@@ -17,7 +18,8 @@ void addModelOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("model", o.model, "Mesh, oriented points or fitted model (.obj, .ply, .pts/.xyzn/.txt, .hrbf)")
         ->required();
     cmd->add_option("--control-points", o.controlPoints,
-                    "Control points chosen by farthest-point sampling (default: all, at most 1000)");
+                    "Control points chosen by farthest-point sampling (default: all, at most 1000)")
+        ->check(nonNegativeInteger());
     cmd->add_option("--stats", o.statsPath, "Write statistics as JSON to this file");
 }
 
@@ -29,7 +31,9 @@ void addDeviceOptions(CLI::App* cmd, Options& o) {
 
 void addRefineOptions(CLI::App* cmd, Options& o) {
     ink::RefineOptions& r = o.refine;
-    cmd->add_option("--levels", r.levels, "Refinement levels after the seeds")->capture_default_str();
+    cmd->add_option("--levels", r.levels, "Refinement levels after the seeds")
+        ->check(nonNegativeInteger())
+        ->capture_default_str();
     cmd->add_option(
            "--passes", r.passes,
            "Independent sets of children of the seeds (default: 1 for blue-noise stipples, else the report's 2)")
@@ -41,12 +45,14 @@ void addRefineOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--seeds", o.seeds, "Seeds: the control points, or a jittered grid projected onto the surface")
         ->check(CLI::IsMember({"control", "grid"}))
         ->capture_default_str();
-    cmd->add_option("--grid", r.grid, "Grid cells along the longest side for --seeds grid")->capture_default_str();
+    cmd->add_option("--grid", r.grid, "Grid cells along the longest side for --seeds grid")
+        ->check(nonNegativeInteger())
+        ->capture_default_str();
     cmd->add_option("--rho", r.rho0, "ρ₀ as a fraction of the bounding-box diagonal (default: half the seed spacing)");
     cmd->add_option("--rho-divisor", r.rhoDivisor,
                     "ρ of a level over the next's (default: 2 for blue-noise stipples, else the report's 3)")
         ->check(CLI::Range(1.5, 4.0));
-    cmd->add_option("--seed", r.seed, "Random seed")->capture_default_str();
+    cmd->add_option("--seed", r.seed, "Random seed")->check(nonNegativeInteger())->capture_default_str();
     cmd->add_option("--distribution", o.distribution,
                     "Stipples: selected from the refined points with blue-noise spacing and progressive ranks, or "
                     "every refined point with a random tone value (the report's look)")
@@ -66,7 +72,10 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--style", o.styleName, "Stipples, hatch-like lines of dots (direction sampling), or both")
         ->check(CLI::IsMember({"stipple", "direction", "both"}))
         ->capture_default_str();
-    cmd->add_option("--size", o.size, "Image width and height in pixels")->expected(2)->capture_default_str();
+    cmd->add_option("--size", o.size, "Image width and height in pixels")
+        ->expected(2)
+        ->check(nonNegativeInteger())
+        ->capture_default_str();
     cmd->add_option("--camera", o.camera, "Camera azimuth and elevation in degrees and distance in diagonals")
         ->expected(3)
         ->delimiter(',');
@@ -102,61 +111,59 @@ static glm::vec4 parseColour(const std::string& text, const char* what) {
 }
 
 // A preset sets what the command line did not: {"style": "both", "ink": "#202040", "dot_size": 1.4, ...}.
+// parsePreset (preset.cpp) checks every key like the command line checks its option.
 static void applyPreset(Options& o) {
-    std::ifstream in(o.preset);
-    if (!in) throw ink::Error("cannot open preset '" + o.preset + "'");
-    json j;
-    try {
-        j = json::parse(in);
-    } catch (const json::exception& e) {
-        throw ink::Error("preset '" + o.preset + "' is not valid JSON: " + e.what());
-    }
-    if (!j.is_object()) throw ink::Error("preset '" + o.preset + "' must be a JSON object");
+    const Preset p = parsePreset(
+        ink::readFileCapped(o.preset, kMaxPresetBytes, "file is larger than 1 MiB, far more than any preset"),
+        o.preset);
     auto given = [&](const char* option) { return o.command && o.command->count(option) > 0; };
-    try {
-        for (auto& [key, value] : j.items()) {
-            if (key == "style" && !given("--style"))
-                o.styleName = value.get<std::string>();
-            else if (key == "ink" && !given("--ink"))
-                o.ink = value.get<std::string>();
-            else if (key == "paper" && !given("--paper"))
-                o.paper = value.get<std::string>();
-            else if (key == "dot_size" && !given("--dot-size"))
-                o.render.frontSize = value.get<float>();
-            else if (key == "silhouette_size" && !given("--silhouette-size"))
-                o.render.silhouetteSize = value.get<float>();
-            else if (key == "tau" && !given("--tau"))
-                o.render.tau = value.get<float>();
-            else if (key == "tone" && !given("--tone"))
-                o.render.toneGamma = value.get<float>();
-            else if (key == "ink_density" && !given("--ink-density"))
-                o.render.inkDensity = value.get<float>();
-            else if (key == "hidden_lines" && !given("--hidden-lines"))
-                o.render.hiddenLines = value.get<bool>();
-            else if (key == "up" && !given("--up"))
-                o.up = value.get<std::string>();
-            else if (key == "light" && !given("--light"))
-                o.light = value.get<std::vector<float>>();
-            else if (key == "levels" && !given("--levels"))
-                o.refine.levels = value.get<uint32_t>();
-            else if (key == "passes" && !given("--passes"))
-                o.refine.passes = value.get<uint32_t>();
-            else if (key == "direction" && !given("--direction"))
-                o.direction = value.get<std::string>();
-            else if (key != "style" && key != "ink" && key != "paper" && key != "dot_size" &&
-                     key != "silhouette_size" && key != "tau" && key != "tone" && key != "ink_density" &&
-                     key != "hidden_lines" && key != "light" && key != "up" && key != "levels" && key != "passes" &&
-                     key != "direction")
-                throw ink::Error("preset '" + o.preset + "': unknown key '" + key + "'");
-        }
-    } catch (const json::exception& e) {
-        throw ink::Error("preset '" + o.preset + "': a value has the wrong type: " + e.what());
-    }
+    auto set = [&](auto& target, const auto& value, const char* option) {
+        if (value && !given(option)) target = *value;
+    };
+    set(o.styleName, p.style, "--style");
+    set(o.ink, p.ink, "--ink");
+    set(o.paper, p.paper, "--paper");
+    set(o.render.frontSize, p.dotSize, "--dot-size");
+    set(o.render.silhouetteSize, p.silhouetteSize, "--silhouette-size");
+    set(o.render.tau, p.tau, "--tau");
+    set(o.render.toneGamma, p.tone, "--tone");
+    set(o.render.inkDensity, p.inkDensity, "--ink-density");
+    set(o.render.hiddenLines, p.hiddenLines, "--hidden-lines");
+    set(o.up, p.up, "--up");
+    set(o.light, p.light, "--light");
+    set(o.refine.levels, p.levels, "--levels");
+    set(o.refine.passes, p.passes, "--passes");
+    set(o.direction, p.direction, "--direction");
+}
+
+const CLI::Validator& nonNegativeInteger() {
+    // CLI11 reads "-1" into an unsigned option as 18446744073709551615; refuse the sign instead.
+    static const CLI::Validator validator(
+        [](std::string& text) -> std::string {
+            size_t start = text.find_first_not_of(" \t");
+            if (start != std::string::npos && text[start] == '-') return "must not be negative (got " + text + ")";
+            return {};
+        },
+        "NONNEGATIVE");
+    return validator;
 }
 
 void finishOptions(Options& o) {
     ink::checkModelOptions({o.controlPoints});
     if (!o.preset.empty()) applyPreset(o);
+    // The refinement's numbers, before the model is loaded or fitted (planRefinement checks them again for
+    // the library's callers).
+    const CLI::Option* rho = o.command ? o.command->get_option_no_throw("--rho") : nullptr;
+    if ((rho && rho->count() > 0 && o.refine.rho0 == 0) || !ink::validRho(o.refine.rho0)) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", o.refine.rho0);
+        throw ink::Error(
+            std::string("--rho ") + text +
+            " must be in (0, 1]: a fraction of the bounding-box diagonal (above 1 every child is dropped)");
+    }
+    if (o.refine.passes > 64) throw ink::Error("--passes must be between 1 and 64");
+    if (o.refine.grid < 2 || o.refine.grid > 512)
+        throw ink::Error("--grid " + std::to_string(o.refine.grid) + " must be between 2 and 512 cells");
     if (o.styleName == "stipple")
         o.style = DrawStyle::Stipple;
     else if (o.styleName == "direction")

@@ -47,6 +47,8 @@ struct Options {
     CLI::App* command = nullptr;  // the chosen subcommand (set by main): tells a preset which options were given
 };
 
+// For unsigned options: CLI11 would read "-1" as 18446744073709551615.
+const CLI::Validator& nonNegativeInteger();
 void addModelOptions(CLI::App* cmd, Options& o);
 void addDeviceOptions(CLI::App* cmd, Options& o);
 void addRefineOptions(CLI::App* cmd, Options& o);

@@ -158,7 +158,7 @@ int runBench(Options& o, const std::vector<std::string>& names, const std::strin
     if (workloads.empty()) workloads = builtinWorkloads();
     if (repeat < 1 || repeat > 100) throw ink::Error("--repeat must be between 1 and 100");
     if (frames < 1 || frames > 10000) throw ink::Error("--frames must be between 1 and 10000");
-    ink::checkWritable(jsonPath);
+    ink::checkOutputs({jsonPath}, {o.model});  // never over the model it times
 
     auto deviceStart = Clock::now();
     Session session(o);
@@ -194,8 +194,11 @@ void addBenchCommand(CLI::App& cli, Options& o, Commands& commands) {
     CLI::App* bench = cli.add_subcommand("bench", "Time the report's workloads (preprocessing, frames, CPU reference)");
     bench->add_option("--workload", *names, "sphere, bunny-312, bunny-684 (default: all)");
     bench->add_option("--model", o.model, "Also time this model (with --control-points and --levels)");
-    bench->add_option("--control-points", o.controlPoints, "Control points for --model (default: as fit)");
-    bench->add_option("--levels", o.refine.levels, "Levels for --model")->capture_default_str();
+    bench->add_option("--control-points", o.controlPoints, "Control points for --model (default: as fit)")
+        ->check(nonNegativeInteger());
+    bench->add_option("--levels", o.refine.levels, "Levels for --model")
+        ->check(nonNegativeInteger())
+        ->capture_default_str();
     bench->add_option("--json", *jsonPath, "Write the results as JSON");
     bench->add_option("--repeat", *repeat, "Runs per workload; numbers are medians")->capture_default_str();
     bench->add_option("--frames", *frames, "Frames timed per run")->capture_default_str();

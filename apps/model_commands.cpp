@@ -48,7 +48,7 @@ static int runSample(Options& o, const std::string& pointsPath) {
     std::vector<ink::LevelStats> levels;
     if (!session) {
         auto start = Clock::now();
-        ink::RefinePlan plan = ink::planRefinement(model.hrbf, o.refine, UINT32_MAX);
+        ink::RefinePlan plan = ink::planRefinement(model.hrbf, o.refine, ink::kMaxCpuPoints);
         points = ink::refineOnCpu(model.hrbf, o.refine, plan, &levels);
         stats["refine"]["seconds"] = secondsSince(start);
         if (o.refine.selects()) {

@@ -113,7 +113,7 @@ void addValidateCommand(CLI::App& cli, Options& o, Commands& commands) {
     CLI::App* validate = cli.add_subcommand(
         "validate", "Run built-in scenes (and MODEL, if given) through the pipeline with validation and check them");
     validate->add_option("model", o.model, "Also validate this model (200 control points unless given)");
-    validate->add_option("--control-points", o.controlPoints, "Control points for MODEL");
+    validate->add_option("--control-points", o.controlPoints, "Control points for MODEL")->check(nonNegativeInteger());
     validate->add_option("--device", o.device, "Vulkan device: an index or part of its name");
     commands.emplace_back(validate, [&o] { return runValidate(o); });
 }

@@ -22,7 +22,17 @@ size_t mergeDuplicates(OrientedPoints& points, double tolerance) {
     // non-finite coordinates cannot overflow the conversion; clamped points share a cell, which costs
     // time but never a wrong answer, because distances are always checked. In exact mode a cell is one
     // position, keyed by the coordinates' bits (with -0 folded into 0).
+    // Cells are counted from the data's own corner, not the origin: far from the origin (offset/diagonal
+    // beyond about 2e9) x / cellSize passes the clamp below, every point shared one cell and merging became
+    // quadratic (152k points: 31 s).
     double cellSize = 2 * tolerance;
+    Vector3d origin = Vector3d::Zero();
+    for (int a = 0; a < 3; ++a) {
+        double lowest = std::numeric_limits<double>::infinity();
+        for (const Vector3d& p : pos)
+            if (std::isfinite(p[a])) lowest = std::min(lowest, p[a]);
+        if (std::isfinite(lowest)) origin[a] = lowest;
+    }
     auto cellOf = [&](double x) {
         constexpr double kLimit = 4.0e18;
         double cell = std::floor(x / cellSize);
@@ -31,7 +41,8 @@ size_t mergeDuplicates(OrientedPoints& points, double tolerance) {
     using Key = std::array<int64_t, 3>;
     auto keyOf = [&](const Vector3d& p) {
         Key k;
-        for (int a = 0; a < 3; ++a) k[size_t(a)] = exact ? std::bit_cast<int64_t>(p[a] + 0.0) : cellOf(p[a]);
+        for (int a = 0; a < 3; ++a)
+            k[size_t(a)] = exact ? std::bit_cast<int64_t>(p[a] + 0.0) : cellOf(p[a] - origin[a]);
         return k;
     };
     auto hash = [](const Key& k) {
@@ -64,8 +75,9 @@ size_t mergeDuplicates(OrientedPoints& points, double tolerance) {
         Key lo = keyOf(p), hi = lo;
         if (!exact) {
             for (size_t a = 0; a < 3; ++a) {
-                lo[a] = cellOf(p[Eigen::Index(a)] - tolerance);
-                hi[a] = cellOf(p[Eigen::Index(a)] + tolerance);
+                const double x = p[Eigen::Index(a)] - origin[Eigen::Index(a)];
+                lo[a] = cellOf(x - tolerance);
+                hi[a] = cellOf(x + tolerance);
             }
         }
         bool duplicate = false;

@@ -1,5 +1,6 @@
 #include "common.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 #include <cerrno>
 #include <cstdio>
@@ -10,6 +11,18 @@ namespace ink {
 std::string readFileCapped(const std::string& path, size_t maxBytes, const std::string& tooLarge) {
     std::FILE* file = std::fopen(path.c_str(), "rb");
     if (!file) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+    // Before reading: a device (a symlink to /dev/zero) would be read up to the cap, 2 GiB, before it is
+    // refused. Regular files and FIFOs (a pipe, read up to the same cap) are read.
+    struct stat info {};
+    if (fstat(fileno(file), &info) != 0 || !(S_ISREG(info.st_mode) || S_ISFIFO(info.st_mode))) {
+        std::fclose(file);
+        if (S_ISDIR(info.st_mode)) throw Error("cannot open '" + path + "': " + std::strerror(EISDIR));
+        throw Error("cannot read '" + path + "': not a regular file (" +
+                    (S_ISCHR(info.st_mode)   ? "a character device"
+                     : S_ISBLK(info.st_mode) ? "a block device"
+                                             : "a socket or other special file") +
+                    ")");
+    }
     std::string bytes;
     char chunk[1 << 16];
     size_t n;

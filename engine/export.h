@@ -1,5 +1,7 @@
-// Writing point sets: binary little-endian PLY with float x y z nx ny nz in the input's units, the refinement
-// level and the rank (PointRecord::tone: the point is in the prefix set of fraction t when rank < t).
+// Writing point sets: binary little-endian PLY with x y z in the input's units (float, or double when float
+// cannot hold the positions to 1e-6 of the diagonal: far from the origin, or at extreme scales), float
+// nx ny nz, the refinement level and the rank (PointRecord::tone: the point is in the prefix set of fraction t when
+// rank < t).
 #pragma once
 
 #include "hrbf.h"

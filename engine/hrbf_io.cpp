@@ -2,6 +2,7 @@
 
 #include "common.h"
 #include "files.h"
+#include "hrbf.h"
 
 #include <cerrno>
 #include <charconv>
@@ -23,6 +24,11 @@ constexpr size_t kCenterFields = 10;  // x y z nx ny nz alpha bx by bz
 // The shortest centre line: ten one-digit numbers, nine separators and a newline. Bounds the count a file
 // of a given size can hold, so that a hostile count is refused before anything is allocated for it.
 constexpr size_t kMinCenterLineBytes = 2 * kCenterFields;
+// How far a loaded model may miss its own centres and normals (a fit misses by about 1e-6 at most): the
+// distance |f|/|grad f| as a fraction of the diagonal, the angle between grad f and n, and |grad f - n|/|n|.
+constexpr double kMaxLoadedDistance = 1e-3;
+constexpr double kMaxLoadedAngleDeg = 1.0;
+constexpr double kMaxLoadedGradientMismatch = 1e-2;
 
 [[noreturn]] void fail(const std::string& name, const std::string& what) { throw Error(name + ": " + what); }
 
@@ -115,6 +121,53 @@ void put(std::string& out, const Eigen::Vector3d& v, char after = ' ') {
     put(out, v.x());
     put(out, v.y());
     put(out, v.z(), after);
+}
+
+std::string number(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", v);
+    return text;
+}
+
+// Every number parsed is finite, but together they may still be absurd: coefficients of 1e300 overflow f
+// or grad f, and made-up coefficients do not interpolate the stored normals. A fitted model satisfies
+// f(p_j) = 0 and grad f(p_j) = n_j to about 1e-6 (docs/fitting.md); a file that misses by far more than that
+// was not written by a fit, and every later step (projection, normals, validate) would believe it.
+void checkConsistent(const Hrbf& model, const std::string& name) {
+    const double inverse = 1.0 / model.frame.scale;
+    if (!std::isfinite(inverse) || !(model.frame.center.array().abs() + inverse).allFinite())
+        fail(name, "the frame's scale " + number(model.frame.scale) +
+                       " maps the model to a box too large to represent (the file is inconsistent)");
+    for (size_t j = 0; j < model.size(); ++j) {
+        Eigen::Vector3d g;
+        double f = model.eval(model.centers[j], g);
+        if (!std::isfinite(f) || !g.allFinite() || !std::isfinite(g.norm()))
+            fail(name, "centre " + std::to_string(j + 1) +
+                           ": f or its gradient overflows there (coefficients too large; the file is inconsistent)");
+        const Eigen::Vector3d& n = model.normals[j];
+        if (!std::isfinite(n.norm()))
+            fail(name,
+                 "centre " + std::to_string(j + 1) + ": the normal's length overflows (the file is inconsistent)");
+    }
+    FitStats stats = measureFit(model);
+    if (!(stats.maxDistance <= kMaxLoadedDistance))
+        fail(name, "the model does not pass through its own centres: |f|/|grad f| reaches " +
+                       number(stats.maxDistance) + " of the diagonal (a fit gives under 1e-6, the limit is " +
+                       number(kMaxLoadedDistance) + "); the file is inconsistent");
+    if (!(stats.maxNormalAngleDeg <= kMaxLoadedAngleDeg))
+        fail(name, "the stored normals disagree with grad f at the centres by up to " +
+                       number(stats.maxNormalAngleDeg) + " degrees (the limit is " + number(kMaxLoadedAngleDeg) +
+                       "); the file is inconsistent");
+    for (size_t j = 0; j < model.size(); ++j) {
+        Eigen::Vector3d g;
+        model.eval(model.centers[j], g);
+        const Eigen::Vector3d& n = model.normals[j];
+        double mismatch = (g - n).norm() / n.norm();
+        if (!(mismatch <= kMaxLoadedGradientMismatch))
+            fail(name, "centre " + std::to_string(j + 1) + ": |grad f - n| is " + number(mismatch) +
+                           " of |n| (the limit is " + number(kMaxLoadedGradientMismatch) +
+                           "); the stored normals disagree with grad f: the file is inconsistent");
+    }
 }
 
 }  // namespace
@@ -235,6 +288,7 @@ Hrbf parseHrbf(const std::string& bytes, const std::string& name) {
         lines.fail("expected 'end' after the " + std::to_string(m) + " centres declared, found " +
                    quoted(lines.fields[0]) + " (more centres than the count?)");
     if (lines.next()) lines.fail("unexpected " + quoted(lines.fields[0]) + " after 'end'");
+    checkConsistent(model, name);
     return model;
 }
 

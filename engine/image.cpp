@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
+#include <string_view>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_IMPLEMENTATION
@@ -39,13 +41,64 @@ void writePng(const std::string& path, const RgbaImage& image) {
     writeFileAtomically(path, bytes);
 }
 
-RgbaImage readPng(const std::string& path) {
+namespace {
+
+// A file name or stb's reason for a message: bytes outside printable ASCII become '?' (a raw non-UTF-8
+// byte made the message itself invalid text).
+std::string printable(std::string_view s) {
+    std::string out;
+    for (unsigned char c : s) out += (c >= 0x20 && c < 0x7f) ? char(c) : '?';
+    return out;
+}
+
+// stb's reason for the last failure, printable; some failures leave it empty.
+std::string reason() {
+    const char* text = stbi_failure_reason();
+    return text && *text ? printable(text) : "not a PNG, or a broken one";
+}
+
+}  // namespace
+
+RgbaImage readPngFromMemory(const std::string& bytes, const std::string& name) {
+    const std::string what = "cannot read '" + printable(name) + "' as PNG: ";
+    if (bytes.size() > size_t(std::numeric_limits<int>::max())) throw Error(what + "the file is larger than 2 GiB");
+    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+    const int size = int(bytes.size());
+    // The header first: a few kilobytes of PNG may claim 8000x8000 pixels and make stb allocate hundreds of
+    // megabytes (a decompression bomb). Refuse such sizes before anything is decoded.
     int w = 0, h = 0, channels = 0;
-    stbi_uc* data = stbi_load(path.c_str(), &w, &h, &channels, 4);
-    if (!data) throw Error("cannot read '" + path + "' as PNG: " + stbi_failure_reason());
-    RgbaImage image{uint32_t(w), uint32_t(h), std::vector<uint8_t>(data, data + size_t(w) * size_t(h) * 4)};
-    stbi_image_free(data);
+    if (!stbi_info_from_memory(data, size, &w, &h, &channels)) throw Error(what + reason());
+    if (w < 1 || h < 1 || uint64_t(w) > kMaxImageSide || uint64_t(h) > kMaxImageSide ||
+        uint64_t(w) * uint64_t(h) > kMaxImagePixels)
+        throw Error(what + std::to_string(w) + "x" + std::to_string(h) + " pixels is over the limit (at most " +
+                    std::to_string(kMaxImageSide) + " a side and " + std::to_string(kMaxImagePixels) +
+                    " pixels = 2^28 in all)");
+    // Within those, a file far smaller than its pixels need: an 8-bit RGBA PNG decodes to at most 1032 bytes
+    // per byte of data (deflate's largest ratio), so more than kMaxImageExpansion bytes of RGBA per byte of
+    // file is a low-bit-depth bomb (a 7.8 KB 1-bit PNG of 8000x8000 pixels took 766 MB). Every PNG Inkwell
+    // writes (8-bit RGBA) passes; small images always do.
+    const uint64_t decoded = uint64_t(w) * uint64_t(h) * 4;
+    if (uint64_t(w) * uint64_t(h) > kMinImageForRatio && decoded / kMaxImageExpansion > bytes.size())
+        throw Error(what + std::to_string(w) + "x" + std::to_string(h) + " pixels (" + std::to_string(decoded >> 20) +
+                    " MiB decoded) from " + std::to_string(bytes.size()) +
+                    " bytes is a decompression bomb: more than " + std::to_string(kMaxImageExpansion) +
+                    " bytes of pixels per byte of file");
+    stbi_uc* pixels = stbi_load_from_memory(data, size, &w, &h, &channels, 4);
+    if (!pixels) throw Error(what + reason());
+    RgbaImage image{uint32_t(w), uint32_t(h), std::vector<uint8_t>(pixels, pixels + size_t(w) * size_t(h) * 4)};
+    stbi_image_free(pixels);
     return image;
+}
+
+RgbaImage readPng(const std::string& path) {
+    // A 2^28-pixel PNG compresses to far less than this; the cap only stops a wrong file being slurped.
+    std::string bytes;
+    try {
+        bytes = readFileCapped(path, size_t(256) << 20, "file is larger than 256 MiB, too large for an image");
+    } catch (const Error& e) {
+        throw Error(printable(e.what()));
+    }
+    return readPngFromMemory(bytes, path);
 }
 
 RgbaImage downsample(const RgbaImage& image, uint32_t factor) {

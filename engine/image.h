@@ -13,7 +13,16 @@ struct RgbaImage {
 };
 
 void writePng(const std::string& path, const RgbaImage& image);
+// Limits on every image read, checked from the header before anything is decoded (a small PNG may claim
+// a huge size: a decompression bomb). Messages are printable ASCII whatever the file name or stb says.
+constexpr uint64_t kMaxImageSide = 16384;
+constexpr uint64_t kMaxImagePixels = uint64_t(1) << 28;
+// Above 2^22 pixels, at most this many bytes of RGBA per byte of file: 4 x 1032, deflate's largest ratio.
+constexpr uint64_t kMaxImageExpansion = 4 * 1032;
+constexpr uint64_t kMinImageForRatio = uint64_t(1) << 22;
 RgbaImage readPng(const std::string& path);
+// The same on a PNG file's bytes; `name` is used in messages.
+RgbaImage readPngFromMemory(const std::string& bytes, const std::string& name);
 
 // Box-filters an image whose sides are `factor` times larger.
 RgbaImage downsample(const RgbaImage& image, uint32_t factor);

@@ -1,6 +1,7 @@
 // The CPU reference of refine.comp / scan.comp / compact.comp: the same plan, rules, double arithmetic and
 // random numbers, so that its points match the GPU's (up to the drivers' rounding) and its speed is a fair
 // comparison. Each level is split across threads; compaction is sequential and stable.
+#include "common.h"
 #include "random.h"
 #include "refine_plan.h"
 
@@ -200,6 +201,9 @@ Vector3f tangentDirection(const Hrbf& hrbf, const LevelParams& pc, const Vector3
 
 std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& options, const RefinePlan& plan,
                                      std::vector<LevelStats>* stats, unsigned threads, CpuKernel kernel) {
+    if (plan.maxPoints > kMaxCpuPoints)
+        throw Error("the refinement asks for up to " + std::to_string(plan.maxPoints) + " points, but at most " +
+                    std::to_string(kMaxCpuPoints) + " fit the CPU reference: plan it with kMaxCpuPoints");
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     const HrbfArrays arrays(hrbf, kernel);
     std::vector<PointRecord> points;

@@ -36,6 +36,7 @@ RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& o, uint64_t max
         throw Error("--levels " + std::to_string(o.levels) + " is too many: at most " + std::to_string(kMaxLevels - 1) +
                     " refinement levels");
     if (o.passes > 64) throw Error("--passes must be between 1 and 64");
+    if (!validRho(o.rho0)) throw Error("--rho must be in (0, 1]: a fraction of the bounding-box diagonal");
     if (!(o.eps1 > 0) || !(o.delta > 0 && o.delta < 1) || !(o.phi > 0 && o.phi < 0.5))
         throw Error("projection parameters out of range: need ε₁ > 0, δ in (0,1), φ in (0,½)");
 
@@ -55,6 +56,12 @@ RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& o, uint64_t max
             hi = hi.cwiseMax(c);
         }
         double cell = (hi - lo).maxCoeff() / o.grid;
+        // Coincident centres (possible in a hand-made .hrbf file) give a zero cell, and
+        // then a NaN cell count cast to an integer.
+        if (!(cell > 0) || !std::isfinite(cell) || !std::isfinite(1.0 / cell))
+            throw Error(
+                "--seeds grid: the model's centres span no volume (their bounding box is degenerate); use "
+                "--seeds control-points");
         lo.array() -= cell;
         Eigen::Vector3i n = ((hi - lo).array() / cell).ceil().cast<int>() + 1;
         uint64_t cells = uint64_t(n.x()) * uint64_t(n.y()) * uint64_t(n.z());

@@ -48,6 +48,9 @@ struct RefineOptions {
 };
 
 constexpr uint32_t kMaxLevels = 16;  // MAX_LEVELS in common.glsl: seeds + 15 refinement levels
+// ρ₀ is 0 (the default: half the seed spacing) or a fraction of the diagonal in (0, 1]; NaN, negative and
+// larger values are refused (above 1 every child would be dropped).
+inline bool validRho(double rho0) { return rho0 == 0 || (rho0 > 0 && rho0 <= 1); }
 constexpr uint32_t kGroupSize = 256;
 
 enum DropReason : uint32_t { DropGradient, DropArmijo, DropIterations, DropJump, DropReasonCount };
@@ -98,6 +101,11 @@ double levelRho(const RefinePlan& plan, uint32_t level);  // ρ of a level: 0 fo
 // How the CPU reference evaluates f and ∇f: the fastest this CPU has (AVX2 with FMA where there is one), or
 // the portable code every target builds (what ARM64 runs; tests run it on x86-64 too).
 enum class CpuKernel { Best, Portable };
+
+// The most points the CPU reference refines: the 4,194,304 (2^22) that lavapipe's limits allow the device
+// (128 MiB of 32-byte records for the points, with the candidates and work buffers about 0.5 GiB in all).
+// Pass it to planRefinement for the CPU backend; refineOnCpu refuses a plan above it.
+constexpr uint64_t kMaxCpuPoints = uint64_t(1) << 22;
 
 // The CPU reference backend: the same plan, rules and random numbers, on all hardware threads.
 std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& options, const RefinePlan& plan,

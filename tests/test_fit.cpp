@@ -45,7 +45,7 @@ const std::string kGood =
     "inkwell-hrbf 1\n"
     "centers 2\n"
     "frame 0 0 0 1\n"
-    "linear 0 0 1 0\n"
+    "linear 0 0 -2 1\n"  // f = |x|^3 - |x - (0,0,1)|^3 - 2z + 1: zero with gradient (0,0,1) at both centres
     "0 0 0 0 0 1 1 0 0 0\n"
     "0 0 1 0 0 1 -1 0 0 0\n"
     "end\n";
@@ -182,7 +182,7 @@ TEST_CASE("fit: the .hrbf reader refuses bad files with one-line messages") {
     };
     auto spoilt = [](const std::string& from, const std::string& to) { return replaced(kGood, from, to); };
     REQUIRE(parse(kGood).size() == 2);
-    CHECK(parse(spoilt("0 0 1 0\n0 0 0", "0 0 1 0\n\n# a comment\n0 0 0")).size() == 2);
+    CHECK(parse(spoilt("-2 1\n0 0 0", "-2 1\n\n# a comment\n0 0 0")).size() == 2);
     std::string crlf;
     for (char c : kGood) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
     CHECK(parse(crlf).size() == 2);
@@ -230,6 +230,18 @@ TEST_CASE("fit: the .hrbf reader refuses bad files with one-line messages") {
             "m.hrbf: line 2: '99999999999999999999999999' centres is more than the maximum of 4000");
     refused(spoilt("centers 2", "centers -2"), "m.hrbf: line 2: '-2' is not a count of centres");
     refused(kGood + "0\n", "m.hrbf: line 8: unexpected '0' after 'end'");
+
+    // Numbers that are finite one by one but absurd together (issue 13): coefficients whose gradient
+    // overflows (|f|/|grad f| would be 0 and pass), a model that misses its centres, normals that disagree.
+    refused(spoilt("1 0 0 0\n", "1e300 1e300 0 0\n"), "m.hrbf: centre 2: f or its gradient overflows there");
+    refused(spoilt("-1 0 0 0\n", "-1e308 0 0 0\n"),
+            "overflows there (coefficients too large; the file is inconsistent)");
+    refused(spoilt("linear 0 0 -2 1", "linear 0 0 1 0"),
+            "m.hrbf: the model does not pass through its own centres: |f|/|grad f| reaches 0.5 of the diagonal");
+    refused(spoilt("0 0 1 0 0 1 -1", "0 0 1 0 0 -1 -1"),
+            "m.hrbf: the stored normals disagree with grad f at the centres by up to 180 degrees");
+    refused(spoilt("0 0 1 0 0 1 -1", "0 0 1 0 0 3 -1"), "m.hrbf: centre 2: |grad f - n| is 0.667 of |n|");
+    refused(spoilt("frame 0 0 0 1", "frame 0 0 0 1e-320"), "maps the model to a box too large to represent");
 
     // Every message is one line; a missing file names the file and the reason.
     try {

@@ -58,16 +58,23 @@ ObjScan scanObj(const std::string& bytes, const std::string& name) {
     Lines lines(bytes);
     std::string_view line;
     while (lines.next(line)) {
-        size_t at = line.find_first_not_of(" \t");
+        // The same blanks as between fields (splitFields): a form feed after 'v' dropped the vertex.
+        constexpr const char* kBlanks = " \t\r\f\v";
+        size_t at = line.find_first_not_of(kBlanks);
         if (at == std::string_view::npos) continue;
         line.remove_prefix(at);
         auto where = [&] { return lineName(lines.number()); };
-        auto space = [&](size_t i) { return line.size() > i && (line[i] == ' ' || line[i] == '\t'); };
+        // A keyword alone on its line counts too ("v" then a lone '\r', which ends the line): it is refused for
+        // its missing numbers rather than skipped.
+        auto space = [&](size_t i) {
+            return line.size() == i ||
+                   (line.size() > i && std::string_view(kBlanks).find(line[i]) != std::string_view::npos);
+        };
         bool vertex = line[0] == 'v' && space(1);
         bool normal = line[0] == 'v' && line.size() > 1 && line[1] == 'n' && space(2);
         bool face = line[0] == 'f' && space(1);
         if (!vertex && !normal && !face) continue;
-        splitFields(line.substr(vertex || face ? 2 : 3), fields);
+        splitFields(line.substr(std::min(line.size(), size_t(vertex || face ? 2 : 3))), fields);
 
         if (vertex || normal) {
             // A trailing comment is allowed.

@@ -1,0 +1,114 @@
+#include "preset.h"
+
+#include "common.h"
+#include "refine_plan.h"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+namespace app {
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void fail(const std::string& name, const std::string& key, const std::string& what) {
+    throw ink::Error("preset '" + name + "': \"" + key + "\" " + what);
+}
+
+std::string text(const json& value, const std::string& name, const std::string& key,
+                 std::initializer_list<const char*> allowed = {}) {
+    if (!value.is_string()) fail(name, key, "must be a string");
+    std::string s = value.get<std::string>();
+    if (allowed.size() == 0) return s;
+    std::string list;
+    for (const char* a : allowed) {
+        if (s == a) return s;
+        list += std::string(list.empty() ? "" : ", ") + a;
+    }
+    fail(name, key, "is " + ink::quoted(s) + ", not one of " + list);
+}
+
+double number(const json& value, const std::string& name, const std::string& key) {
+    if (!value.is_number()) fail(name, key, "must be a number");
+    double v = value.get<double>();
+    if (!std::isfinite(v)) fail(name, key, "must be finite");
+    return v;
+}
+
+float ranged(const json& value, const std::string& name, const std::string& key, double lo, double hi, bool openLow,
+             bool openHigh, const char* range) {
+    double v = number(value, name, key);
+    if ((openLow ? !(v > lo) : !(v >= lo)) || (openHigh ? !(v < hi) : !(v <= hi)))
+        fail(name, key, std::string("must be in ") + range);
+    return float(v);
+}
+
+uint32_t integer(const json& value, const std::string& name, const std::string& key, uint32_t lo, uint32_t hi) {
+    const std::string range = "an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
+    if (!value.is_number()) fail(name, key, "must be " + range);
+    double v = value.get<double>();  // 1e20 and 2.5 are numbers too: checked before any cast
+    if (!(v >= lo && v <= hi) || v != std::floor(v)) fail(name, key, "must be " + range);
+    return uint32_t(v);
+}
+
+std::string colour(const json& value, const std::string& name, const std::string& key) {
+    std::string s = text(value, name, key);
+    std::string hex = s.rfind('#', 0) == 0 ? s.substr(1) : s;
+    if (hex.size() != 6 || hex.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos)
+        fail(name, key, "is " + ink::quoted(s) + ", not a colour of the form #rrggbb");
+    return s;
+}
+
+}  // namespace
+
+Preset parsePreset(const std::string& bytes, const std::string& name) {
+    json j;
+    try {
+        j = json::parse(bytes);
+    } catch (const json::exception& e) {
+        throw ink::Error("preset '" + name + "' is not valid JSON: " + e.what());
+    }
+    if (!j.is_object()) throw ink::Error("preset '" + name + "' must be a JSON object");
+    Preset p;
+    for (auto& [key, value] : j.items()) {
+        if (key == "style")
+            p.style = text(value, name, key, {"stipple", "direction", "both"});
+        else if (key == "direction")
+            p.direction = text(value, name, key, {"axis", "curvature-min", "curvature-max"});
+        else if (key == "up")
+            p.up = text(value, name, key, {"x", "-x", "+x", "y", "-y", "+y", "z", "-z", "+z"});
+        else if (key == "ink")
+            p.ink = colour(value, name, key);
+        else if (key == "paper")
+            p.paper = colour(value, name, key);
+        else if (key == "dot_size")
+            p.dotSize = ranged(value, name, key, 0, 64, true, false, "(0, 64] pixels");
+        else if (key == "silhouette_size")
+            p.silhouetteSize = ranged(value, name, key, 0, 64, true, false, "(0, 64] pixels");
+        else if (key == "tau")
+            p.tau = ranged(value, name, key, 0, 1, false, true, "[0, 1)");
+        else if (key == "tone")
+            p.tone = ranged(value, name, key, 0, 16, false, false, "[0, 16]");
+        else if (key == "ink_density")
+            p.inkDensity = ranged(value, name, key, 0, 100, false, false, "[0, 100]");
+        else if (key == "hidden_lines") {
+            if (!value.is_boolean()) fail(name, key, "must be true or false");
+            p.hiddenLines = value.get<bool>();
+        } else if (key == "light") {
+            if (!value.is_array() || value.size() != 3) fail(name, key, "must be an array of 3 numbers [x, y, z]");
+            std::vector<float> l;
+            for (const json& v : value) l.push_back(float(number(v, name, key)));
+            double length = std::sqrt(double(l[0]) * l[0] + double(l[1]) * l[1] + double(l[2]) * l[2]);
+            if (!(length > 0) || !std::isfinite(length)) fail(name, key, "must be a non-zero vector");
+            p.light = l;
+        } else if (key == "levels")
+            p.levels = integer(value, name, key, 0, ink::kMaxLevels - 1);
+        else if (key == "passes")
+            p.passes = integer(value, name, key, 1, 64);
+        else
+            throw ink::Error("preset '" + name + "': unknown key " + ink::quoted(key));
+    }
+    return p;
+}
+
+}  // namespace app
