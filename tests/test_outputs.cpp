@@ -214,6 +214,11 @@ TEST_CASE("outputs: an output that is an input is refused before any work") {
     CHECK(r.status == 1);
     CHECK(slurp(model) == slurp(kBunny));
 
+    r = runInkwell("bench --model " + model + " --json " + model);
+    CHECK(r.status == 1);
+    CHECK(r.output.find("is also an input") != std::string::npos);
+    CHECK(slurp(model) == slurp(kBunny));
+
     r = runInkwell("render " + model + kSmall + "-o " + (dir / "o.png") + " --stats " + (dir / "o.png"));
     CHECK(r.status == 1);
     CHECK(r.output.find("given as two outputs") != std::string::npos);
