@@ -4,6 +4,7 @@
 #include "refine_plan.h"
 
 #include <cmath>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 namespace app {
@@ -97,7 +98,12 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
         } else if (key == "light") {
             if (!value.is_array() || value.size() != 3) fail(name, key, "must be an array of 3 numbers [x, y, z]");
             std::vector<float> l;
-            for (const json& v : value) l.push_back(float(number(v, name, key)));
+            for (const json& v : value) {
+                double x = number(v, name, key);
+                if (!(std::abs(x) <= double(std::numeric_limits<float>::max())))
+                    fail(name, key, "must be a non-zero vector of numbers within float's range");
+                l.push_back(float(x));
+            }
             double length = std::sqrt(double(l[0]) * l[0] + double(l[1]) * l[1] + double(l[2]) * l[2]);
             if (!(length > 0) || !std::isfinite(length)) fail(name, key, "must be a non-zero vector");
             p.light = l;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 
 namespace ink {
 
@@ -21,8 +22,9 @@ bool floatHolds(const std::vector<Eigen::Vector3d>& positions, const Frame& fram
     const double tolerance = 1e-6 / frame.scale;
     for (const Eigen::Vector3d& x : positions)
         for (int k = 0; k < 3; ++k) {
-            float f = float(x[k]);
-            if (!std::isfinite(f) || !(std::abs(double(f) - x[k]) <= tolerance)) return false;
+            // Beyond float's range the conversion itself is undefined: test before converting.
+            if (!(std::abs(x[k]) <= double(std::numeric_limits<float>::max()))) return false;
+            if (!(std::abs(double(float(x[k])) - x[k]) <= tolerance)) return false;
         }
     return true;
 }

@@ -138,6 +138,11 @@ void checkConsistent(const Hrbf& model, const std::string& name) {
     if (!std::isfinite(inverse) || !(model.frame.center.array().abs() + inverse).allFinite())
         fail(name, "the frame's scale " + number(model.frame.scale) +
                        " maps the model to a box too large to represent (the file is inconsistent)");
+    // Normalized coordinates: the fit's box is centred at the origin with a unit diagonal.
+    for (size_t j = 0; j < model.size(); ++j)
+        if (!(model.centers[j].cwiseAbs().maxCoeff() <= 1.0))
+            fail(name, "centre " + std::to_string(j + 1) +
+                           " lies outside the normalized box (coordinates beyond +-1; the file is inconsistent)");
     for (size_t j = 0; j < model.size(); ++j) {
         Eigen::Vector3d g;
         double f = model.eval(model.centers[j], g);

@@ -83,6 +83,19 @@ RgbaImage readPngFromMemory(const std::string& bytes, const std::string& name) {
                     " MiB decoded) from " + std::to_string(bytes.size()) +
                     " bytes is a decompression bomb: more than " + std::to_string(kMaxImageExpansion) +
                     " bytes of pixels per byte of file");
+    // stb_image copies a first IDAT chunk of length 0 with memcpy from a null pointer (undefined behaviour,
+    // found by fuzz_png); such a file is refused before stb decodes it.
+    for (size_t at = 8; at + 8 <= bytes.size();) {
+        uint32_t length = 0;
+        for (size_t k = 0; k < 4; ++k) length = (length << 8) | uint8_t(bytes[at + k]);
+        std::string_view type(bytes.data() + at + 4, 4);
+        if (type == "IDAT") {
+            if (length == 0) throw Error(what + "an empty IDAT chunk before the image data");
+            break;
+        }
+        if (type == "IEND" || uint64_t(length) + 12 > bytes.size() - at) break;
+        at += size_t(length) + 12;
+    }
     stbi_uc* pixels = stbi_load_from_memory(data, size, &w, &h, &channels, 4);
     if (!pixels) throw Error(what + reason());
     RgbaImage image{uint32_t(w), uint32_t(h), std::vector<uint8_t>(pixels, pixels + size_t(w) * size_t(h) * 4)};

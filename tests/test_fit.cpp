@@ -241,6 +241,7 @@ TEST_CASE("fit: the .hrbf reader refuses bad files with one-line messages") {
     refused(spoilt("0 0 1 0 0 1 -1", "0 0 1 0 0 -1 -1"),
             "m.hrbf: the stored normals disagree with grad f at the centres by up to 180 degrees");
     refused(spoilt("0 0 1 0 0 1 -1", "0 0 1 0 0 3 -1"), "m.hrbf: centre 2: |grad f - n| is 0.667 of |n|");
+    refused(spoilt("0 0 1 0 0 1 -1", "0 0 1e300 0 0 1 -1"), "m.hrbf: centre 2 lies outside the normalized box");
     refused(spoilt("frame 0 0 0 1", "frame 0 0 0 1e-320"), "maps the model to a box too large to represent");
 
     // Every message is one line; a missing file names the file and the reason.
