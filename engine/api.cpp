@@ -140,10 +140,7 @@ Device::Device(const DeviceOptions& options) : impl_(std::make_unique<Impl>()) {
     ink::createContext(impl_->ctx, o);  // on a throw, ~Impl releases what was made
 }
 
-Device::Device(const AdoptedDevice& device) : impl_(std::make_unique<Impl>()) {
-    ink::adoptContext(impl_->ctx,
-                      {device.instance, device.physicalDevice, device.device, device.queue, device.queueFamily});
-}
+Device::Device(const AdoptedDevice& device) : impl_(std::make_unique<Impl>()) { ink::adoptContext(impl_->ctx, device); }
 
 Device::~Device() = default;
 Device::Device(Device&&) noexcept = default;
@@ -268,9 +265,7 @@ void FrameRecorder::record(VkCommandBuffer cmd, const Camera& camera, const Fram
         impl_->renderer.setStyle(cmd, impl_->style, 1.0f);
         impl_->restyle = false;
     }
-    impl_->renderer.recordFrame(cmd, toCamera(camera),
-                                {target.image, target.view, target.extent, target.finalLayout, target.previousStages},
-                                frame);
+    impl_->renderer.recordFrame(cmd, toCamera(camera), target, frame);
 }
 
 }  // namespace inkwell

@@ -2,6 +2,8 @@
 // synchronization validation, and a debug messenger that counts what it reports.
 #pragma once
 
+#include "inkwell/inkwell.h"
+
 #include <vulkan/vulkan.h>
 
 #include <atomic>
@@ -32,16 +34,8 @@ struct ContextOptions {
     std::function<void(bool error, const std::string& message)> validationMessage;
 };
 
-// A device the caller made and keeps (the engine then draws into the caller's frames). It must be Vulkan 1.3
-// with the features createContext enables (docs/library.md lists them), and the queue family must do graphics
-// and compute.
-struct AdoptedDevice {
-    VkInstance instance = VK_NULL_HANDLE;
-    VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
-    VkDevice device = VK_NULL_HANDLE;
-    VkQueue queue = VK_NULL_HANDLE;
-    uint32_t queueFamily = 0;
-};
+// A device the caller made and keeps: the public type (include/inkwell/inkwell.h says what it must have).
+using AdoptedDevice = inkwell::AdoptedDevice;
 
 struct Context {
     VkInstance instance = VK_NULL_HANDLE;

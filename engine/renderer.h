@@ -51,17 +51,9 @@ struct StyleBlock {
     glm::vec4 options;
 };
 
-// A colour image a frame is drawn into: the caller's (a swapchain image, a texture of its own) or the
-// offscreen renderer's. Its contents before the frame are discarded; it ends in `finalLayout`, visible to
-// any later command (for PRESENT_SRC_KHR, the submission's semaphore orders the presentation).
-struct FrameTarget {
-    VkImage image = VK_NULL_HANDLE;
-    VkImageView view = VK_NULL_HANDLE;
-    VkExtent2D extent{};
-    VkImageLayout finalLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
-    // The stages whose earlier work on the image (or a semaphore wait guarding it) the frame must follow.
-    VkPipelineStageFlags2 previousStages = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-};
+// A colour image a frame is drawn into, the caller's or the offscreen renderer's: the public type
+// (include/inkwell/inkwell.h). Its contents are discarded; it ends in `finalLayout`, visible to any later command.
+using FrameTarget = inkwell::FrameTarget;
 
 // Draws one or more refinements (e.g. stippling and direction sampling together) into a colour target. Each
 // of `framesInFlight` frames owns its depth grid, coverage, dot lists and timestamps, so frame k + 1 can be

@@ -72,4 +72,29 @@ void finish(OrientedPoints& points, const std::string& name, Where where) {
     }
 }
 
+// A mesh without normals (PLY, OFF): the vertices its polygons use, with area-weighted normals. A vertex no
+// polygon uses is dropped; a non-finite one, or a used one whose polygons have no area, is an error naming it
+// (`where(i)` names input vertex i).
+template <class Where>
+OrientedPoints meshPoints(const std::vector<Eigen::Vector3d>& positions, const Polygons& polygons,
+                          const std::string& name, Where where) {
+    for (size_t i = 0; i < positions.size(); ++i)
+        if (!positions[i].allFinite()) fail(name, where(i) + ": coordinate is not finite " + str(positions[i]));
+    std::vector<Eigen::Vector3d> sums(positions.size(), Eigen::Vector3d::Zero());
+    std::vector<char> used(positions.size(), 0);
+    addAreaNormals(positions, polygons, sums, used);
+    double diagonal = usedDiagonal(positions, used);
+    OrientedPoints out;
+    std::vector<size_t> vertexOf;
+    for (size_t i = 0; i < sums.size(); ++i) {
+        if (!used[i]) continue;
+        settleAreaNormal(sums[i], diagonal, name, [&] { return where(i); });
+        vertexOf.push_back(i);
+        out.positions.push_back(positions[i]);
+        out.normals.push_back(sums[i]);
+    }
+    finish(out, name, [&](size_t i) { return where(vertexOf[i]); });
+    return out;
+}
+
 }  // namespace ink::io

@@ -170,25 +170,8 @@ OrientedPoints parseOff(const std::string& bytes, const std::string& name) {
         return points;
     }
     if (polygons.sizes.empty()) fail(name, "has no faces and no normals: cannot orient points");
-    for (size_t i = 0; i < points.positions.size(); ++i)
-        if (!points.positions[i].allFinite())
-            fail(name, vertexName(i) + ": coordinate is not finite " + str(points.positions[i]));
     // As PLY and OBJ: vertices no face uses are dropped, and a used one whose faces have no area is an error.
-    std::vector<Vector3d> sums(points.positions.size(), Vector3d::Zero());
-    std::vector<char> used(points.positions.size(), 0);
-    addAreaNormals(points.positions, polygons, sums, used);
-    double diagonal = usedDiagonal(points.positions, used);
-    OrientedPoints out;
-    std::vector<size_t> vertexOf;
-    for (size_t i = 0; i < sums.size(); ++i) {
-        if (!used[i]) continue;
-        settleAreaNormal(sums[i], diagonal, name, [&] { return vertexName(i); });
-        vertexOf.push_back(i);
-        out.positions.push_back(points.positions[i]);
-        out.normals.push_back(sums[i]);
-    }
-    finish(out, name, [&](size_t i) { return vertexName(vertexOf[i]); });
-    return out;
+    return meshPoints(points.positions, polygons, name, vertexName);
 }
 
 }  // namespace ink::io

@@ -439,24 +439,7 @@ OrientedPoints parsePly(const std::string& bytes, const std::string& name) {
         return points;
     }
     // Vertices no face uses have no normal and are dropped, keeping their original numbers for messages.
-    std::vector<Vector3d> sums(points.positions.size(), Vector3d::Zero());
-    std::vector<char> used(points.positions.size(), 0);
-    for (size_t i = 0; i < points.positions.size(); ++i)
-        if (!points.positions[i].allFinite())
-            fail(name, where(i) + ": coordinate is not finite " + str(points.positions[i]));
-    addAreaNormals(points.positions, polygons, sums, used);
-    double diagonal = usedDiagonal(points.positions, used);
-    OrientedPoints out;
-    std::vector<size_t> vertexOf;
-    for (size_t i = 0; i < sums.size(); ++i) {
-        if (!used[i]) continue;
-        settleAreaNormal(sums[i], diagonal, name, [&] { return where(i); });
-        vertexOf.push_back(i);
-        out.positions.push_back(points.positions[i]);
-        out.normals.push_back(sums[i]);
-    }
-    finish(out, name, [&](size_t i) { return where(vertexOf[i]); });
-    return out;
+    return meshPoints(points.positions, polygons, name, where);
 }
 
 }  // namespace ink::io
