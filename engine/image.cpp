@@ -83,17 +83,22 @@ RgbaImage readPngFromMemory(const std::string& bytes, const std::string& name) {
                     " MiB decoded) from " + std::to_string(bytes.size()) +
                     " bytes is a decompression bomb: more than " + std::to_string(kMaxImageExpansion) +
                     " bytes of pixels per byte of file");
-    // stb_image copies a first IDAT chunk of length 0 with memcpy from a null pointer (undefined behaviour,
-    // found by fuzz_png); such a file is refused before stb decodes it.
+    // The chunks, before stb sees them (both found by fuzz_png): stb grows its buffer to a chunk's declared
+    // length before reading it, so a 100-byte file claiming a 2 GiB IDAT allocated 2 GiB; and it copies a
+    // first IDAT chunk of length 0 with memcpy from a null pointer (undefined behaviour).
+    bool seenData = false;
     for (size_t at = 8; at + 8 <= bytes.size();) {
         uint32_t length = 0;
         for (size_t k = 0; k < 4; ++k) length = (length << 8) | uint8_t(bytes[at + k]);
         std::string_view type(bytes.data() + at + 4, 4);
+        if (uint64_t(length) + 12 > bytes.size() - at)
+            throw Error(what + "truncated: chunk " + printable(type) + " claims " + std::to_string(length) +
+                        " bytes, " + std::to_string(bytes.size() - at) + " are left");
         if (type == "IDAT") {
-            if (length == 0) throw Error(what + "an empty IDAT chunk before the image data");
-            break;
+            if (length == 0 && !seenData) throw Error(what + "an empty IDAT chunk before the image data");
+            seenData = true;
         }
-        if (type == "IEND" || uint64_t(length) + 12 > bytes.size() - at) break;
+        if (type == "IEND") break;
         at += size_t(length) + 12;
     }
     stbi_uc* pixels = stbi_load_from_memory(data, size, &w, &h, &channels, 4);

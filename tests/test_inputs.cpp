@@ -189,6 +189,9 @@ TEST_CASE("inputs: every PNG seed and regression decodes or throws a printable i
     // fuzz_png's finding: a first IDAT chunk of length 0 made stb_image memcpy from a null pointer.
     CHECK_THROWS_WITH_AS(ink::readPng(INKWELL_SOURCE_DIR "/tests/regressions/png/stb-empty-idat-memcpy-null.png"),
                          doctest::Contains("an empty IDAT chunk before the image data"), ink::Error);
+    // And a chunk claiming more bytes than the file has: stb grew its buffer to 2 GiB before reading it.
+    CHECK_THROWS_WITH_AS(ink::readPng(INKWELL_SOURCE_DIR "/tests/regressions/png/stb-chunk-length-2gib-alloc.png"),
+                         doctest::Contains("truncated: chunk IDAT claims 1229209940 bytes, 16 are left"), ink::Error);
 }
 
 // ---- Item 8: presets checked like the command line ------------------------------------------------------
