@@ -117,9 +117,11 @@ TEST_CASE("points: computed normals do not depend on the model's scale") {
     }
     // A sliver next to a big triangle is still a real face, but a needle with no area is not.
     CHECK(obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 1e-5\nv 6 5 0\nv 5 6 0\nf 1 2 3\nf 4 5 6\n").positions.size() == 6);
-    CHECK_THROWS_WITH_AS(obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 0\nv 6 5 0\nv 7 5 1e-300\nf 1 2 3\nf 4 5 6\n"),
-                         doctest::Contains("vertex 4 (line 4): normal is zero (the faces around it have no area, or their windings cancel)"),
-                         Error);
+    CHECK_THROWS_WITH_AS(
+        obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 0\nv 6 5 0\nv 7 5 1e-300\nf 1 2 3\nf 4 5 6\n"),
+        doctest::Contains(
+            "vertex 4 (line 4): normal is zero (the faces around it have no area, or their windings cancel)"),
+        Error);
 }
 
 TEST_CASE("points: obj polygons, negative indices, unreferenced vertices") {
