@@ -14,6 +14,7 @@
 #include <cstring>
 #include <string_view>
 #include <system_error>
+#include <unordered_set>
 
 namespace ink::io {
 namespace {
@@ -138,6 +139,7 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& name) {
     if (!next(line) || line != "ply") fail(name, "not a PLY file (the first line is not 'ply')");
 
     bool haveFormat = false;
+    std::unordered_set<std::string> elementNames, propertyNames;  // of the header; properties of the last element
     std::vector<std::string_view> f;
     while (next(line)) {
         auto where = [&] { return "header line " + std::to_string(number); };
@@ -176,8 +178,10 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& name) {
             if (count > kMaxElements)
                 fail(name, where() + ": element '" + std::string(f[1]) + "' claims " + std::to_string(count) +
                                " entries; the limit is " + std::to_string(kMaxElements));
-            for (const PlyElement& e : header.elements)
-                if (e.name == f[1]) fail(name, where() + ": a second element '" + e.name + "'");
+            // Sets, not scans of what came before: a header of 200,000 elements took 100 s that way.
+            if (!elementNames.insert(std::string(f[1])).second)
+                fail(name, where() + ": a second element '" + std::string(f[1]) + "'");
+            propertyNames.clear();
             header.elements.push_back({std::string(f[1]), count, {}});
         } else if (f[0] == "property") {
             if (header.elements.empty()) fail(name, where() + ": property before any element");
@@ -194,7 +198,8 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& name) {
                                " (expected 'property TYPE NAME' or 'property list INTTYPE TYPE NAME')");
             p.name = std::string(f.back());
             PlyElement& e = header.elements.back();
-            if (e.find(p.name) >= 0) fail(name, where() + ": a second property '" + p.name + "' in '" + e.name + "'");
+            if (!propertyNames.insert(p.name).second)
+                fail(name, where() + ": a second property '" + p.name + "' in '" + e.name + "'");
             e.properties.push_back(std::move(p));
         } else if (looksLikeWriterNote(line, f[0])) {
             // Lines the format does not define but writers add ("Created by ...", "TextureFile x.png"):
