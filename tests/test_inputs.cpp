@@ -7,6 +7,7 @@
 #include "image.h"
 #include "points.h"
 #include "run_command.h"
+#include "temp_dir.h"
 
 #include <doctest/doctest.h>
 
@@ -29,26 +30,6 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string kBunny = INKWELL_SOURCE_DIR "/assets/bunny.obj";
-
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static int counter = 0;
-        path = fs::temp_directory_path() /
-               ("inkwell-inputs-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string operator/(const std::string& name) const { return (path / name).string(); }
-    std::string write(const std::string& name, const std::string& bytes) const {
-        std::ofstream(path / name, std::ios::binary) << bytes;
-        return *this / name;
-    }
-};
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 

@@ -5,6 +5,7 @@
 #include "files.h"
 #include "image.h"
 #include "run_command.h"
+#include "temp_dir.h"
 
 #include <doctest/doctest.h>
 
@@ -21,26 +22,6 @@
 namespace fs = std::filesystem;
 
 namespace {
-
-struct OutDir {
-    fs::path path;
-    OutDir() {
-        static int counter = 0;
-        path = fs::temp_directory_path() /
-               ("inkwell-outputs-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~OutDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string operator/(const std::string& name) const { return (path / name).string(); }
-    std::string write(const std::string& name, const std::string& bytes) const {
-        std::ofstream(path / name, std::ios::binary) << bytes;
-        return *this / name;
-    }
-};
 
 std::string slurp(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -73,7 +54,7 @@ const std::string kSmall = " --levels 1 --size 64 64 ";
 struct FullDisk {
     std::string path;
     bool mounted = false;
-    FullDisk(const OutDir& dir, const std::string& name) : path(dir / name) {
+    FullDisk(const TempDir& dir, const std::string& name) : path(dir / name) {
         fs::create_directories(path);
         if (geteuid() != 0 || ::mount("tmpfs", path.c_str(), "tmpfs", 0, "size=64k") != 0) return;
         mounted = true;
@@ -99,7 +80,7 @@ TEST_CASE("outputs: a failed write or close says why, and /dev/full is a full di
 }
 
 TEST_CASE("outputs: only regular files are replaced; a symbolic link is written through") {
-    OutDir dir;
+    TempDir dir;
     std::string fifo = dir / "fifo.png";
     REQUIRE(::mkfifo(fifo.c_str(), 0644) == 0);
     ink::RgbaImage image{2, 2, std::vector<uint8_t>(16, 255)};
@@ -121,7 +102,7 @@ TEST_CASE("outputs: only regular files are replaced; a symbolic link is written 
 }
 
 TEST_CASE("outputs: a 250-character file name is written (the temporary name is short)") {
-    OutDir dir;
+    TempDir dir;
     std::string name = std::string(245, 'n') + ".json";
     REQUIRE(name.size() == 250);
     ink::writeFileAtomically(dir / name, "{}\n");
@@ -130,7 +111,7 @@ TEST_CASE("outputs: a 250-character file name is written (the temporary name is 
 }
 
 TEST_CASE("outputs: a batch commits all of its outputs or none") {
-    OutDir dir;
+    TempDir dir;
     std::string a = dir.write("a.txt", "old a");
     {
         ink::OutputBatch batch;
@@ -156,7 +137,7 @@ TEST_CASE("outputs: a batch commits all of its outputs or none") {
 
 TEST_CASE("outputs: SIGTERM and SIGINT during a write remove the registered temporaries") {
     for (int sig : {SIGTERM, SIGINT}) {
-        OutDir dir;
+        TempDir dir;
         pid_t child = ::fork();
         REQUIRE(child >= 0);
         if (child == 0) {
@@ -182,7 +163,7 @@ TEST_CASE("outputs: SIGTERM and SIGINT during a write remove the registered temp
 }
 
 TEST_CASE("outputs: a FIFO or a symbolic link given to a command") {
-    OutDir dir;
+    TempDir dir;
     std::string fifo = dir / "out.hrbf";
     REQUIRE(::mkfifo(fifo.c_str(), 0644) == 0);
     Run r = runInkwell("fit " + kBunny + kFit + "-o " + fifo);
@@ -201,7 +182,7 @@ TEST_CASE("outputs: a FIFO or a symbolic link given to a command") {
 }
 
 TEST_CASE("outputs: an output that is an input is refused before any work") {
-    OutDir dir;
+    TempDir dir;
     std::string model = dir.write("x.obj", slurp(kBunny));
     Run r = runInkwell("render " + model + kSmall + "-o " + model);
     CHECK(r.status == 1);
@@ -235,7 +216,7 @@ TEST_CASE("outputs: an output that is an input is refused before any work") {
 }
 
 TEST_CASE("outputs: a 250-character output name works for a command") {
-    OutDir dir;
+    TempDir dir;
     std::string name = dir / (std::string(245, 'h') + ".hrbf");
     Run r = runInkwell("fit " + kBunny + kFit + "-o " + name + " --stats " + (dir / (std::string(245, 's') + ".json")));
     CHECK(r.status == 0);
@@ -244,7 +225,7 @@ TEST_CASE("outputs: a 250-character output name works for a command") {
 }
 
 TEST_CASE("outputs: a full disk is exit 1 with the reason, and leaves no output, not even the first of two") {
-    OutDir dir;
+    TempDir dir;
     FullDisk full(dir, "full");
     if (!full.mounted) {
         MESSAGE("skipped: needs root to mount a small tmpfs");

@@ -7,6 +7,7 @@
 #include "hrbf_io.h"
 #include "points.h"
 #include "run_command.h"
+#include "temp_dir.h"
 
 #include <doctest/doctest.h>
 
@@ -23,28 +24,6 @@
 namespace fs = std::filesystem;
 
 namespace {
-
-// A fresh directory under the system's temporary directory, removed with everything in it at the end.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static int counter = 0;
-        path = fs::temp_directory_path() /
-               ("inkwell-robust-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::permissions(path / "read-only", fs::perms::owner_all, ec);
-        fs::remove_all(path, ec);
-    }
-    std::string operator/(const std::string& name) const { return (path / name).string(); }
-    std::string write(const std::string& name, const std::string& bytes) const {
-        std::ofstream(path / name, std::ios::binary) << bytes;
-        return *this / name;
-    }
-};
 
 // What a command did, with stdout and stderr apart.
 struct Outcome {
