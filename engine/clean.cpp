@@ -13,6 +13,24 @@ namespace ink {
 
 using Eigen::Vector3d;
 
+namespace {
+
+constexpr size_t kNone = size_t(-1);
+
+// After points were merged or dropped: `newIndex[i]` is point i's new index, or kNone where it was dropped. A
+// triangle with a dropped corner, or with two corners merged into one point, is dropped.
+void renumberTriangles(std::vector<Triangle>& triangles, const std::vector<size_t>& newIndex) {
+    size_t kept = 0;
+    for (const Triangle& t : triangles) {
+        size_t a = newIndex[t[0]], b = newIndex[t[1]], c = newIndex[t[2]];
+        if (a == kNone || b == kNone || c == kNone || a == b || b == c || c == a) continue;
+        triangles[kept++] = {uint32_t(a), uint32_t(b), uint32_t(c)};
+    }
+    triangles.resize(kept);
+}
+
+}  // namespace
+
 size_t mergeDuplicates(OrientedPoints& points, double tolerance) {
     std::vector<Vector3d>& pos = points.positions;
     bool moveNormals = points.normals.size() == pos.size();
@@ -58,7 +76,6 @@ size_t mergeDuplicates(OrientedPoints& points, double tolerance) {
 
     // Open addressing from a cell to the latest kept point in it; the cell's other kept points chain
     // through `next`. A slot's key is recomputed from its point rather than stored, halving the memory.
-    constexpr size_t kNone = size_t(-1);
     size_t capacity = 16;
     while (capacity < 2 * pos.size()) capacity *= 2;
     std::vector<size_t> table(capacity, kNone), next;
@@ -69,6 +86,8 @@ size_t mergeDuplicates(OrientedPoints& points, double tolerance) {
         return table[s];
     };
 
+    // Where each point went, for the triangles (only when there are some).
+    std::vector<size_t> newIndex(points.triangles.empty() ? 0 : pos.size());
     size_t kept = 0;
     for (size_t i = 0; i < pos.size(); ++i) {
         const Vector3d p = pos[i];
@@ -80,13 +99,14 @@ size_t mergeDuplicates(OrientedPoints& points, double tolerance) {
                 hi[a] = cellOf(x + tolerance);
             }
         }
-        bool duplicate = false;
-        for (int64_t x = lo[0]; x <= hi[0] && !duplicate; ++x)
-            for (int64_t y = lo[1]; y <= hi[1] && !duplicate; ++y)
-                for (int64_t z = lo[2]; z <= hi[2] && !duplicate; ++z)
-                    for (size_t j = slotOf({x, y, z}); j != kNone && !duplicate; j = next[j])
-                        duplicate = close(pos[j], p);
-        if (duplicate) continue;
+        size_t match = kNone;
+        for (int64_t x = lo[0]; x <= hi[0] && match == kNone; ++x)
+            for (int64_t y = lo[1]; y <= hi[1] && match == kNone; ++y)
+                for (int64_t z = lo[2]; z <= hi[2] && match == kNone; ++z)
+                    for (size_t j = slotOf({x, y, z}); j != kNone && match == kNone; j = next[j])
+                        if (close(pos[j], p)) match = j;
+        if (!newIndex.empty()) newIndex[i] = match == kNone ? kept : match;
+        if (match != kNone) continue;
         // Kept points are compacted in place (kept <= i), so the table holds output indices.
         pos[kept] = p;
         if (moveNormals) points.normals[kept] = points.normals[i];
@@ -97,6 +117,7 @@ size_t mergeDuplicates(OrientedPoints& points, double tolerance) {
     size_t merged = pos.size() - kept;
     pos.resize(kept);
     if (moveNormals) points.normals.resize(kept);
+    if (!newIndex.empty()) renumberTriangles(points.triangles, newIndex);
     return merged;
 }
 
@@ -122,6 +143,7 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance) {
         ++size[cluster[i]];
     }
     NearMerge result;
+    std::vector<size_t> newIndex(n, kNone);  // of each cluster's first point
     size_t kept = 0;
     for (size_t i = 0; i < n; ++i) {
         if (cluster[i] != i) continue;
@@ -136,10 +158,14 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance) {
         }
         pos[kept] = pos[i];
         nor[kept] = nor[i];
-        ++kept;
+        newIndex[i] = kept++;
     }
     pos.resize(kept);
     nor.resize(kept);
+    if (!points.triangles.empty()) {
+        for (size_t i = 0; i < n; ++i) newIndex[i] = newIndex[cluster[i]];
+        renumberTriangles(points.triangles, newIndex);
+    }
     return result;
 }
 

@@ -11,6 +11,7 @@ namespace ink {
 
 // Merges points closer than `tolerance` (absolute, in the points' units; callers pass ~1e-9 of the
 // bounding-box diagonal), keeping the first of each cluster. Returns how many were merged.
+// Both merges renumber the triangles; a triangle that loses a corner, or two corners to one point, is dropped.
 size_t mergeDuplicates(OrientedPoints& points, double tolerance);
 
 // Points closer than `tolerance` but not equal make the fit ill-conditioned: two nearly equal rows of the

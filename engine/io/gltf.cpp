@@ -391,8 +391,15 @@ void addMesh(const tinygltf::Model& model, int meshIndex, const Matrix4d& world,
                 fail(name, at + ": " + std::to_string(corners.size()) + " corners is not a whole number of triangles");
             }
         }
+        // A mirroring transform turns the winding around (the glTF specification says so too).
+        bool flip = det < 0;
         if (nrm.count > 0) {
-            // The file's normals, for every vertex of the primitive.
+            // The file's normals, for every vertex of the primitive, and its triangles in their numbering.
+            const uint64_t first = out.given.positions.size();
+            for (size_t c = 0; c + 2 < corners.size(); c += 3)
+                out.given.triangles.push_back({uint32_t(first + corners[c]),
+                                               uint32_t(first + corners[flip ? c + 2 : c + 1]),
+                                               uint32_t(first + corners[flip ? c + 1 : c + 2])});
             for (uint64_t i = 0; i < pos.count; ++i) {
                 Vector3d n(nrm.get(i, 0), nrm.get(i, 1), nrm.get(i, 2));
                 if (!n.allFinite())
@@ -402,8 +409,6 @@ void addMesh(const tinygltf::Model& model, int meshIndex, const Matrix4d& world,
             }
             continue;
         }
-        // A mirroring transform turns the winding around (the glTF specification says so too).
-        bool flip = det < 0;
         for (size_t c = 0; c + 2 < corners.size(); c += 3) {
             out.corners.push_back(world3(corners[c]));
             out.corners.push_back(world3(corners[flip ? c + 2 : c + 1]));
@@ -561,6 +566,9 @@ OrientedPoints parseGltf(const std::string& bytes, const std::string& name, bool
         if (degenerate > 0)
             note(name + ": dropped " + std::to_string(degenerate) + " vertex" + (degenerate == 1 ? "" : "es") +
                  " whose triangles all have zero area");
+        const uint32_t first = uint32_t(points.positions.size());
+        for (const Triangle& t : computed.triangles)
+            points.triangles.push_back({t[0] + first, t[1] + first, t[2] + first});
         points.positions.insert(points.positions.end(), computed.positions.begin(), computed.positions.end());
         points.normals.insert(points.normals.end(), computed.normals.begin(), computed.normals.end());
     }

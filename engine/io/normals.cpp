@@ -27,6 +27,21 @@ void addAreaNormals(const std::vector<Vector3d>& positions, const Polygons& poly
     }
 }
 
+void appendTriangles(const Polygons& polygons, const std::vector<uint32_t>& renumber, uint32_t offset,
+                     std::vector<Triangle>& out) {
+    size_t at = 0;
+    for (uint32_t size : polygons.sizes) {
+        const uint32_t* idx = polygons.indices.data() + at;
+        at += size;
+        auto index = [&](uint32_t k) { return renumber.empty() ? idx[k] : renumber[idx[k]]; };
+        for (uint32_t k = 1; k + 1 < size; ++k) {
+            Triangle t{index(0), index(k), index(k + 1)};
+            if (t[0] == kDropped || t[1] == kDropped || t[2] == kDropped) continue;
+            out.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+        }
+    }
+}
+
 double safeNorm(const Vector3d& v) {
     double big = v.cwiseAbs().maxCoeff();
     return big > 0 && std::isfinite(big) ? big * (v / big).norm() : big;
@@ -80,6 +95,7 @@ OrientedPoints areaNormalPoints(const std::vector<Vector3d>& positions, const Po
     OrientedPoints out;
     kept.clear();
     degenerate = 0;
+    std::vector<uint32_t> renumber(positions.size(), kDropped);
     for (size_t i = 0; i < positions.size(); ++i) {
         if (!used[i]) continue;
         Vector3d n = sums[i];
@@ -90,10 +106,12 @@ OrientedPoints areaNormalPoints(const std::vector<Vector3d>& positions, const Po
             continue;
         }
         if (std::isfinite(length)) n /= length;  // otherwise finish() reports it
+        renumber[i] = uint32_t(kept.size());
         kept.push_back(i);
         out.positions.push_back(positions[i]);
         out.normals.push_back(n);
     }
+    appendTriangles(polygons, renumber, 0, out.triangles);
     return out;
 }
 

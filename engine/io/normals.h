@@ -16,11 +16,20 @@ namespace ink::io {
 // Normals read from a file (already meant to be unit length) shorter than this count as zero.
 constexpr double kZeroNormal = 1e-12;
 
-// Polygons as a flat index list plus sizes (any size >= 3).
+// Polygons as a flat index list plus sizes (any size >= 3), as read: indices into the file's vertices.
 struct Polygons {
     std::vector<uint32_t> indices;
     std::vector<uint32_t> sizes;
 };
+
+// Marks a vertex a reader dropped, in a renumbering for appendTriangles.
+constexpr uint32_t kDropped = UINT32_MAX;
+
+// Fan-triangulates `polygons` (k, k+1 around corner 0, as addAreaNormals sums them) onto `out`, each index i
+// becoming renumber[i] + offset (i + offset where `renumber` is empty). A triangle with a dropped corner is left
+// out.
+void appendTriangles(const Polygons& polygons, const std::vector<uint32_t>& renumber, uint32_t offset,
+                     std::vector<Triangle>& out);
 
 // Adds each polygon's area vector to its vertices and marks them used. For a fan-triangulated polygon the
 // sum of the fan's edge cross products is twice its area times its normal, so big faces weigh more than
@@ -53,7 +62,8 @@ std::vector<uint32_t> weld(const std::vector<Eigen::Vector3d>& positions, std::v
 
 // For welded soups: the vertices the polygons use, in order, with their area-weighted normals (unit length).
 // A vertex whose polygons have no area (only slivers and repeated corners around it, common in STL) is dropped
-// rather than refused, and counted in `degenerate`; `kept` gets the index of each vertex kept.
+// rather than refused, and counted in `degenerate`; `kept` gets the index of each vertex kept. The polygons
+// come out as triangles in the new numbering, those touching a dropped vertex left out.
 OrientedPoints areaNormalPoints(const std::vector<Eigen::Vector3d>& positions, const Polygons& polygons,
                                 std::vector<size_t>& kept, size_t& degenerate);
 
@@ -86,14 +96,17 @@ OrientedPoints meshPoints(const std::vector<Eigen::Vector3d>& positions, const P
     double diagonal = usedDiagonal(positions, used);
     OrientedPoints out;
     std::vector<size_t> vertexOf;
+    std::vector<uint32_t> renumber(positions.size(), kDropped);
     for (size_t i = 0; i < sums.size(); ++i) {
         if (!used[i]) continue;
         settleAreaNormal(sums[i], diagonal, name, [&] { return where(i); });
+        renumber[i] = uint32_t(vertexOf.size());
         vertexOf.push_back(i);
         out.positions.push_back(positions[i]);
         out.normals.push_back(sums[i]);
     }
     finish(out, name, [&](size_t i) { return where(vertexOf[i]); });
+    appendTriangles(polygons, renumber, 0, out.triangles);
     return out;
 }
 

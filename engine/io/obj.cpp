@@ -186,11 +186,13 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
     }
 
     std::vector<size_t> vertexOf;
+    std::vector<uint32_t> renumber(n, kDropped);
     double diagonal = usedDiagonal(scan.v, used);
     for (size_t i = 0; i < n; ++i) {
         if (!used[i]) continue;
         auto where = [&] { return "vertex " + std::to_string(i + 1) + " (" + lineName(scan.vLine[i]) + ")"; };
         if (!hasGiven[i]) settleAreaNormal(area[i], diagonal, name, where);
+        renumber[i] = uint32_t(vertexOf.size());
         vertexOf.push_back(i);
         out.positions.push_back(scan.v[i]);
         out.normals.push_back(hasGiven[i] ? given[i] : area[i]);
@@ -199,6 +201,7 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
     finish(out, name, [&](size_t i) {
         return "vertex " + std::to_string(vertexOf[i] + 1) + " (" + lineName(scan.vLine[vertexOf[i]]) + ")";
     });
+    appendTriangles(scan.faces, renumber, 0, out.triangles);
     return out;
 }
 

@@ -167,6 +167,7 @@ OrientedPoints parseOff(const std::string& bytes, const std::string& name) {
 
     if (kind.normal) {
         finish(points, name, vertexName);
+        appendTriangles(polygons, {}, 0, points.triangles);
         return points;
     }
     if (polygons.sizes.empty()) fail(name, "has no faces and no normals: cannot orient points");

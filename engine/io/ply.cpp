@@ -441,6 +441,7 @@ OrientedPoints parsePly(const std::string& bytes, const std::string& name) {
     auto where = [](size_t i) { return "vertex " + std::to_string(i); };
     if (hasNormals) {
         finish(points, name, where);
+        appendTriangles(polygons, {}, 0, points.triangles);
         return points;
     }
     // Vertices no face uses have no normal and are dropped, keeping their original numbers for messages.

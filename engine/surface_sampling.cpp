@@ -1,0 +1,120 @@
+// Face sampling (surface_sampling.h): systematic area-weighted allocation, R2 points inside each triangle.
+#include "surface_sampling.h"
+
+#include "random.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ink {
+
+using Eigen::Vector3d;
+
+namespace {
+
+// The bounding-box diagonal of the positions.
+double diagonalOf(const std::vector<Vector3d>& positions) {
+    if (positions.empty()) return 0;
+    Vector3d lo = positions.front(), hi = lo;
+    for (const Vector3d& p : positions) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    return (hi - lo).norm();
+}
+
+double unit(uint32_t bits) { return double(bits) * (1.0 / 4294967296.0); }
+
+}  // namespace
+
+std::vector<double> triangleAreas(const OrientedPoints& mesh) {
+    const double d = diagonalOf(mesh.positions);
+    std::vector<double> areas(mesh.triangles.size(), 0.0);
+    for (size_t t = 0; t < areas.size(); ++t) {
+        const Triangle& tri = mesh.triangles[t];
+        const Vector3d& p0 = mesh.positions[tri[0]];
+        double a = 0.5 * (mesh.positions[tri[1]] - p0).cross(mesh.positions[tri[2]] - p0).norm();
+        areas[t] = std::isfinite(a) && a / d / d > 0.5e-12 ? a : 0.0;
+    }
+    return areas;
+}
+
+OrientedPoints sampleFaces(const OrientedPoints& mesh, size_t count, uint32_t seed) {
+    OrientedPoints out;
+    const std::vector<double> areas = triangleAreas(mesh);
+    double total = 0;
+    for (double a : areas) total += a;
+    if (count == 0 || !(total > 0)) return out;
+    out.positions.reserve(count);
+    out.normals.reserve(count);
+
+    // Systematic sampling: sample k sits at (k + u) / count of the cumulative area; triangle t takes those that
+    // fall in its stretch, the floor or the ceiling of its share.
+    const double u = unit(pcg4d({seed, 0x5eed, 0, 0})[0]);
+    const double step = total / double(count);
+    // R2: the additive recurrence of the plastic number φ₂ (x³ = x + 1), a 2D low-discrepancy sequence.
+    constexpr double kPhi2 = 1.32471795724474602596;
+    constexpr double kA1 = 1.0 / kPhi2, kA2 = 1.0 / (kPhi2 * kPhi2);
+    size_t last = areas.size() - 1;
+    while (areas[last] == 0) --last;
+    double start = 0;  // cumulative area before triangle t
+    size_t k = 0;
+    for (size_t t = 0; t <= last; ++t) {
+        const double end = start + areas[t];
+        const size_t first = k;
+        // The last triangle with area takes whatever rounding left over.
+        while (k < count && ((double(k) + u) * step < end || t == last)) ++k;
+        const size_t here = k - first;
+        if (here > 0) {
+            const Triangle& tri = mesh.triangles[t];
+            const Vector3d &p0 = mesh.positions[tri[0]], &p1 = mesh.positions[tri[1]], &p2 = mesh.positions[tri[2]];
+            const Vector3d &n0 = mesh.normals[tri[0]], &n1 = mesh.normals[tri[1]], &n2 = mesh.normals[tri[2]];
+            Vector3d face = (p1 - p0).cross(p2 - p0).normalized();
+            if (face.dot(n0 + n1 + n2) < 0) face = -face;
+            // Cranley–Patterson rotation of the sequence, per triangle, from the seed.
+            auto r = pcg4d({seed, uint32_t(t), uint32_t(uint64_t(t) >> 32), 0x7a1});
+            const double r1 = unit(r[0]), r2 = unit(r[1]);
+            for (size_t j = 0; j < here; ++j) {
+                double x = r1 + kA1 * double(j), y = r2 + kA2 * double(j);
+                x -= std::floor(x);
+                y -= std::floor(y);
+                // Square-root warp: uniform on the triangle for uniform (x, y).
+                const double sx = std::sqrt(x);
+                const double b0 = 1 - sx, b1 = sx * (1 - y), b2 = sx * y;
+                out.positions.push_back(b0 * p0 + b1 * p1 + b2 * p2);
+                Vector3d n = b0 * n0 + b1 * n1 + b2 * n2;
+                const double length = n.norm();
+                // Vertex normals that (nearly) cancel here say nothing about the direction: the face's instead.
+                out.normals.push_back(length > 1e-2 ? Vector3d(n / length) : face);
+            }
+        }
+        start = end;
+    }
+    return out;
+}
+
+size_t faceSampleCount(const OrientedPoints& mesh) {
+    const std::vector<double> areas = triangleAreas(mesh);
+    const double spacing = kFaceSpacing * diagonalOf(mesh.positions);
+    double total = 0;
+    for (double a : areas) total += a;
+    if (!(total > 0) || !(spacing > 0)) return 0;
+    double wanted = total / (spacing * spacing);
+    for (size_t t = 0; t < areas.size(); ++t) {
+        if (areas[t] == 0) continue;
+        const Triangle& tri = mesh.triangles[t];
+        double longest = 0;
+        for (int e = 0; e < 3; ++e)
+            longest = std::max(longest, (mesh.positions[tri[size_t(e)]] - mesh.positions[tri[size_t(e + 1) % 3]]).norm());
+        if (longest < spacing) continue;  // its corners are within a spacing of all of it
+        // The triangle's share, count · (area / total), should reach longest / spacing.
+        const double height = std::max(2 * areas[t] / longest, spacing / 8);
+        wanted = std::max(wanted, total * 2 / (height * spacing));
+    }
+    const size_t room = mesh.positions.size() < kMaxSampledPoints ? kMaxSampledPoints - mesh.positions.size() : 0;
+    return std::min(room, size_t(std::ceil(std::min(wanted, double(kMaxSampledPoints)))));
+}
+
+}  // namespace ink

@@ -1,0 +1,454 @@
+// Meshes keep their triangles through every reader and the cleaning, and face sampling (surface_sampling.h)
+// spreads oriented points over them: area-proportional, deterministic, on the faces, with interpolated normals.
+#include "clean.h"
+#include "points.h"
+#include "surface_sampling.h"
+#include "triangle.h"
+
+#include <doctest/doctest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+using Eigen::Vector3d;
+using ink::OrientedPoints;
+using ink::parsePoints;
+using ink::Triangle;
+
+namespace {
+
+using Corners = std::array<Vector3d, 3>;
+
+// A triangle's corners, turned so that the lexicographically smallest comes first (the winding kept), so that
+// triangles compare by where they are whatever the numbering.
+Corners canonical(Corners c) {
+    auto less = [](const Vector3d& a, const Vector3d& b) {
+        return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+    };
+    while (less(c[1], c[0]) || less(c[2], c[0])) std::rotate(c.begin(), c.begin() + 1, c.end());
+    return c;
+}
+
+std::vector<Corners> sorted(std::vector<Corners> list) {
+    for (Corners& c : list) c = canonical(c);
+    std::sort(list.begin(), list.end(), [](const Corners& a, const Corners& b) {
+        return std::lexicographical_compare(a[0].data(), a[0].data() + 9, b[0].data(), b[0].data() + 9);
+    });
+    return list;
+}
+
+// The mesh's triangles as positions; every index must be in range.
+std::vector<Corners> trianglesOf(const OrientedPoints& p) {
+    std::vector<Corners> out;
+    for (const Triangle& t : p.triangles) {
+        for (uint32_t i : t) REQUIRE(i < p.positions.size());
+        out.push_back({p.positions[t[0]], p.positions[t[1]], p.positions[t[2]]});
+    }
+    return out;
+}
+
+void checkTriangles(const OrientedPoints& p, const std::vector<Corners>& expected, double eps = 1e-6) {
+    std::vector<Corners> got = sorted(trianglesOf(p)), want = sorted(expected);
+    REQUIRE(got.size() == want.size());
+    for (size_t i = 0; i < got.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            INFO("triangle " << i << " corner " << k << ": " << got[i][k].transpose() << " vs "
+                             << want[i][k].transpose());
+            CHECK((got[i][k] - want[i][k]).norm() <= eps);
+        }
+}
+
+Vector3d v(double x, double y, double z) { return Vector3d(x, y, z); }
+
+// The closest triangle to p and its distance.
+std::pair<size_t, double> nearestTriangle(const OrientedPoints& mesh, const Vector3d& p) {
+    size_t best = 0;
+    double bestDistance = INFINITY;
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const Triangle& tri = mesh.triangles[t];
+        double d = (ink::closestPointOnTriangle(p, mesh.positions[tri[0]], mesh.positions[tri[1]],
+                                                mesh.positions[tri[2]]) -
+                    p)
+                       .norm();
+        if (d < bestDistance) {
+            bestDistance = d;
+            best = t;
+        }
+    }
+    return {best, bestDistance};
+}
+
+// An octahedron with its vertices' normals pointing out from the centre: smooth normals that differ by 90°.
+OrientedPoints octahedron() {
+    OrientedPoints m;
+    for (int a = 0; a < 3; ++a)
+        for (double s : {1.0, -1.0}) {
+            Vector3d p = Vector3d::Zero();
+            p[a] = s;
+            m.positions.push_back(p);
+            m.normals.push_back(p);
+        }
+    // +x 0, -x 1, +y 2, -y 3, +z 4, -z 5; counter-clockwise from outside.
+    for (uint32_t x : {0u, 1u})
+        for (uint32_t y : {2u, 3u})
+            for (uint32_t z : {4u, 5u}) {
+                bool flip = ((x == 1) != (y == 3)) != (z == 5);
+                m.triangles.push_back(flip ? Triangle{x, z, y} : Triangle{x, y, z});
+            }
+    return m;
+}
+
+// Separate triangles of different areas, in the z = 0 plane, far apart: a sample belongs to one without doubt.
+OrientedPoints separateTriangles(const std::vector<double>& scales) {
+    OrientedPoints m;
+    for (size_t i = 0; i < scales.size(); ++i) {
+        Vector3d o(10.0 * double(i), 0, 0);
+        uint32_t first = uint32_t(m.positions.size());
+        for (Vector3d c : {v(0, 0, 0), v(1, 0, 0), v(0.3, 1, 0)}) {
+            m.positions.push_back(o + scales[i] * c);
+            m.normals.push_back(v(0, 0, 1));
+        }
+        m.triangles.push_back({first, first + 1, first + 2});
+    }
+    return m;
+}
+
+double angle(const Vector3d& a, const Vector3d& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
+
+}  // namespace
+
+TEST_CASE("sampling: OBJ polygons are fan-triangulated in the numbering of the vertices kept") {
+    // Vertex 1 is used by no face and dropped; a quad and a pentagon, one with a normal given.
+    OrientedPoints p = parsePoints(R"(v 9 9 9
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 2 0 0
+v 3 0.5 0
+v 2 1 0
+vn 0 0 1
+f 2 3 4 5
+f 3//1 6 7 8 4
+)",
+                                   "obj", "t.obj");
+    REQUIRE(p.positions.size() == 7);
+    checkTriangles(p, {{v(0, 0, 0), v(1, 0, 0), v(1, 1, 0)},
+                       {v(0, 0, 0), v(1, 1, 0), v(0, 1, 0)},
+                       {v(1, 0, 0), v(2, 0, 0), v(3, 0.5, 0)},
+                       {v(1, 0, 0), v(3, 0.5, 0), v(2, 1, 0)},
+                       {v(1, 0, 0), v(2, 1, 0), v(1, 1, 0)}});
+    SUBCASE("a point cloud written as OBJ has none") {
+        OrientedPoints cloud = parsePoints("v 0 0 0\nvn 0 0 1\nv 1 0 0\nvn 0 0 1\n", "obj", "t.obj");
+        CHECK(cloud.triangles.empty());
+    }
+}
+
+TEST_CASE("sampling: OFF and PLY faces, with and without normals, unused vertices dropped") {
+    const std::vector<Corners> quad = {{v(0, 0, 0), v(1, 0, 0), v(1, 1, 0)}, {v(0, 0, 0), v(1, 1, 0), v(0, 1, 0)}};
+    SUBCASE("OFF: vertex 0 unused") {
+        checkTriangles(parsePoints("OFF\n5 1 0\n7 7 7\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 1 2 3 4\n", "off", "t.off"), quad);
+    }
+    SUBCASE("NOFF: every vertex kept, the indices as written") {
+        OrientedPoints p = parsePoints(
+            "NOFF\n5 1 0\n7 7 7 0 0 1\n0 0 0 0 0 1\n1 0 0 0 0 1\n1 1 0 0 0 1\n0 1 0 0 0 1\n4 1 2 3 4\n", "off", "t.off");
+        CHECK(p.positions.size() == 5);
+        checkTriangles(p, quad);
+    }
+    const std::string header =
+        "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n";
+    const std::string faces = "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    SUBCASE("PLY without normals: vertex 0 unused") {
+        checkTriangles(parsePoints(header + faces + "7 7 7\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 1 2 3 4\n", "ply", "t.ply"),
+                       quad);
+    }
+    SUBCASE("PLY with normals") {
+        OrientedPoints p =
+            parsePoints(header + "property float nx\nproperty float ny\nproperty float nz\n" + faces +
+                            "7 7 7 0 0 1\n0 0 0 0 0 1\n1 0 0 0 0 1\n1 1 0 0 0 1\n0 1 0 0 0 1\n4 1 2 3 4\n",
+                        "ply", "t.ply");
+        CHECK(p.positions.size() == 5);
+        checkTriangles(p, quad);
+    }
+    SUBCASE("a PLY point cloud has none") {
+        OrientedPoints p = parsePoints(
+            "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+            "property float nx\nproperty float ny\nproperty float nz\nend_header\n0 0 0 0 0 1\n",
+            "ply", "t.ply");
+        CHECK(p.triangles.empty());
+    }
+}
+
+TEST_CASE("sampling: STL triangles after welding; a vertex only zero-area triangles use goes with them") {
+    // Two triangles of a square, and a sliver whose third corner lies on an edge and is used by nothing else.
+    std::string stl = "solid t\n";
+    auto facet = [&](const Corners& c) {
+        stl += "facet normal 0 0 0\nouter loop\n";
+        for (const Vector3d& p : c)
+            stl += "vertex " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + "\n";
+        stl += "endloop\nendfacet\n";
+    };
+    const Corners a{v(0, 0, 0), v(1, 0, 0), v(1, 1, 0)}, b{v(0, 0, 0), v(1, 1, 0), v(0, 1, 0)};
+    facet(a);
+    facet(b);
+    facet({v(0, 0, 0), v(1, 0, 0), v(0.5, 0, 0)});
+    stl += "endsolid t\n";
+    OrientedPoints p = parsePoints(stl, "stl", "t.stl");
+    CHECK(p.positions.size() == 4);
+    checkTriangles(p, {a, b});
+}
+
+namespace {
+
+template <class T>
+void put(std::string& s, T value) {
+    char b[sizeof value];
+    std::memcpy(b, &value, sizeof value);
+    s.append(b, sizeof b);
+}
+
+std::string glb(std::string json, std::string bin) {
+    while (json.size() % 4) json += ' ';
+    while (bin.size() % 4) bin += '\0';
+    std::string s;
+    put(s, uint32_t(0x46546C67));
+    put(s, uint32_t(2));
+    put(s, uint32_t(12 + 8 + json.size() + 8 + bin.size()));
+    put(s, uint32_t(json.size()));
+    put(s, uint32_t(0x4E4F534A));
+    s += json;
+    put(s, uint32_t(bin.size()));
+    put(s, uint32_t(0x004E4942));
+    return s + bin;
+}
+
+}  // namespace
+
+TEST_CASE("sampling: glTF triangles of meshes with and without normals, node transforms applied") {
+    // Mesh 0: a quad with NORMAL (4 vertices, 6 indices), under a node that translates by (0, 0, 5) and mirrors x.
+    // Mesh 1: a triangle without normals (3 vertices, no indices) instanced twice: scaled by 2, and translated.
+    // Mesh 0 comes twice too (nodes 0 and 3), so the given part's offsets are exercised.
+    std::string bin;
+    for (Vector3d p : {v(0, 0, 0), v(1, 0, 0), v(1, 1, 0), v(0, 1, 0)})
+        for (int k = 0; k < 3; ++k) put(bin, float(p[k]));  // 0..47
+    for (int i = 0; i < 4; ++i)
+        for (int k = 0; k < 3; ++k) put(bin, float(k == 2));  // 48..95
+    for (uint16_t i : {0, 1, 2, 0, 2, 3}) put(bin, i);       // 96..107
+    for (Vector3d p : {v(0, 0, 0), v(1, 0, 0), v(0, 1, 0)})
+        for (int k = 0; k < 3; ++k) put(bin, float(p[k]));  // 108..143
+    std::string json = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1, 2, 3]}],
+"nodes": [{"mesh": 0, "translation": [0, 0, 5], "scale": [-1, 1, 1]}, {"mesh": 1, "scale": [2, 2, 2]},
+          {"mesh": 1, "translation": [10, 0, 0]}, {"mesh": 0, "translation": [0, 0, -5]}],
+"meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2}]},
+           {"primitives": [{"attributes": {"POSITION": 3}}]}],
+"accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3"},
+              {"bufferView": 0, "byteOffset": 48, "componentType": 5126, "count": 4, "type": "VEC3"},
+              {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"},
+              {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC3"}],
+"bufferViews": [{"buffer": 0, "byteLength": 96}, {"buffer": 0, "byteOffset": 96, "byteLength": 12},
+                {"buffer": 0, "byteOffset": 108, "byteLength": 36}],
+"buffers": [{"byteLength": 144}]})";
+    OrientedPoints p = parsePoints(glb(json, bin), "glb", "t.glb");
+    CHECK(p.positions.size() == 4 + 4 + 3 + 3);
+    // The mirrored quad's winding is turned round, so that it still faces its normals' way (here -z stays +z
+    // under an x mirror: the normal matrix keeps z, and the turned winding agrees with it).
+    checkTriangles(p, {{v(0, 0, 5), v(0, 1, 5), v(-1, 1, 5)},
+                       {v(0, 0, 5), v(-1, 1, 5), v(-1, 0, 5)},
+                       {v(0, 0, -5), v(1, 0, -5), v(1, 1, -5)},
+                       {v(0, 0, -5), v(1, 1, -5), v(0, 1, -5)},
+                       {v(0, 0, 0), v(2, 0, 0), v(0, 2, 0)},
+                       {v(10, 0, 0), v(11, 0, 0), v(10, 1, 0)}});
+    // Every triangle faces the way its vertices' normals do.
+    for (const Triangle& t : p.triangles) {
+        Vector3d face = (p.positions[t[1]] - p.positions[t[0]]).cross(p.positions[t[2]] - p.positions[t[0]]);
+        for (uint32_t i : t) CHECK(face.dot(p.normals[i]) > 0);
+    }
+}
+
+TEST_CASE("sampling: merging duplicates renumbers the triangles and drops the collapsed ones") {
+    OrientedPoints m;
+    for (Vector3d p : {v(0, 0, 0), v(1, 0, 0), v(1, 1, 0), v(1, 0, 0), v(0, 1, 0), v(1e-12, 1, 0)}) {
+        m.positions.push_back(p);
+        m.normals.push_back(v(0, 0, 1));
+    }
+    m.triangles = {{0, 1, 2}, {0, 2, 4}, {3, 2, 0}, {4, 5, 0}};
+    SUBCASE("exact duplicates") {
+        CHECK(ink::mergeDuplicates(m, 0) == 1);
+        REQUIRE(m.positions.size() == 5);
+        checkTriangles(m, {{v(0, 0, 0), v(1, 0, 0), v(1, 1, 0)},
+                           {v(0, 0, 0), v(1, 1, 0), v(0, 1, 0)},
+                           {v(1, 0, 0), v(1, 1, 0), v(0, 0, 0)},
+                           {v(0, 1, 0), v(1e-12, 1, 0), v(0, 0, 0)}});
+    }
+    SUBCASE("within a tolerance: the sliver loses a corner and goes") {
+        CHECK(ink::mergeDuplicates(m, 1e-9) == 2);
+        REQUIRE(m.positions.size() == 4);
+        checkTriangles(m, {{v(0, 0, 0), v(1, 0, 0), v(1, 1, 0)},
+                           {v(0, 0, 0), v(1, 1, 0), v(0, 1, 0)},
+                           {v(1, 0, 0), v(1, 1, 0), v(0, 0, 0)}});
+    }
+    SUBCASE("near points: merged clusters renumbered, cancelling ones dropped with their triangles") {
+        m.normals[5] = v(0, 0, -1);  // cancels vertex 4's normal
+        ink::NearMerge near = ink::mergeNearPoints(m, 1e-6);
+        CHECK(near.merged == 1);
+        CHECK(near.dropped == 2);
+        checkTriangles(m, {{v(0, 0, 0), v(1, 0, 0), v(1, 1, 0)}, {v(1, 0, 0), v(1, 1, 0), v(0, 0, 0)}});
+    }
+}
+
+TEST_CASE("sampling: the count asked for, on the faces, deterministic for a seed") {
+    OrientedPoints m = octahedron();
+    for (size_t count : {size_t(1), size_t(7), size_t(1000), size_t(12345)}) {
+        OrientedPoints s = ink::sampleFaces(m, count, 1);
+        CHECK(s.positions.size() == count);
+        CHECK(s.normals.size() == count);
+        CHECK(s.triangles.empty());
+    }
+    OrientedPoints a = ink::sampleFaces(m, 5000, 7), b = ink::sampleFaces(m, 5000, 7), c = ink::sampleFaces(m, 5000, 8);
+    CHECK(a.positions == b.positions);
+    CHECK(a.normals == b.normals);
+    size_t same = 0;
+    for (size_t i = 0; i < a.positions.size(); ++i) same += a.positions[i] == c.positions[i];
+    CHECK(same < 50);
+    CHECK(ink::sampleFaces(m, 0, 1).positions.empty());
+
+    // On its triangle, and the normal unit, within the cone of the corners' normals (90° apart here).
+    double worstDistance = 0, worstExcess = -INFINITY;
+    for (size_t i = 0; i < a.positions.size(); ++i) {
+        auto [t, distance] = nearestTriangle(m, a.positions[i]);
+        worstDistance = std::max(worstDistance, distance);
+        CHECK(std::abs(a.normals[i].norm() - 1) < 1e-12);
+        for (uint32_t corner : m.triangles[t])
+            worstExcess = std::max(worstExcess, angle(a.normals[i], m.normals[corner]) - M_PI / 2);
+        // The interpolation from the octant's corners: the normal is the normalized position, scaled by 1/(x+y+z).
+        Vector3d expected = a.positions[i].normalized();
+        CHECK(angle(a.normals[i], expected) < 1e-9);
+    }
+    CHECK(worstDistance < 1e-12);
+    CHECK(worstExcess < 1e-9);
+}
+
+TEST_CASE("sampling: each triangle gets its share of the area, spread evenly over it") {
+    std::vector<double> scales = {1, 0.5, 3, 0.1, 2, 1.7, 0.01};
+    OrientedPoints m = separateTriangles(scales);
+    double total = 0;
+    for (double s : scales) total += s * s;
+    for (uint32_t seed : {1u, 2u, 99u}) {
+        const size_t count = 10007;
+        OrientedPoints s = ink::sampleFaces(m, count, seed);
+        std::vector<size_t> per(scales.size(), 0);
+        for (const Vector3d& p : s.positions) {
+            auto [t, distance] = nearestTriangle(m, p);
+            CHECK(distance < 1e-12);
+            ++per[t];
+        }
+        for (size_t t = 0; t < scales.size(); ++t) {
+            double expected = double(count) * scales[t] * scales[t] / total;
+            INFO("triangle " << t << ": " << per[t] << " samples, " << expected << " expected");
+            CHECK(double(per[t]) >= std::floor(expected));
+            CHECK(double(per[t]) <= std::ceil(expected));
+        }
+    }
+    // Inside one triangle: its four midpoint sub-triangles get a quarter each, and a 1/16 one a sixteenth, to 2%.
+    OrientedPoints one = separateTriangles({1});
+    OrientedPoints s = ink::sampleFaces(one, 16000, 3);
+    const Vector3d a = one.positions[0], b = one.positions[1], c = one.positions[2];
+    // Barycentric coordinates in the plane z = 0.
+    Eigen::Matrix2d basis;
+    basis << (b - a).head<2>(), (c - a).head<2>();
+    std::array<size_t, 4> quarter{};
+    size_t corner16 = 0;
+    for (const Vector3d& p : s.positions) {
+        Eigen::Vector2d uv = basis.inverse() * (p - a).head<2>();
+        double u = uv.x(), w = uv.y(), z = 1 - u - w;
+        ++quarter[u > 0.5 ? 1 : w > 0.5 ? 2 : z > 0.5 ? 0 : 3];
+        corner16 += u > 0.75;
+    }
+    for (size_t q : quarter) CHECK(std::abs(double(q) - 4000) < 80);
+    CHECK(std::abs(double(corner16) - 1000) < 20);
+}
+
+TEST_CASE("sampling: zero-area triangles get nothing; vertex normals that cancel give the face normal") {
+    OrientedPoints m = separateTriangles({1, 1});
+    // Triangle 1 collapsed onto a line, and a third with two corners in one place.
+    m.positions[5] = 0.5 * (m.positions[3] + m.positions[4]);
+    m.triangles.push_back({0, 0, 1});
+    OrientedPoints s = ink::sampleFaces(m, 1000, 5);
+    REQUIRE(s.positions.size() == 1000);
+    for (const Vector3d& p : s.positions) CHECK(nearestTriangle(separateTriangles({1}), p).second < 1e-12);
+
+    OrientedPoints flat;
+    flat.positions = {v(0, 0, 0), v(1, 0, 0), v(2, 0, 0)};
+    flat.normals = {v(0, 0, 1), v(0, 0, 1), v(0, 0, 1)};
+    flat.triangles = {{0, 1, 2}};
+    CHECK(ink::sampleFaces(flat, 100, 1).positions.empty());
+    CHECK(ink::faceSampleCount(flat) == 0);
+    CHECK(ink::faceSampleCount(OrientedPoints{}) == 0);
+
+    // Corners 0 and 2 face +x, corner 1 -x: they cancel where b1 = 1/2. The face is the z = 0 plane, wound
+    // counter-clockwise from +z, and the corners' sum (+x) says nothing about its side: the winding's +z.
+    OrientedPoints sheet;
+    sheet.positions = {v(0, 0, 0), v(1, 0, 0), v(0, 1, 0)};
+    sheet.normals = {v(1, 0, 0), v(-1, 0, 0), v(1, 0, 0)};
+    sheet.triangles = {{0, 1, 2}};
+    OrientedPoints t = ink::sampleFaces(sheet, 20000, 1);
+    size_t faceNormals = 0;
+    for (size_t i = 0; i < t.positions.size(); ++i) {
+        CHECK(std::abs(t.normals[i].norm() - 1) < 1e-12);
+        double b1 = t.positions[i].x();  // the barycentric weight of corner 1
+        if (std::abs(1 - 2 * b1) < 0.009) {
+            CHECK(t.normals[i] == v(0, 0, 1));
+            ++faceNormals;
+        } else if (std::abs(1 - 2 * b1) > 0.011) {
+            CHECK(std::abs(t.normals[i].x()) == doctest::Approx(1));
+        }
+    }
+    CHECK(faceNormals > 50);
+}
+
+TEST_CASE("sampling: the count follows the area and the long thin triangles, within the cap") {
+    // The unit cube (area 6, diagonal √3): a spacing of 1% of the diagonal over the area.
+    OrientedPoints cube;
+    for (int i = 0; i < 8; ++i) {
+        cube.positions.push_back(v(i & 1, (i >> 1) & 1, (i >> 2) & 1));
+        cube.normals.push_back((cube.positions.back() - v(0.5, 0.5, 0.5)).normalized());
+    }
+    const uint32_t faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& f : faces) {
+        cube.triangles.push_back({f[0], f[1], f[2]});
+        cube.triangles.push_back({f[0], f[2], f[3]});
+    }
+    const double spacing = ink::kFaceSpacing * std::sqrt(3.0);
+    CHECK(ink::faceSampleCount(cube) == size_t(std::ceil(6 / (spacing * spacing))));
+
+    // A long thin box (a spider's leg): 1 long, 0.004 wide, far thinner than the spacing. Each long triangle
+    // must get about one sample a spacing along it: its share of the count reaches length / spacing.
+    OrientedPoints leg = cube;
+    for (Vector3d& p : leg.positions) p = p.cwiseProduct(v(1, 0.004, 0.004));
+    const size_t count = ink::faceSampleCount(leg);
+    const double legSpacing = ink::kFaceSpacing * v(1, 0.004, 0.004).norm();
+    double total = 1 * 0.004 * 4 + 0.004 * 0.004 * 2;
+    CHECK(double(count) * (0.5 * 0.004) / total >= 1 / legSpacing);
+    CHECK(count <= ink::kMaxSampledPoints - 8);
+    OrientedPoints s = ink::sampleFaces(leg, count, 1);
+    // No gap along the leg longer than 2 spacings.
+    std::vector<double> x;
+    for (const Vector3d& p : s.positions) x.push_back(p.x());
+    std::sort(x.begin(), x.end());
+    double gap = x.front();
+    for (size_t i = 1; i < x.size(); ++i) gap = std::max(gap, x[i] - x[i - 1]);
+    gap = std::max(gap, 1 - x.back());
+    CHECK(gap < 2 * legSpacing);
+
+    // The cap: vertices and samples together stay within it.
+    OrientedPoints many = cube;
+    many.positions.resize(ink::kMaxSampledPoints - 10, v(0.5, 0.5, 0.5));
+    many.normals.resize(many.positions.size(), v(0, 0, 1));
+    CHECK(ink::faceSampleCount(many) == 10);
+    many.positions.resize(ink::kMaxSampledPoints + 10, v(0.5, 0.5, 0.5));
+    CHECK(ink::faceSampleCount(many) == 0);
+}
