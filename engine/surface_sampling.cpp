@@ -107,7 +107,8 @@ size_t faceSampleCount(const OrientedPoints& mesh) {
         const Triangle& tri = mesh.triangles[t];
         double longest = 0;
         for (int e = 0; e < 3; ++e)
-            longest = std::max(longest, (mesh.positions[tri[size_t(e)]] - mesh.positions[tri[size_t(e + 1) % 3]]).norm());
+            longest =
+                std::max(longest, (mesh.positions[tri[size_t(e)]] - mesh.positions[tri[size_t(e + 1) % 3]]).norm());
         if (longest < spacing) continue;  // its corners are within a spacing of all of it
         // The triangle's share, count · (area / total), should reach longest / spacing.
         const double height = std::max(2 * areas[t] / longest, spacing / 8);

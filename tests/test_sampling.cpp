@@ -70,10 +70,9 @@ std::pair<size_t, double> nearestTriangle(const OrientedPoints& mesh, const Vect
     double bestDistance = INFINITY;
     for (size_t t = 0; t < mesh.triangles.size(); ++t) {
         const Triangle& tri = mesh.triangles[t];
-        double d = (ink::closestPointOnTriangle(p, mesh.positions[tri[0]], mesh.positions[tri[1]],
-                                                mesh.positions[tri[2]]) -
-                    p)
-                       .norm();
+        double d =
+            (ink::closestPointOnTriangle(p, mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]) - p)
+                .norm();
         if (d < bestDistance) {
             bestDistance = d;
             best = t;
@@ -154,8 +153,9 @@ TEST_CASE("sampling: OFF and PLY faces, with and without normals, unused vertice
         checkTriangles(parsePoints("OFF\n5 1 0\n7 7 7\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 1 2 3 4\n", "off", "t.off"), quad);
     }
     SUBCASE("NOFF: every vertex kept, the indices as written") {
-        OrientedPoints p = parsePoints(
-            "NOFF\n5 1 0\n7 7 7 0 0 1\n0 0 0 0 0 1\n1 0 0 0 0 1\n1 1 0 0 0 1\n0 1 0 0 0 1\n4 1 2 3 4\n", "off", "t.off");
+        OrientedPoints p =
+            parsePoints("NOFF\n5 1 0\n7 7 7 0 0 1\n0 0 0 0 0 1\n1 0 0 0 0 1\n1 1 0 0 0 1\n0 1 0 0 0 1\n4 1 2 3 4\n",
+                        "off", "t.off");
         CHECK(p.positions.size() == 5);
         checkTriangles(p, quad);
     }
@@ -237,7 +237,7 @@ TEST_CASE("sampling: glTF triangles of meshes with and without normals, node tra
         for (int k = 0; k < 3; ++k) put(bin, float(p[k]));  // 0..47
     for (int i = 0; i < 4; ++i)
         for (int k = 0; k < 3; ++k) put(bin, float(k == 2));  // 48..95
-    for (uint16_t i : {0, 1, 2, 0, 2, 3}) put(bin, i);       // 96..107
+    for (uint16_t i : {0, 1, 2, 0, 2, 3}) put(bin, i);        // 96..107
     for (Vector3d p : {v(0, 0, 0), v(1, 0, 0), v(0, 1, 0)})
         for (int k = 0; k < 3; ++k) put(bin, float(p[k]));  // 108..143
     std::string json = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1, 2, 3]}],
