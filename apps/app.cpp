@@ -102,6 +102,22 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--preset", o.preset, "Style preset, a JSON file (docs/presets.md); options given win");
 }
 
+void addVectorOptions(CLI::App* cmd, Options& o) {
+    ink::PageOptions& p = o.page;
+    cmd->add_option("--page", o.pageName, "SVG/PDF page: A4, A3, A5, letter or WxHmm (e.g. 300x200mm)")
+        ->capture_default_str();
+    cmd->add_option("--orientation", o.orientation,
+                    "SVG/PDF page orientation (auto: landscape for a wide image; a WxHmm page as given)")
+        ->check(CLI::IsMember({"auto", "portrait", "landscape"}))
+        ->capture_default_str();
+    cmd->add_option("--margin", p.margin, "SVG/PDF margin on every side, mm")->capture_default_str();
+    cmd->add_option("--pen-width", p.penWidth, "SVG/PDF pen (stroke) width, mm")->capture_default_str();
+    cmd->add_option("--dot-style", o.dotStyle, "SVG/PDF stipples: small closed circles or short ticks")
+        ->check(CLI::IsMember({"circle", "tick"}))
+        ->capture_default_str();
+    cmd->add_flag("!--no-order", p.order, "SVG/PDF: keep the paths in the device's order (no travel ordering)");
+}
+
 static glm::vec4 parseColour(const std::string& text, const char* what) {
     std::string hex = text.rfind('#', 0) == 0 ? text.substr(1) : text;
     if (hex.size() != 6 || hex.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos)
@@ -214,6 +230,22 @@ void finishOptions(Options& o) {
     if (o.size.size() == 2 && (o.size[0] < 1 || o.size[1] < 1 || o.size[0] > 8192 || o.size[1] > 8192))
         throw ink::Error("--size " + std::to_string(o.size[0]) + " " + std::to_string(o.size[1]) +
                          " is outside 1..8192 pixels a side");
+    const glm::dvec2 page = ink::parsePageSize(o.pageName);
+    o.page.width = page.x;
+    o.page.height = page.y;
+    o.page.dotStyle = o.dotStyle == "tick" ? ink::DotStyle::Tick : ink::DotStyle::Circle;
+    const bool explicitSize = o.pageName.size() > 2 && (o.pageName.back() == 'm' || o.pageName.back() == 'M');
+    if (o.orientation == "portrait")
+        o.page.orientation = ink::Orientation::Portrait;
+    else if (o.orientation == "landscape")
+        o.page.orientation = ink::Orientation::Landscape;
+    else  // auto: a page given in millimetres is taken as given
+        o.page.orientation = !explicitSize     ? ink::Orientation::Auto
+                             : page.x > page.y ? ink::Orientation::Landscape
+                                               : ink::Orientation::Portrait;
+    if (!(o.page.penWidth > 0 && o.page.penWidth <= 10)) throw ink::Error("--pen-width must be in (0, 10] mm");
+    if (!(o.page.margin >= 0 && 2 * o.page.margin < std::min(page.x, page.y)))
+        throw ink::Error("--margin must be at least 0 mm and leave room on the page");
     if (!o.camera.empty()) {
         if (!std::isfinite(o.camera[0]) || !std::isfinite(o.camera[1]) || !(o.camera[2] > 0.05f && o.camera[2] < 100))
             throw ink::Error("--camera needs finite angles and a distance in (0.05, 100) diagonals");
@@ -292,6 +324,18 @@ json levelsJson(const std::vector<ink::LevelStats>& levels) {
                         {"gpu_ms", s.gpuMs}});
     }
     return list;
+}
+
+json plotJson(const ink::Plot& plot) {
+    json layers = json::array();
+    for (const ink::PlotLayer& l : plot.layers)
+        layers.push_back({{"pen", l.pen},
+                          {"name", l.name},
+                          {"paths", l.paths.size()},
+                          {"travel_before_mm", l.travelBefore},
+                          {"travel_after_mm", l.travelAfter},
+                          {"pen_down_mm", l.penDown}});
+    return {{"page_mm", {plot.width, plot.height}}, {"pen_width_mm", plot.penWidth}, {"layers", layers}};
 }
 
 json deviceJson(const ink::Context& ctx) { return {{"device", ctx.properties.deviceName}, {"driver", ctx.driverInfo}}; }

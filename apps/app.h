@@ -44,6 +44,9 @@ struct Options {
     std::string ink = "#000000", paper = "#ffffff", preset;
     std::vector<float> light;
     std::string up = "y";
+    // Vector output (SVG, PDF)
+    ink::PageOptions page;
+    std::string pageName = "A4", orientation = "auto", dotStyle = "circle";
     CLI::App* command = nullptr;  // the chosen subcommand (set by main): tells a preset which options were given
 };
 
@@ -53,6 +56,7 @@ void addModelOptions(CLI::App* cmd, Options& o);
 void addDeviceOptions(CLI::App* cmd, Options& o);
 void addRefineOptions(CLI::App* cmd, Options& o);
 void addRenderOptions(CLI::App* cmd, Options& o);  // style, colours, dots, tone, camera, size, --preset
+void addVectorOptions(CLI::App* cmd, Options& o);  // page, orientation, margin, pen width, dot style, order
 // Validates and resolves what the parser cannot (axis, colours, preset file); throws ink::Error.
 void finishOptions(Options& o);
 ink::Camera cameraFrom(const Options& o);
@@ -78,6 +82,8 @@ struct Scene : ink::Scene {
 json fitJson(const ink::Model& m);
 json levelsJson(const std::vector<ink::LevelStats>& levels);
 json deviceJson(const ink::Context& ctx);
+// A plot's layers: pen, name, paths, pen-up travel before and after ordering and pen-down length in mm.
+json plotJson(const ink::Plot& plot);
 // Spacing of a ranked point set: the whole set and its prefixes 1/2, 1/4, 1/8, the area estimated from it.
 json spacingJson(const std::vector<ink::PointRecord>& points);
 // Writes JSON atomically; does nothing for an empty path.

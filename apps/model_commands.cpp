@@ -5,8 +5,12 @@
 #include "hrbf_io.h"
 #include "image.h"
 #include "select.h"
+#include "vector.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <optional>
 
 namespace app {
 
@@ -91,21 +95,54 @@ static int runSample(Options& o, const std::string& pointsPath) {
     return 0;
 }
 
-static int runRender(Options& o, const std::string& output) {
+// One frame, written as each output asks: .png the image, .svg/.pdf its marks laid out on a page.
+static int runRender(Options& o, const std::vector<std::string>& outputs) {
     finishOptions(o);
-    ink::checkOutputs({output, o.statsPath}, {o.model, o.preset});
+    for (const std::string& out : outputs) {
+        std::string lower;
+        for (char c : out) lower += char(std::tolower(static_cast<unsigned char>(c)));
+        if (!ink::isVectorPath(out) && !(lower.size() > 4 && lower.compare(lower.size() - 4, 4, ".png") == 0))
+            throw ink::Error("output '" + out + "' is not a .png, .svg or .pdf file");
+    }
+    std::vector<std::string> written = outputs;
+    written.push_back(o.statsPath);
+    ink::checkOutputs(written, {o.model, o.preset});
     auto start = Clock::now();
     Session session(o);
     ink::checkOffscreenSize(session.ctx, o.size[0], o.size[1], std::max(1u, o.render.supersample));
     Scene scene(session.ctx, o);
     ink::RgbaImage image;
+    ink::VectorDrawing marks;
+    const bool vectors = std::any_of(outputs.begin(), outputs.end(), ink::isVectorPath);
     {
         ink::OffscreenRenderer renderer(session.ctx, o.size[0], o.size[1], o.render, scene.pointers());
         image = renderer.render(cameraFrom(o));
+        if (vectors) marks = renderer.vectorDrawing();
     }
     session.checkValidation();
-    ink::OutputBatch outputs;  // the image and the stats, both or neither
-    ink::writePng(output, image);
+    std::optional<ink::Plot> plot;
+    double layoutSeconds = 0;
+    if (vectors) {
+        auto layoutStart = Clock::now();
+        plot = ink::layoutPlot(marks, o.page);
+        layoutSeconds = secondsSince(layoutStart);
+    }
+    for (const ink::PlotLayer& l : plot ? plot->layers : std::vector<ink::PlotLayer>{})
+        if (l.rings) {
+            char text[256];
+            std::snprintf(text, sizeof text,
+                          "%zu of the %s dots (up to %.2f mm) are wider than two pen widths and plot as rings: a "
+                          "--pen-width of about half the dot size fills them",
+                          l.rings, l.name.c_str(), l.widestDot);
+            ink::note(text);
+        }
+    ink::OutputBatch batch;  // the image, the drawings and the stats, all or none
+    for (const std::string& out : outputs) {
+        if (ink::isVectorPath(out))
+            ink::writePlot(out, *plot);
+        else
+            ink::writePng(out, image);
+    }
     uint64_t points = scene.points();
     json levels = json::array();
     for (auto& s : scene.sets) levels.push_back(levelsJson(ink::readLevelStats(session.ctx, s->gpu())));
@@ -113,11 +150,21 @@ static int runRender(Options& o, const std::string& output) {
                   {"fit", fitJson(scene.model)},
                   {"refine", {{"seconds", scene.refineSeconds}, {"points", points}, {"sets", levels}}},
                   {"seconds", secondsSince(start)}};
+    if (plot) {
+        stats["vector"] = plotJson(*plot);
+        stats["vector"]["seconds"] = layoutSeconds;  // the layout and the ordering
+    }
     stats.update(deviceJson(session.ctx));
     writeJson(o.statsPath, stats);
-    outputs.commit();
+    batch.commit();
+    std::string names;
+    for (const std::string& out : outputs) names += (names.empty() ? "" : ", ") + out;
     std::printf("%s: %zu control points, %llu points, %.2f s -> %s\n", o.model.c_str(), scene.model.fit.controlPoints,
-                (unsigned long long)points, secondsSince(start), output.c_str());
+                (unsigned long long)points, secondsSince(start), names.c_str());
+    if (plot)
+        for (const ink::PlotLayer& l : plot->layers)
+            std::printf("  pen %u (%s): %zu paths, pen-up travel %.0f mm (%.0f mm unordered), pen down %.0f mm\n",
+                        l.pen, l.name.c_str(), l.paths.size(), l.travelAfter, l.travelBefore, l.penDown);
     return 0;
 }
 
@@ -142,13 +189,20 @@ void addModelCommands(CLI::App& cli, Options& o, Commands& commands) {
         ->capture_default_str();
     commands.emplace_back(sample, [&o, output] { return runSample(o, *output); });
 
-    CLI::App* render = cli.add_subcommand("render", "Render a model headless to a PNG");
+    auto renderOutputs = std::make_shared<std::vector<std::string>>();
+    CLI::App* render = cli.add_subcommand("render", "Render a model headless to a PNG, an SVG or a PDF");
     addModelOptions(render, o);
     addRefineOptions(render, o);
     addRenderOptions(render, o);
+    addVectorOptions(render, o);
     addDeviceOptions(render, o);
-    render->add_option("-o,--output", *output, "Output PNG")->required();
-    commands.emplace_back(render, [&o, output] { return runRender(o, *output); });
+    render
+        ->add_option("-o,--output", *renderOutputs,
+                     "Output: .png (the image), .svg or .pdf (its marks on a page, for plotters and print); "
+                     "repeat for several of the same frame")
+        ->required()
+        ->allow_extra_args(false);
+    commands.emplace_back(render, [&o, renderOutputs] { return runRender(o, *renderOutputs); });
 
     CLI::App* devices = cli.add_subcommand("devices", "List the Vulkan devices");
     commands.emplace_back(devices, [] {

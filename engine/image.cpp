@@ -28,6 +28,17 @@
 
 namespace ink {
 
+std::string deflateZlib(const std::string& bytes) {
+    if (bytes.size() > size_t(std::numeric_limits<int>::max())) throw Error("deflate: more than 2 GiB of data");
+    int size = 0;
+    unsigned char* data = stbi_zlib_compress(reinterpret_cast<unsigned char*>(const_cast<char*>(bytes.data())),
+                                             int(bytes.size()), &size, 8);
+    if (!data) throw Error("deflate: out of memory");
+    std::string out(reinterpret_cast<const char*>(data), size_t(size));
+    STBIW_FREE(data);
+    return out;
+}
+
 // Encoded in memory, then written with every write and the close checked (writeFileAtomically): stb's own
 // file writer ignores write errors, so a full disk gave a truncated PNG and success.
 void writePng(const std::string& path, const RgbaImage& image) {

@@ -24,6 +24,9 @@ RgbaImage readPng(const std::string& path);
 // The same on a PNG file's bytes; `name` is used in messages.
 RgbaImage readPngFromMemory(const std::string& bytes, const std::string& name);
 
+// `bytes` compressed as a zlib stream (RFC 1950; PNG's and PDF's FlateDecode), by stb's deflate.
+std::string deflateZlib(const std::string& bytes);
+
 // Box-filters an image whose sides are `factor` times larger.
 RgbaImage downsample(const RgbaImage& image, uint32_t factor);
 

@@ -131,7 +131,8 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
             viewInfo.buffer = r->drawnPoints().buffer;
             viewInfo.format = VK_FORMAT_R32G32B32A32_SFLOAT;
             viewInfo.range = VK_WHOLE_SIZE;
-            sets_.push_back({VK_NULL_HANDLE, splatSpacing(*r), draw[0], draw[2]});
+            sets_.push_back({VK_NULL_HANDLE, splatSpacing(*r), draw[0], draw[2],
+                             r->options.style == SampleStyle::Direction ? "direction" : "stipple"});
             VK_CHECK(vkCreateBufferView(ctx.device, &viewInfo, nullptr, &sets_.back().texels));
         }
         const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -409,6 +410,48 @@ std::vector<uint32_t> PointRenderer::drawnPoints(size_t set, uint32_t frame) con
     return points;
 }
 
+VectorDrawing PointRenderer::vectorDrawing(uint32_t frame) const {
+    vkDeviceWaitIdle(ctx_.device);
+    const Frame& f = frames_.at(frame);
+    VectorDrawing out;
+    out.width = f.extent.width;
+    out.height = f.extent.height;
+    out.paper = style_.paper;
+    // The classes and sizes of render_common.glsl and stamp.comp: SILHOUETTE 0, FRONT 1, BACK 2, HIDDEN 3; a
+    // dot's diameter is its class's size clamped to [tone.z, tone.w] (setStyle).
+    const float sizes[4] = {style_.silhouetteSize, style_.frontSize, 0.0f, style_.hiddenSize};
+    const float maxDiameter = kMaxDotPixels * pixelScale_;
+    for (size_t k = 0; k < sets_.size(); ++k) {
+        uint32_t header[4];
+        downloadBuffer(ctx_, f.dots[k], 0, header, sizeof(header));
+        std::vector<float> dots(4 * size_t(header[3]));
+        if (!dots.empty()) downloadBuffer(ctx_, f.dots[k], 16, dots.data(), dots.size() * 4);
+        struct Mark {
+            uint32_t point, cls;
+            glm::vec2 pixel;
+        };
+        std::vector<Mark> marks;
+        for (size_t i = 0; i < header[3]; ++i) {
+            uint32_t word;
+            std::memcpy(&word, &dots[4 * i + 3], 4);
+            uint32_t cls = (word >> 2) & 3u;
+            if (cls != 2u) marks.push_back({word >> 4, cls, {dots[4 * i], dots[4 * i + 1]}});
+        }
+        std::sort(marks.begin(), marks.end(), [](const Mark& a, const Mark& b) { return a.point < b.point; });
+        VectorLayer& shown = out.layer(sets_[k].name, style_.ink);
+        std::vector<VectorLayer::Dot> hidden;
+        for (const Mark& m : marks) {
+            VectorLayer::Dot dot{m.pixel, std::clamp(sizes[m.cls] * pixelScale_, 1.0f, maxDiameter)};
+            (m.cls == 3u ? hidden : shown.dots).push_back(dot);
+        }
+        if (!hidden.empty()) {
+            VectorLayer& layer = out.layer("hidden", style_.hiddenInk, true);
+            layer.dots.insert(layer.dots.end(), hidden.begin(), hidden.end());
+        }
+    }
+    return out;
+}
+
 OffscreenRenderer::OffscreenRenderer(Context& ctx, uint32_t width, uint32_t height, const RenderStyle& style,
                                      std::vector<const GpuRefinement*> sets)
     : ctx_(ctx), factor_(std::max(1u, style.supersample)), renderer_(ctx, std::move(sets), kColorFormat) {
@@ -449,6 +492,16 @@ RgbaImage OffscreenRenderer::render(const Camera& camera) {
     full.pixels.resize(size_t(extent.width) * extent.height * 4);
     std::memcpy(full.pixels.data(), readback_.mapped, full.pixels.size());
     return downsample(full, factor_);
+}
+
+VectorDrawing OffscreenRenderer::vectorDrawing() const {
+    VectorDrawing d = renderer_.vectorDrawing();
+    const float scale = 1.0f / float(factor_);
+    d.width /= factor_;
+    d.height /= factor_;
+    for (VectorLayer& layer : d.layers)
+        for (VectorLayer::Dot& dot : layer.dots) dot.center *= scale, dot.diameter *= scale;
+    return d;
 }
 
 void OffscreenRenderer::draw(const Camera& camera) {

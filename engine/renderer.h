@@ -10,6 +10,7 @@
 #include "pipelines.h"
 #include "refine.h"
 #include "resources.h"
+#include "vector.h"
 
 #include <glm/glm.hpp>
 #include <vector>
@@ -97,13 +98,19 @@ public:
     // The points of set `set` whose dots frame `frame` drew last, as indices into its drawn points (reads the
     // dot list back; waits for the device).
     std::vector<uint32_t> drawnPoints(size_t set, uint32_t frame = 0) const;
+    // The marks frame `frame` drew, as vectors in its target's pixels (reads the dot lists back; waits for the
+    // device): what stamp.comp decided, not decided again. A layer a set ("stipple", "direction") with its
+    // visible silhouette and front dots, and the hidden silhouettes in a layer "hidden" below them; dots in
+    // the order of their points, so the same frame gives the same marks.
+    VectorDrawing vectorDrawing(uint32_t frame = 0) const;
 
 private:
     struct Set {
         VkBufferView texels = VK_NULL_HANDLE;  // the points as RGBA32F texels, 2 a point (vectorized loads)
         float splatRadius = 0;
-        uint32_t points = 0;  // in the refinement's draw, read once at setup
-        uint32_t first = 0;   // its first point: not 0 when only the last level is kept
+        uint32_t points = 0;           // in the refinement's draw, read once at setup
+        uint32_t first = 0;            // its first point: not 0 when only the last level is kept
+        const char* name = "stipple";  // its vector layer's
     };
     // What one frame in flight writes.
     struct Frame {
@@ -146,6 +153,8 @@ public:
     PointRenderer::Timings timings() const { return renderer_.timings(); }
     uint32_t drawnDots() const { return renderer_.drawnDots(); }
     std::vector<uint32_t> drawnPoints(size_t set) const { return renderer_.drawnPoints(set); }
+    // The last frame's marks as vectors, in pixels of the requested width × height (renderer.vectorDrawing).
+    VectorDrawing vectorDrawing() const;
 
 private:
     FrameTarget target() const;

@@ -37,7 +37,8 @@ for node in sorted(edges):
 cpu_only = [m for m in edges.keys() | set(module(f) for f in files)
             if m.startswith('io/') or m in ('clean', 'hrbf', 'hrbf_io', 'model', 'refine_plan', 'refine_cpu',
                                             'select_plan', 'select_cpu', 'select_math', 'export', 'spacing',
-                                            'image', 'files', 'common', 'points', 'shapes', 'compare')]
+                                            'image', 'files', 'common', 'points', 'shapes', 'compare', 'vector',
+                                            'path_order')]
 vulkan = {module(f) for f in files if '<vulkan/vulkan.h>' in open(f, encoding='utf-8').read()}
 def reaches(node, seen):
     for target in edges.get(node, ()):

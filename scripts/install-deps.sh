@@ -8,6 +8,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools glslang-tools spirv-tools
   libeigen3-dev libglm-dev libglfw3-dev doctest-dev libstb-dev libcli11-dev nlohmann-json3-dev
   libopenblas-dev libtinygltf-dev xvfb xauth clang-format
+  librsvg2-bin poppler-utils
 )
 
 missing=()

@@ -1,0 +1,270 @@
+#include "path_order.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace ink {
+
+double PlotPath::length() const {
+    if (circle()) return 2.0 * M_PI * radius;
+    double sum = 0;
+    for (size_t i = 1; i < points.size(); ++i) sum += glm::distance(points[i - 1], points[i]);
+    return sum;
+}
+
+void PlotPath::reverse() {
+    if (!circle()) std::reverse(points.begin(), points.end());
+}
+
+double travel(const std::vector<PlotPath>& paths, glm::dvec2 home) {
+    double sum = 0;
+    glm::dvec2 at = home;
+    for (const PlotPath& p : paths) {
+        sum += glm::distance(at, p.start());
+        at = p.end();
+    }
+    return sum;
+}
+
+namespace {
+
+constexpr int kNeighbours = 8;  // candidates a path end tries in 2-opt
+constexpr int kMaxPasses = 16;
+
+// A uniform grid over points, about two a cell, for nearest-point queries. Points are removed as they are
+// used; the grid is rebuilt coarser when few remain, so that a query never walks a mostly empty grid.
+class PointGrid {
+public:
+    PointGrid(const std::vector<glm::dvec2>& points, std::vector<uint32_t> ids) : points_(points) { build(ids); }
+
+    // The nearest live point to q of a path other than skipPath (ties: the lower id); UINT32_MAX when none.
+    uint32_t nearest(glm::dvec2 q, uint32_t skipPath = UINT32_MAX) {
+        if (live_ == 0) return UINT32_MAX;
+        glm::ivec2 c = cellOf(q);
+        uint32_t best = UINT32_MAX;
+        double bestD = std::numeric_limits<double>::infinity();
+        int maxRing = std::max(side_.x, side_.y);
+        for (int r = 0; r <= maxRing + 1; ++r) {
+            for (int y = c.y - r; y <= c.y + r; ++y) {
+                if (y < 0 || y >= side_.y) continue;
+                bool edgeRow = y == c.y - r || y == c.y + r;
+                for (int x = c.x - r; x <= c.x + r; x += edgeRow ? 1 : 2 * std::max(r, 1)) {
+                    if (x < 0 || x >= side_.x) continue;
+                    std::vector<uint32_t>& cell = cells_[size_t(y) * size_t(side_.x) + size_t(x)];
+                    // Dead entries are dropped as they are met.
+                    size_t kept = 0;
+                    for (uint32_t id : cell) {
+                        if (dead_[id]) continue;
+                        cell[kept++] = id;
+                        if ((id >> 1) == skipPath) continue;
+                        double d = glm::distance(points_[id], q);
+                        if (d < bestD || (d == bestD && id < best)) bestD = d, best = id;
+                    }
+                    cell.resize(kept);
+                    if (r == 0) break;
+                }
+            }
+            // Points in ring r + 1 and beyond are at least r cells away.
+            if (best != UINT32_MAX && bestD <= double(r) * cell_) break;
+        }
+        return best;
+    }
+
+    // The kNeighbours nearest live points to q of paths other than skipPath, nearest first (ties: the lower
+    // id), into out (UINT32_MAX where there are fewer).
+    void nearestK(glm::dvec2 q, uint32_t skipPath, uint32_t* out) const {
+        std::pair<double, uint32_t> best[kNeighbours];
+        int count = 0;
+        glm::ivec2 c = cellOf(q);
+        int maxRing = std::max(side_.x, side_.y);
+        for (int r = 0; r <= maxRing + 1; ++r) {
+            for (int y = c.y - r; y <= c.y + r; ++y) {
+                if (y < 0 || y >= side_.y) continue;
+                bool edgeRow = y == c.y - r || y == c.y + r;
+                for (int x = c.x - r; x <= c.x + r; x += edgeRow ? 1 : 2 * std::max(r, 1)) {
+                    if (x < 0 || x >= side_.x) continue;
+                    for (uint32_t id : cells_[size_t(y) * size_t(side_.x) + size_t(x)]) {
+                        if (dead_[id] || (id >> 1) == skipPath) continue;
+                        std::pair<double, uint32_t> candidate{glm::distance(points_[id], q), id};
+                        if (count == kNeighbours && !(candidate < best[count - 1])) continue;
+                        int k = count < kNeighbours ? count++ : count - 1;
+                        for (; k > 0 && candidate < best[k - 1]; --k) best[k] = best[k - 1];
+                        best[k] = candidate;
+                    }
+                    if (r == 0) break;
+                }
+            }
+            if (count == kNeighbours && best[count - 1].first <= double(r) * cell_) break;
+        }
+        for (int k = 0; k < kNeighbours; ++k) out[k] = k < count ? best[k].second : UINT32_MAX;
+    }
+
+    void remove(uint32_t id) {
+        if (dead_[id]) return;
+        dead_[id] = 1;
+        if (--live_ * 8 < cells_.size() && cells_.size() > 64) {
+            std::vector<uint32_t> ids;
+            for (const auto& cell : cells_)
+                for (uint32_t i : cell)
+                    if (!dead_[i]) ids.push_back(i);
+            std::sort(ids.begin(), ids.end());
+            build(ids);
+        }
+    }
+
+private:
+    void build(const std::vector<uint32_t>& ids) {
+        if (dead_.size() != points_.size()) dead_.assign(points_.size(), 1);
+        glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+        for (uint32_t id : ids) {
+            lo = glm::min(lo, points_[id]);
+            hi = glm::max(hi, points_[id]);
+            dead_[id] = 0;
+        }
+        live_ = ids.size();
+        if (ids.empty()) lo = hi = glm::dvec2(0);
+        glm::dvec2 extent = glm::max(hi - lo, glm::dvec2(1e-9));
+        cell_ = std::max(std::sqrt(extent.x * extent.y * 2.0 / double(std::max<size_t>(ids.size(), 1))),
+                         std::max(extent.x, extent.y) / 4096.0);
+        origin_ = lo;
+        side_ = glm::ivec2(glm::min(glm::floor(extent / cell_) + 1.0, glm::dvec2(4096)));
+        cells_.assign(size_t(side_.x) * size_t(side_.y), {});
+        for (uint32_t id : ids) cells_[cellIndex(points_[id])].push_back(id);
+    }
+    glm::ivec2 cellOf(glm::dvec2 p) const {
+        glm::dvec2 c = glm::floor((p - origin_) / cell_);
+        return glm::ivec2(glm::clamp(c, glm::dvec2(0), glm::dvec2(side_ - 1)));
+    }
+    size_t cellIndex(glm::dvec2 p) const {
+        glm::ivec2 c = cellOf(p);
+        return size_t(c.y) * size_t(side_.x) + size_t(c.x);
+    }
+
+    const std::vector<glm::dvec2>& points_;
+    std::vector<uint8_t> dead_;
+    std::vector<std::vector<uint32_t>> cells_;
+    glm::dvec2 origin_{0};
+    glm::ivec2 side_{1, 1};
+    double cell_ = 1;
+    size_t live_ = 0;
+};
+
+}  // namespace
+
+void orderPaths(std::vector<PlotPath>& paths, glm::dvec2 home) {
+    const uint32_t n = uint32_t(paths.size());
+    if (n < 2) return;
+    // Path end 2p is path p's start as given, 2p + 1 its end.
+    std::vector<glm::dvec2> ends(2 * size_t(n));
+    for (uint32_t p = 0; p < n; ++p) ends[2 * p] = paths[p].start(), ends[2 * p + 1] = paths[p].end();
+    std::vector<uint32_t> all(ends.size());
+    for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+
+    // Each path end's nearest ends of other paths (the geometry does not change, only which end is which).
+    std::vector<uint32_t> neighbours(ends.size() * kNeighbours, UINT32_MAX);
+    {
+        PointGrid grid(ends, all);
+        for (uint32_t e = 0; e < ends.size(); ++e) grid.nearestK(ends[e], e >> 1, &neighbours[e * kNeighbours]);
+    }
+
+    // Greedy nearest neighbour from home.
+    std::vector<uint32_t> order;
+    std::vector<uint8_t> reversed(n, 0);
+    order.reserve(n);
+    {
+        PointGrid grid(ends, all);
+        glm::dvec2 at = home;
+        for (uint32_t k = 0; k < n; ++k) {
+            uint32_t id = grid.nearest(at);
+            uint32_t p = id >> 1;
+            reversed[p] = uint8_t(id & 1u);
+            order.push_back(p);
+            grid.remove(2 * p);
+            grid.remove(2 * p + 1);
+            at = ends[id ^ 1u];
+        }
+    }
+
+    // 2-opt: reversing the run of paths at positions lo + 1 .. hi replaces the links end(lo) → start(lo + 1) and
+    // end(hi) → start(hi + 1) by end(lo) → end(hi) and start(lo + 1) → start(hi + 1). Position −1 is home; after
+    // the last path nothing follows (a link of length 0).
+    std::vector<uint32_t> position(n);
+    for (uint32_t i = 0; i < n; ++i) position[order[i]] = i;
+    auto startId = [&](uint32_t p) { return 2 * p + reversed[p]; };
+    auto endId = [&](uint32_t p) { return 2 * p + 1 - reversed[p]; };
+    auto endAt = [&](int64_t i) { return i < 0 ? home : ends[endId(order[size_t(i)])]; };
+    auto link = [&](glm::dvec2 a, int64_t next) {
+        return next >= int64_t(n) ? 0.0 : glm::distance(a, ends[startId(order[size_t(next)])]);
+    };
+    auto startsAt = [&](int64_t i) { return ends[startId(order[size_t(i)])]; };
+    auto gain = [&](int64_t lo, int64_t hi) {
+        glm::dvec2 a = endAt(lo), b = startsAt(lo + 1), c = endAt(hi);
+        double before = glm::distance(a, b) + link(c, hi + 1);
+        double after = glm::distance(a, c) + link(b, hi + 1);
+        return before - after;
+    };
+    auto apply = [&](int64_t lo, int64_t hi) {
+        std::reverse(order.begin() + lo + 1, order.begin() + hi + 1);
+        for (int64_t i = lo + 1; i <= hi; ++i) {
+            uint32_t p = order[size_t(i)];
+            position[p] = uint32_t(i);
+            reversed[p] ^= 1u;
+        }
+    };
+    for (int pass = 0; pass < kMaxPasses; ++pass) {
+        bool improved = false;
+        for (int64_t i = -1; i + 1 < int64_t(n); ++i) {
+            for (int side = 0; side < 2; ++side) {
+                // side 0: new link end(i) → an end nearby; side 1: new link start(i + 1) → a start nearby.
+                uint32_t from =
+                    side == 0 ? (i < 0 ? UINT32_MAX : endId(order[size_t(i)])) : startId(order[size_t(i + 1)]);
+                if (from == UINT32_MAX) continue;
+                for (int k = 0; k < kNeighbours; ++k) {
+                    uint32_t id = neighbours[size_t(from) * kNeighbours + size_t(k)];
+                    if (id == UINT32_MAX) break;
+                    uint32_t q = id >> 1;
+                    int64_t j = position[q];
+                    if (side == 0 && id != endId(q)) continue;
+                    if (side == 1) {
+                        if (id != startId(q)) continue;
+                        j -= 1;
+                    }
+                    if (j == i) continue;
+                    int64_t lo = std::min(i, j), hi = std::max(i, j);
+                    if (gain(lo, hi) > 1e-9) {
+                        apply(lo, hi);
+                        improved = true;
+                        break;
+                    }
+                }
+            }
+        }
+        if (!improved) break;
+    }
+
+    std::vector<PlotPath> out;
+    out.reserve(n);
+    for (uint32_t p : order) {
+        out.push_back(std::move(paths[p]));
+        if (reversed[p]) out.back().reverse();
+    }
+    paths = std::move(out);
+}
+
+void mergeTouching(std::vector<PlotPath>& paths, double tolerance) {
+    std::vector<PlotPath> out;
+    out.reserve(paths.size());
+    for (PlotPath& p : paths) {
+        if (!out.empty() && !out.back().circle() && !p.circle() &&
+            glm::distance(out.back().end(), p.start()) <= tolerance) {
+            out.back().points.insert(out.back().points.end(), p.points.begin() + 1, p.points.end());
+            continue;
+        }
+        out.push_back(std::move(p));
+    }
+    paths = std::move(out);
+}
+
+}  // namespace ink

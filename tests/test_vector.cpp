@@ -1,0 +1,455 @@
+// Vector output (engine/vector.h, path_order.h; `render -o out.svg|pdf`): the layout and order of pen paths,
+// and the SVG and PDF of a real frame drawn by independent renderers (rsvg-convert, pdftoppm) against its PNG.
+#include "common.h"
+#include "image.h"
+#include "path_order.h"
+#include "run_command.h"
+#include "temp_dir.h"
+#include "vector.h"
+
+#include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+std::string readFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// A 3×3 box blur of the image's luma.
+std::vector<float> blurredLuma(const ink::RgbaImage& image) {
+    const int w = int(image.width), h = int(image.height);
+    std::vector<float> luma(size_t(w) * size_t(h)), out(luma.size());
+    for (size_t i = 0; i < luma.size(); ++i) {
+        const uint8_t* p = &image.pixels[4 * i];
+        // Over white: rsvg-convert and pdftoppm leave the page transparent where nothing is drawn.
+        float a = float(p[3]) / 255.0f;
+        luma[i] = (0.299f * p[0] + 0.587f * p[1] + 0.114f * p[2]) * a + 255.0f * (1.0f - a);
+    }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float sum = 0;
+            int count = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int u = x + dx, v = y + dy;
+                    if (u < 0 || v < 0 || u >= w || v >= h) continue;
+                    sum += luma[size_t(v) * size_t(w) + size_t(u)];
+                    ++count;
+                }
+            out[size_t(y) * size_t(w) + size_t(x)] = sum / float(count);
+        }
+    return out;
+}
+
+struct Difference {
+    double fraction;    // of pixels differing by more than 64 after the blur
+    size_t inkA, inkB;  // pixels darker than 128 before
+};
+
+Difference compareBlurred(const ink::RgbaImage& a, const ink::RgbaImage& b, int shift = 0) {
+    REQUIRE(a.width == b.width);
+    REQUIRE(a.height == b.height);
+    std::vector<float> la = blurredLuma(a), lb = blurredLuma(b);
+    size_t differ = 0;
+    // `shift`: b moved right by that many pixels (a control: a misplaced drawing must fail the comparison).
+    const size_t w = a.width;
+    for (size_t i = 0; i < la.size(); ++i) {
+        size_t x = i % w;
+        float vb = x >= size_t(shift) ? lb[i - size_t(shift)] : 255.0f;
+        differ += std::abs(la[i] - vb) > 64.0f;
+    }
+    auto ink = [](const ink::RgbaImage& im) {
+        size_t n = 0;
+        for (size_t i = 0; i < im.pixels.size(); i += 4) n += im.pixels[i + 3] > 128 && im.pixels[i] < 128;
+        return n;
+    };
+    return {double(differ) / double(la.size()), ink(a), ink(b)};
+}
+
+// The SVG as a plotter program reads it: its size, layers and paths.
+struct ParsedSvg {
+    std::string width, height, viewBox;
+    struct Layer {
+        std::string groupmode, label, fill, strokeWidth;
+        std::vector<std::string> paths;
+    };
+    std::vector<Layer> layers;
+    size_t elements = 0;  // every element other than svg, g and path
+};
+
+std::string attribute(const std::string& tag, const std::string& name) {
+    std::smatch m;
+    std::regex re("\\s" + name + "=\"([^\"]*)\"");
+    return std::regex_search(tag, m, re) ? m[1].str() : std::string("<missing>");
+}
+
+ParsedSvg parseSvg(const std::string& text) {
+    ParsedSvg svg;
+    size_t at = 0;
+    while ((at = text.find('<', at)) != std::string::npos) {
+        size_t end = text.find('>', at);
+        REQUIRE(end != std::string::npos);
+        std::string tag = text.substr(at, end - at + 1);
+        at = end + 1;
+        if (tag.rfind("<?xml", 0) == 0 || tag.rfind("</", 0) == 0) continue;
+        if (tag.rfind("<svg", 0) == 0) {
+            svg.width = attribute(tag, "width");
+            svg.height = attribute(tag, "height");
+            svg.viewBox = attribute(tag, "viewBox");
+        } else if (tag.rfind("<g", 0) == 0) {
+            svg.layers.push_back({attribute(tag, "inkscape:groupmode"),
+                                  attribute(tag, "inkscape:label"),
+                                  attribute(tag, "fill"),
+                                  attribute(tag, "stroke-width"),
+                                  {}});
+        } else if (tag.rfind("<path", 0) == 0) {
+            REQUIRE(!svg.layers.empty());
+            svg.layers.back().paths.push_back(attribute(tag, "d"));
+        } else {
+            ++svg.elements;
+        }
+    }
+    return svg;
+}
+
+// A path's length and its extent, from the commands the writer uses (M, L with absolute points; a with a
+// relative end point; z).
+struct PathShape {
+    double length = 0;
+    double minX = 1e30, minY = 1e30, maxX = -1e30, maxY = -1e30;
+};
+
+PathShape shapeOf(const std::string& d) {
+    PathShape s;
+    std::istringstream in(d);
+    char command = 0;
+    double x = 0, y = 0, x0 = 0, y0 = 0;
+    auto extend = [&](double px, double py, double r) {
+        s.minX = std::min(s.minX, px - r), s.maxX = std::max(s.maxX, px + r);
+        s.minY = std::min(s.minY, py - r), s.maxY = std::max(s.maxY, py + r);
+    };
+    while (in >> std::ws && !in.eof()) {
+        int c = in.peek();
+        if (std::isalpha(c)) {
+            command = char(in.get());
+            if (command == 'z') {
+                s.length += std::hypot(x - x0, y - y0);
+                x = x0, y = y0;
+                continue;
+            }
+        }
+        if (command == 'M') {
+            in >> x >> y;
+            x0 = x, y0 = y;
+            extend(x, y, 0);
+            command = 'L';
+        } else if (command == 'L') {
+            double nx, ny;
+            in >> nx >> ny;
+            s.length += std::hypot(nx - x, ny - y);
+            x = nx, y = ny;
+            extend(x, y, 0);
+        } else if (command == 'a') {
+            double rx, ry, rotation, large, sweep, dx, dy;
+            in >> rx >> ry >> rotation >> large >> sweep >> dx >> dy;
+            REQUIRE(rx == ry);
+            // A half circle from (x, y) to (x + dx, y): its centre half way, its length π r.
+            extend(x + dx / 2, y + dy / 2, rx);
+            s.length += M_PI * rx;
+            x += dx, y += dy;
+        } else {
+            FAIL("unexpected path data: " << d);
+        }
+        REQUIRE_FALSE(in.fail());
+    }
+    return s;
+}
+
+const std::string kBunny = INKWELL_SOURCE_DIR "/assets/bunny.obj";
+
+}  // namespace
+
+TEST_CASE("vector: ordering keeps every path, reverses polylines only whole, and cuts random travel by far") {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0, 200);
+    std::vector<ink::PlotPath> paths;
+    for (int i = 0; i < 20000; ++i) {
+        ink::PlotPath p;
+        glm::dvec2 c(u(rng), u(rng));
+        if (i % 4 == 0) {
+            p.points = {c, c + glm::dvec2(1, 0.5), c + glm::dvec2(2, 0)};
+        } else {
+            p.points = {c};
+            p.radius = 0.2;
+        }
+        paths.push_back(p);
+    }
+    const glm::dvec2 home(0, 0);
+    std::vector<ink::PlotPath> ordered = paths;
+    ink::orderPaths(ordered, home);
+    REQUIRE(ordered.size() == paths.size());
+    double before = ink::travel(paths, home), after = ink::travel(ordered, home);
+    MESSAGE("travel " << before << " mm -> " << after << " mm");
+    CHECK(after < before / 20);
+    // The same paths: each polyline as given or reversed, each circle as given.
+    auto key = [](const ink::PlotPath& p) {
+        std::vector<double> k{p.radius};
+        std::vector<glm::dvec2> pts = p.points;
+        if (!p.circle() && std::lexicographical_compare(
+                               pts.rbegin(), pts.rend(), pts.begin(), pts.end(),
+                               [](glm::dvec2 a, glm::dvec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); }))
+            std::reverse(pts.begin(), pts.end());
+        for (glm::dvec2 p : pts) k.push_back(p.x), k.push_back(p.y);
+        return k;
+    };
+    std::vector<std::vector<double>> a, b;
+    for (const auto& p : paths) a.push_back(key(p));
+    for (const auto& p : ordered) b.push_back(key(p));
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    CHECK(a == b);
+    // Deterministic: the same input, the same order.
+    std::vector<ink::PlotPath> again = paths;
+    ink::orderPaths(again, home);
+    bool same = true;
+    for (size_t i = 0; i < again.size(); ++i) same = same && again[i].points == ordered[i].points;
+    CHECK(same);
+}
+
+TEST_CASE("vector: 2-opt undoes a crossing greedy leaves, and touching strokes merge into one path") {
+    // Four short strokes on a line, given out of order: ordered, they are drawn end to end, and the strokes that
+    // touch (the ends coincide) become one path.
+    auto line = [](double x0, double x1) {
+        ink::PlotPath p;
+        p.points = {{x0, 10}, {x1, 10}};
+        return p;
+    };
+    std::vector<ink::PlotPath> paths{line(30, 20), line(0, 10), line(20, 10), line(40, 50)};
+    ink::orderPaths(paths, {0, 10});
+    CHECK(ink::travel(paths, {0, 10}) == doctest::Approx(10.0));  // only the gap from 30 to 40
+    ink::mergeTouching(paths, 1e-3);
+    REQUIRE(paths.size() == 2);
+    CHECK(paths[0].points.size() == 4);
+    CHECK(paths[0].points.front() == glm::dvec2(0, 10));
+    CHECK(paths[0].points.back() == glm::dvec2(30, 10));
+    CHECK(paths[0].length() == doctest::Approx(30.0));
+}
+
+TEST_CASE("vector: strokes split by visibility into their layer and the hidden layer below") {
+    ink::VectorDrawing d;
+    d.width = d.height = 100;
+    d.layer("stipple", {0, 0, 0, 1});
+    ink::Stroke s;
+    s.points = {{0, 0}, {10, 0}, {20, 0}, {30, 0}, {40, 0}};
+    s.visible = {true, false, false, true};
+    d.addStrokes("contour", {0, 0, 0, 1}, {s}, "hidden");
+    REQUIRE(d.layers.size() == 3);
+    CHECK(d.layers[0].name == "hidden");
+    CHECK(d.layers[1].name == "stipple");
+    CHECK(d.layers[2].name == "contour");
+    REQUIRE(d.layers[2].lines.size() == 2);
+    CHECK(d.layers[2].lines[0] == std::vector<glm::vec2>{{0, 0}, {10, 0}});
+    CHECK(d.layers[2].lines[1] == std::vector<glm::vec2>{{30, 0}, {40, 0}});
+    REQUIRE(d.layers[0].lines.size() == 1);
+    CHECK(d.layers[0].lines[0] == std::vector<glm::vec2>{{10, 0}, {20, 0}, {30, 0}});
+}
+
+TEST_CASE("vector: the layout fits the view in the margins, sizes circles to the dots and drops what leaves it") {
+    ink::VectorDrawing d;
+    d.width = 200;
+    d.height = 100;  // wide: a landscape page
+    ink::VectorLayer& l = d.layer("stipple", {0, 0, 0, 1});
+    l.dots = {{{100, 50}, 4.0f}, {{0.5f, 50}, 4.0f}, {{100, 1}, 0.5f}};
+    l.lines = {{{-50, 50}, {250, 50}}};
+    ink::PageOptions o;  // A4, margin 15, pen 0.3
+    ink::Plot plot = ink::layoutPlot(d, o);
+    CHECK(plot.width == 297);
+    CHECK(plot.height == 210);
+    REQUIRE(plot.layers.size() == 1);
+    const ink::PlotLayer& layer = plot.layers[0];
+    CHECK(layer.pen == 1);
+    // 267 mm for 200 pixels: 1.335 mm a pixel; the view's top at (210 − 133.5) / 2.
+    const double scale = 267.0 / 200.0, top = (210 - 100 * scale) / 2;
+    size_t circles = 0;
+    for (const ink::PlotPath& p : layer.paths) {
+        if (p.circle()) {
+            ++circles;
+            if (p.points[0].y == doctest::Approx(top + 50 * scale)) {
+                CHECK(p.points[0].x == doctest::Approx(15 + 100 * scale));
+                CHECK(p.radius == doctest::Approx((4 * scale - 0.3) / 2));
+            } else {
+                CHECK(p.radius == doctest::Approx((0.5 * scale - 0.3) / 2));  // the small one, 1 px from the top
+            }
+        } else {
+            // The line clipped to the view, half a pen inside.
+            CHECK(p.points.front().x == doctest::Approx(15.15));
+            CHECK(p.points.back().x == doctest::Approx(282 - 0.15));
+        }
+    }
+    CHECK(circles == 2);      // the dot on the left edge would ink outside the view
+    CHECK(layer.rings == 2);  // 5.3 and 0.67 mm wide with a 0.3 mm pen: rings
+    CHECK(layer.widestDot == doctest::Approx(4 * scale));
+    // A pen wider than the dots: the smallest circle.
+    o.penWidth = 6;
+    for (const ink::PlotPath& p : ink::layoutPlot(d, o).layers[0].paths)
+        if (p.circle()) CHECK(p.radius == ink::kMinRadius);
+    o.margin = 110;
+    CHECK_THROWS_WITH_AS(ink::layoutPlot(d, o), "margins of 110 mm leave no room on a 297x210 mm page", ink::Error);
+    CHECK(ink::parsePageSize("letter") == glm::dvec2(215.9, 279.4));
+    CHECK(ink::parsePageSize("300x200.5mm") == glm::dvec2(300, 200.5));
+    CHECK_THROWS_WITH_AS(ink::parsePageSize("A9"),
+                         "page 'A9' is not A3, A4, A5, letter or WxHmm with sides of 10 to 5000 mm", ink::Error);
+}
+
+TEST_CASE("vector: render writes the frame's marks as SVG and PDF that independent renderers draw as the PNG") {
+    TempDir dir("inkwell-vector");
+    // One frame, three outputs; the page has the image's shape and no margin, so drawn at the PNG's size the
+    // page is the image. 2 pixels a millimetre: the 2-pixel dots are 1 mm, filled by a 0.5 mm pen.
+    const std::string common = "render " + kBunny +
+                               " --control-points 200 --levels 4 --ink-density 3 --size 320 320 --page 160x160mm "
+                               "--margin 0 --pen-width 0.5 --validation";
+    Run r = runInkwell(common + " -o " + dir / "a.png" + " -o " + dir / "a.svg" + " -o " + dir / "a.pdf" + " --stats " +
+                       dir / "a.json");
+    REQUIRE_MESSAGE(r.status == 0, r.output);
+    CHECK(r.output.find("pen 1 (stipple):") != std::string::npos);
+    ink::RgbaImage png = ink::readPng(dir / "a.png");
+
+    Run svg = runShell("rsvg-convert -w 320 -h 320 -b white -o " + dir / "svg.png" + " " + dir / "a.svg" + " 2>&1");
+    REQUIRE_MESSAGE(svg.status == 0, "rsvg-convert (librsvg2-bin, scripts/install-deps.sh): " << svg.output);
+    Difference ds = compareBlurred(png, ink::readPng(dir / "svg.png"));
+    MESSAGE("SVG vs PNG: " << ds.fraction * 100 << "% differ; ink " << ds.inkA << " vs " << ds.inkB);
+    CHECK(ds.fraction <= 0.02);
+    CHECK(ds.inkA > 5000);  // a drawing, not two blank pages
+    // The criterion fails a drawing two pixels off.
+    Difference off = compareBlurred(png, ink::readPng(dir / "svg.png"), 2);
+    MESSAGE("SVG two pixels off: " << off.fraction * 100 << "% differ");
+    CHECK(off.fraction > 0.02);
+    CHECK(double(ds.inkB) > 0.7 * double(ds.inkA));
+    CHECK(double(ds.inkB) < 1.3 * double(ds.inkA));
+
+    Run pdf = runShell("pdftoppm -png -singlefile -scale-to-x 320 -scale-to-y 320 " + dir / "a.pdf" + " " +
+                       dir / "pdf" + " 2>&1");
+    REQUIRE_MESSAGE(pdf.status == 0, "pdftoppm (poppler-utils, scripts/install-deps.sh): " << pdf.output);
+    Difference dp = compareBlurred(png, ink::readPng(dir / "pdf.png"));
+    MESSAGE("PDF vs PNG: " << dp.fraction * 100 << "% differ; ink " << dp.inkA << " vs " << dp.inkB);
+    CHECK(dp.fraction <= 0.02);
+    CHECK(double(dp.inkB) > 0.7 * double(dp.inkA));
+
+    // The stats: the layer, its paths, travel ordered and not.
+    nlohmann::json stats = nlohmann::json::parse(readFile(dir / "a.json"));
+    REQUIRE(stats["vector"]["layers"].size() == 1);
+    CHECK(stats["vector"]["layers"][0]["name"] == "stipple");
+    CHECK(stats["vector"]["layers"][0]["paths"].get<size_t>() ==
+          parseSvg(readFile(dir / "a.svg")).layers.at(0).paths.size());
+
+    // Hidden lines: a grey layer of their own, below, and the picture still the PNG's.
+    r = runInkwell(common + " --hidden-lines -o " + dir / "h.png" + " -o " + dir / "h.svg");
+    REQUIRE_MESSAGE(r.status == 0, r.output);
+    ParsedSvg hidden = parseSvg(readFile(dir / "h.svg"));
+    REQUIRE(hidden.layers.size() == 2);
+    CHECK(hidden.layers[0].label == "1 hidden");
+    CHECK(hidden.layers[1].label == "2 stipple");
+    CHECK(hidden.layers[0].paths.size() > 10);
+    REQUIRE(runShell("rsvg-convert -w 320 -h 320 -b white -o " + dir / "hsvg.png" + " " + dir / "h.svg").status == 0);
+    Difference dh = compareBlurred(ink::readPng(dir / "h.png"), ink::readPng(dir / "hsvg.png"));
+    MESSAGE("hidden lines, SVG vs PNG: " << dh.fraction * 100 << "% differ");
+    CHECK(dh.fraction <= 0.02);
+}
+
+TEST_CASE("vector: the default bunny's SVG: layers, mm, no zero-length path, inside the margins, ordered, same bytes") {
+    TempDir dir("inkwell-vector");
+    // The default drawing of the bunny: its default fit (fitted once here) and every default of render.
+    REQUIRE(runInkwell("fit " + kBunny + " -o " + dir / "bunny.hrbf").status == 0);
+    const std::string command = "render " + dir / "bunny.hrbf" + " --stats " + dir / "s.json" + " -o ";
+    Run r = runInkwell(command + dir / "a.svg -o " + dir / "a.pdf");
+    REQUIRE_MESSAGE(r.status == 0, r.output);
+    const std::string text = readFile(dir / "a.svg");
+    CHECK(text.size() < 10'000'000);
+    ParsedSvg svg = parseSvg(text);
+    CHECK(svg.width == "210mm");
+    CHECK(svg.height == "297mm");
+    CHECK(svg.viewBox == "0 0 210 297");
+    CHECK(svg.elements == 0);  // nothing but the layers and their paths
+    REQUIRE(svg.layers.size() == 1);
+    const ParsedSvg::Layer& layer = svg.layers[0];
+    CHECK(layer.groupmode == "layer");
+    CHECK(layer.label == "1 stipple");
+    CHECK(layer.fill == "none");
+    CHECK(layer.strokeWidth == "0.3");
+    CHECK(layer.paths.size() > 10000);
+    size_t zeroLength = 0, outside = 0;
+    const double half = 0.15, margin = 15, slack = 1e-3;  // the writer's micrometre rounding
+    for (const std::string& d : layer.paths) {
+        PathShape s = shapeOf(d);
+        zeroLength += !(s.length > 0);
+        outside += s.minX - half < margin - slack || s.minY - half < margin - slack ||
+                   s.maxX + half > 210 - margin + slack || s.maxY + half > 297 - margin + slack;
+    }
+    CHECK(zeroLength == 0);
+    CHECK(outside == 0);
+
+    nlohmann::json stats = nlohmann::json::parse(readFile(dir / "s.json"));
+    const nlohmann::json& l = stats["vector"]["layers"][0];
+    double before = l["travel_before_mm"], after = l["travel_after_mm"];
+    MESSAGE("pen-up travel " << before << " mm unordered, " << after << " mm ordered; pen down "
+                             << l["pen_down_mm"].get<double>() << " mm");
+    CHECK(after <= before / 3);
+    CHECK(l["pen_down_mm"].get<double>() > 0);
+
+    // The same command again: the same bytes, for the SVG and the PDF; and --no-order keeps the device's order.
+    r = runInkwell(command + dir / "b.svg -o " + dir / "b.pdf");
+    REQUIRE(r.status == 0);
+    CHECK(readFile(dir / "b.svg") == text);
+    CHECK(readFile(dir / "a.pdf") == readFile(dir / "b.pdf"));
+    CHECK(readFile(dir / "a.pdf").rfind("%PDF-1.5\n", 0) == 0);
+    REQUIRE(runInkwell(command + dir / "c.svg --no-order").status == 0);
+    nlohmann::json unordered = nlohmann::json::parse(readFile(dir / "s.json"));
+    CHECK(unordered["vector"]["layers"][0]["travel_after_mm"].get<double>() == doctest::Approx(before));
+}
+
+TEST_CASE("vector: ticks, pages and bad options") {
+    TempDir dir("inkwell-vector");
+    const std::string command = "render " + kBunny + " --control-points 100 --levels 2 --size 300 200 ";
+    Run r = runInkwell(command + "--dot-style tick --page A3 --margin 20 --pen-width 0.5 -o " + dir / "t.svg");
+    REQUIRE_MESSAGE(r.status == 0, r.output);
+    ParsedSvg svg = parseSvg(readFile(dir / "t.svg"));
+    CHECK(svg.width == "420mm");  // a wide image: landscape
+    CHECK(svg.height == "297mm");
+    REQUIRE(svg.layers.size() == 1);
+    CHECK(svg.layers[0].strokeWidth == "0.5");
+    for (const std::string& d : svg.layers[0].paths) {
+        CHECK(d.find('a') == std::string::npos);  // no circles
+        PathShape s = shapeOf(d);
+        CHECK(s.length > 0);
+        CHECK(s.minX >= 20 - 1e-3);
+    }
+    r = runInkwell(command + "--orientation portrait --page 100x50mm -o " + dir / "p.svg");
+    REQUIRE(r.status == 0);
+    CHECK(parseSvg(readFile(dir / "p.svg")).width == "50mm");
+
+    auto refused = [&](const std::string& args, const std::string& message) {
+        Run bad = runInkwell(command + args + " -o " + dir / "x.svg");
+        CHECK(bad.status != 0);
+        CHECK(bad.output == "inkwell: " + message + "\n");
+        CHECK_FALSE(std::filesystem::exists(dir / "x.svg"));
+    };
+    refused("--page B5", "page 'B5' is not A3, A4, A5, letter or WxHmm with sides of 10 to 5000 mm");
+    refused("--pen-width 0", "--pen-width must be in (0, 10] mm");
+    refused("--margin 200", "--margin must be at least 0 mm and leave room on the page");
+    Run jpg = runInkwell(command + "-o " + dir / "x.jpg");
+    CHECK(jpg.status != 0);
+    CHECK(jpg.output == "inkwell: output '" + dir / "x.jpg" + "' is not a .png, .svg or .pdf file\n");
+}
