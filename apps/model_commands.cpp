@@ -95,15 +95,9 @@ static int runSample(Options& o, const std::string& pointsPath) {
     return 0;
 }
 
-// One frame, written as each output asks: .png the image, .svg/.pdf its marks laid out on a page.
+// One frame, written as each output asks: .svg/.pdf its marks laid out on a page, any other name the PNG.
 static int runRender(Options& o, const std::vector<std::string>& outputs) {
     finishOptions(o);
-    for (const std::string& out : outputs) {
-        std::string lower;
-        for (char c : out) lower += char(std::tolower(static_cast<unsigned char>(c)));
-        if (!ink::isVectorPath(out) && !(lower.size() > 4 && lower.compare(lower.size() - 4, 4, ".png") == 0))
-            throw ink::Error("output '" + out + "' is not a .png, .svg or .pdf file");
-    }
     std::vector<std::string> written = outputs;
     written.push_back(o.statsPath);
     ink::checkOutputs(written, {o.model, o.preset});
@@ -198,8 +192,8 @@ void addModelCommands(CLI::App& cli, Options& o, Commands& commands) {
     addDeviceOptions(render, o);
     render
         ->add_option("-o,--output", *renderOutputs,
-                     "Output: .png (the image), .svg or .pdf (its marks on a page, for plotters and print); "
-                     "repeat for several of the same frame")
+                     "Output: .svg or .pdf (the marks on a page, for plotters and print), else a PNG; repeat for "
+                     "several of the same frame")
         ->required()
         ->allow_extra_args(false);
     commands.emplace_back(render, [&o, renderOutputs] { return runRender(o, *renderOutputs); });
