@@ -326,6 +326,26 @@ json levelsJson(const std::vector<ink::LevelStats>& levels) {
     return list;
 }
 
+ink::Plot writeVectorView(const ink::PointRenderer& renderer, uint32_t frame, const std::string& path,
+                          const ink::PageOptions& page) {
+    ink::Plot plot = ink::layoutPlot(renderer.vectorDrawing(frame), page);
+    noteRings(plot);
+    ink::writePlot(path, plot);
+    return plot;
+}
+
+void noteRings(const ink::Plot& plot) {
+    for (const ink::PlotLayer& l : plot.layers)
+        if (l.rings) {
+            char text[256];
+            std::snprintf(text, sizeof text,
+                          "%zu of the %s dots (up to %.2f mm) are wider than two pen widths and plot as rings: a "
+                          "--pen-width of about half the dot size fills them",
+                          l.rings, l.name.c_str(), l.widestDot);
+            ink::note(text);
+        }
+}
+
 json plotJson(const ink::Plot& plot) {
     json layers = json::array();
     for (const ink::PlotLayer& l : plot.layers)

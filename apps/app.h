@@ -82,6 +82,12 @@ struct Scene : ink::Scene {
 json fitJson(const ink::Model& m);
 json levelsJson(const std::vector<ink::LevelStats>& levels);
 json deviceJson(const ink::Context& ctx);
+// The marks of `renderer`'s frame `frame` (drawn and submitted) laid out on `page` and written as SVG or PDF by
+// the extension of `path`: what the viewer's V key and `view --vector` save. Notes dots that plot as rings.
+ink::Plot writeVectorView(const ink::PointRenderer& renderer, uint32_t frame, const std::string& path,
+                          const ink::PageOptions& page);
+// Notes the layers whose dots are wider than two pen widths (they plot as rings).
+void noteRings(const ink::Plot& plot);
 // A plot's layers: pen, name, paths, pen-up travel before and after ordering and pen-down length in mm.
 json plotJson(const ink::Plot& plot);
 // Spacing of a ranked point set: the whole set and its prefixes 1/2, 1/4, 1/8, the area estimated from it.

@@ -121,15 +121,7 @@ static int runRender(Options& o, const std::vector<std::string>& outputs) {
         plot = ink::layoutPlot(marks, o.page);
         layoutSeconds = secondsSince(layoutStart);
     }
-    for (const ink::PlotLayer& l : plot ? plot->layers : std::vector<ink::PlotLayer>{})
-        if (l.rings) {
-            char text[256];
-            std::snprintf(text, sizeof text,
-                          "%zu of the %s dots (up to %.2f mm) are wider than two pen widths and plot as rings: a "
-                          "--pen-width of about half the dot size fills them",
-                          l.rings, l.name.c_str(), l.widestDot);
-            ink::note(text);
-        }
+    if (plot) noteRings(*plot);
     ink::OutputBatch batch;  // the image, the drawings and the stats, all or none
     for (const std::string& out : outputs) {
         if (ink::isVectorPath(out))

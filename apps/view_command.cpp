@@ -42,6 +42,7 @@ constexpr std::array<glm::vec3, 5> kLights{{
 struct ViewOptions {
     uint32_t frames = 0;     // 0: until the window closes
     std::string screenshot;  // saved from the last frame
+    std::string vector;      // the last frame's marks (or the V key's) as SVG or PDF
 };
 
 struct ViewResult {
@@ -166,6 +167,7 @@ private:
     void refine();
     void updateTitle(double averageMs);
     std::string nextScreenshotPath();
+    void saveVector();  // the marks of the frame drawn last, to --vector or the next free inkwell-view-N.svg
     bool quitting() const { return quit_ || glfwWindowShouldClose(window_); }
     void release();
 
@@ -190,6 +192,7 @@ private:
     size_t light_ = 0;
     double lastX_ = 0, lastY_ = 0;
     bool resized_ = false, quit_ = false, restyle_ = true, rerefine_ = false, screenshotKey_ = false;
+    bool vectorKey_ = false;
 };
 
 Viewer& viewerOf(GLFWwindow* w) { return *static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
@@ -328,6 +331,9 @@ void Viewer::onKey(int key, int action) {
         }
         case GLFW_KEY_S:
             screenshotKey_ = true;
+            break;
+        case GLFW_KEY_V:
+            vectorKey_ = true;
             break;
         case GLFW_KEY_R:
             camera_ = home_;
@@ -489,6 +495,17 @@ std::string Viewer::nextScreenshotPath() {
     }
 }
 
+void Viewer::saveVector() {
+    std::string path = v_.vector;
+    for (uint32_t n = 1; path.empty(); ++n) {
+        std::string name = "inkwell-view-" + std::to_string(n) + ".svg";
+        if (!std::filesystem::exists(name)) path = name;
+    }
+    uint32_t frame = (current_ + kFramesInFlight - 1) % kFramesInFlight;  // drawFrame moved on past it
+    writeVectorView(*renderer_, frame, path, o_.page);
+    std::printf("view: saved %s\n", path.c_str());
+}
+
 void Viewer::updateTitle(double averageMs) {
     char title[256];
     std::snprintf(title, sizeof(title), "inkwell view - %s - %s, %u levels - %llu points - %.1f ms",
@@ -502,7 +519,7 @@ ViewResult Viewer::run() {
     auto previous = Clock::now(), titleStart = previous;
     double titleMs = 0;
     uint32_t titleFrames = 0;
-    bool savedLast = false;
+    bool savedLast = false, savedVectorLast = false;
     while (!quitting()) {
         glfwPollEvents();
         if (rerefine_) {
@@ -533,6 +550,16 @@ ViewResult Viewer::run() {
             screenshotKey_ = false;
             savedLast = last;
         }
+        if (vectorKey_ || (last && !v_.vector.empty())) {
+            try {
+                saveVector();
+                savedVectorLast = last;
+            } catch (const ink::Error& e) {
+                if (!vectorKey_) throw;
+                ink::note(std::string("drawing not saved: ") + e.what());  // a V key failure keeps the view
+            }
+            vectorKey_ = false;
+        }
         auto now = Clock::now();
         double ms = std::chrono::duration<double, std::milli>(now - previous).count();
         previous = now;
@@ -555,6 +582,12 @@ ViewResult Viewer::run() {
             savedLast = true;
         }
     if (!v_.screenshot.empty() && !savedLast) ink::note("no frame to save to " + v_.screenshot + " (minimized?)");
+    if (!v_.vector.empty() && !savedVectorLast) {
+        if (result.frames > 0)
+            saveVector();  // closed before the last frame: the frame drawn last
+        else
+            ink::note("no frame to save to " + v_.vector + " (minimized?)");
+    }
     VK_CHECK(vkDeviceWaitIdle(ctx_.device));
     result.extent = swapchain_.extent;
     result.points = points_;
@@ -564,7 +597,9 @@ ViewResult Viewer::run() {
 
 int runView(Options& o, const ViewOptions& v) {
     finishOptions(o);
-    ink::checkOutputs({v.screenshot, o.statsPath}, {o.model, o.preset});  // before the window opens
+    ink::checkOutputs({v.screenshot, v.vector, o.statsPath}, {o.model, o.preset});  // before the window opens
+    if (!v.vector.empty() && !ink::isVectorPath(v.vector))
+        throw ink::Error("--vector '" + v.vector + "' is not an .svg or .pdf file");
     VkExtent2D size = kDefaultWindow;
     if (o.command && o.command->count("--size")) size = {o.size[0], o.size[1]};
 
@@ -572,10 +607,10 @@ int runView(Options& o, const ViewOptions& v) {
     Window window(size, "inkwell view - " + std::filesystem::path(o.model).filename().string());
     Session session(o, GlfwLibrary::instanceExtensions(), true);
     ViewResult result;
-    // With --screenshot (every screenshot then goes to that one file), it and the stats are renamed into place
+    // With --screenshot or --vector (every save then goes to that one file), they and the stats are renamed into place
     // together once both are written; S-key screenshots to fresh names are saved at once.
     std::optional<ink::OutputBatch> outputs;
-    if (!v.screenshot.empty()) outputs.emplace();
+    if (!v.screenshot.empty() || !v.vector.empty()) outputs.emplace();
     {
         Surface surface(session.ctx.instance, window.handle);
         ink::checkPresentSupport(session.ctx, surface.surface);
@@ -610,12 +645,15 @@ void addViewCommand(CLI::App& cli, Options& o, Commands& commands) {
     addModelOptions(view, o);
     addRefineOptions(view, o);
     addRenderOptions(view, o);
+    addVectorOptions(view, o);
     addDeviceOptions(view, o);
     view->get_option("--size")->description("Window width and height in pixels")->default_str("[1024,768]");
     // The window is drawn at its own resolution every frame; supersampling is for `render`.
     view->remove_option(view->get_option("--supersample"));
     view->add_option("--frames", v->frames, "Quit after this many frames (default: when the window closes)");
     view->add_option("--screenshot", v->screenshot, "Save the last frame (or the S key's) to this PNG");
+    view->add_option("--vector", v->vector,
+                     "Save the last frame's marks (or the V key's) to this SVG or PDF (page options as render's)");
     commands.emplace_back(view, [&o, v] { return runView(o, *v); });
 }
 

@@ -11,6 +11,7 @@
 #include "model.h"
 #include "renderer.h"
 #include "scene.h"
+#include "vector.h"
 
 #include <algorithm>
 
@@ -195,6 +196,38 @@ void Drawing::writePly(const std::string& path, size_t set) const {
 
 void Image::writePng(const std::string& path) const { ink::writePng(path, {width, height, rgba}); }
 
+Page Page::named(const std::string& size) {
+    glm::dvec2 mm = ink::parsePageSize(size);
+    Page page;
+    page.widthMm = mm.x;
+    page.heightMm = mm.y;
+    return page;
+}
+
+namespace {
+
+std::vector<PenLayer> writeVectorDrawing(const std::string& path, const ink::VectorDrawing& marks, const Page& p) {
+    if (!ink::isVectorPath(path)) throw Error("'" + path + "' is not an .svg or .pdf file");
+    ink::PageOptions o;
+    o.width = p.widthMm;
+    o.height = p.heightMm;
+    o.orientation = ink::Orientation(int(p.orientation));  // the same order
+    o.margin = p.marginMm;
+    o.penWidth = p.penWidthMm;
+    o.dotStyle = p.dotStyle == DotStyle::Tick ? ink::DotStyle::Tick : ink::DotStyle::Circle;
+    o.order = p.orderPaths;
+    if (!(o.width >= 10 && o.height >= 10 && o.width <= 5000 && o.height <= 5000))
+        throw Error("a page's sides must be 10 to 5000 mm");
+    ink::Plot plot = ink::layoutPlot(marks, o);
+    ink::writePlot(path, plot);
+    std::vector<PenLayer> layers;
+    for (const ink::PlotLayer& l : plot.layers)
+        layers.push_back({l.pen, l.name, l.paths.size(), l.travelBefore, l.travelAfter, l.penDown});
+    return layers;
+}
+
+}  // namespace
+
 struct Renderer::Impl {
     ink::OffscreenRenderer renderer;
     ink::RenderStyle style;
@@ -231,6 +264,10 @@ Image Renderer::render(const Camera& camera) {
 
 uint32_t Renderer::dotsDrawn() const { return impl_->renderer.drawnDots(); }
 
+std::vector<PenLayer> Renderer::writeVector(const std::string& path, const Page& page) const {
+    return writeVectorDrawing(path, impl_->renderer.vectorDrawing(), page);
+}
+
 struct FrameRecorder::Impl {
     ink::PointRenderer renderer;
     ink::RenderStyle style;
@@ -266,6 +303,13 @@ void FrameRecorder::record(VkCommandBuffer cmd, const Camera& camera, const Fram
         impl_->restyle = false;
     }
     impl_->renderer.recordFrame(cmd, toCamera(camera), target, frame);
+}
+
+std::vector<PenLayer> FrameRecorder::writeVector(const std::string& path, uint32_t frame, const Page& page) const {
+    if (frame >= impl_->renderer.framesInFlight())
+        throw Error("frame " + std::to_string(frame) + " is not one of the " +
+                    std::to_string(impl_->renderer.framesInFlight()) + " frames in flight");
+    return writeVectorDrawing(path, impl_->renderer.vectorDrawing(frame), page);
 }
 
 }  // namespace inkwell

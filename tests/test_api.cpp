@@ -12,6 +12,8 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace {
@@ -105,9 +107,23 @@ TEST_CASE("api: an adopted device draws into the application's own image what th
     inkwell::Camera camera;
     camera.azimuthDeg = 70;
     inkwell::Image offscreen;
+    const std::string dir = std::filesystem::temp_directory_path().string();
+    const std::string svgRenderer = dir + "/inkwell-api-renderer.svg", svgRecorder = dir + "/inkwell-api-recorder.svg";
+    inkwell::Page page = inkwell::Page::named("100x100mm");
+    page.marginMm = 5;
     {
         inkwell::Renderer renderer(drawing, size, size, look);
         offscreen = renderer.render(camera);
+        // The frame's marks as vectors: one pen, its paths ordered.
+        std::vector<inkwell::PenLayer> layers = renderer.writeVector(svgRenderer, page);
+        REQUIRE(layers.size() == 1);
+        CHECK(layers[0].pen == 1);
+        CHECK(layers[0].name == "stipple");
+        CHECK(layers[0].paths > 100);
+        CHECK(layers[0].travelAfterMm < layers[0].travelBeforeMm);
+        CHECK_THROWS_WITH_AS(renderer.writeVector(dir + "/inkwell-api.eps", page),
+                             doctest::Contains("is not an .svg or .pdf file"), inkwell::Error);
+        CHECK_THROWS_WITH_AS(inkwell::Page::named("huge"), doctest::Contains("page 'huge' is not"), inkwell::Error);
     }
     REQUIRE(inked(offscreen) > 200);
 
@@ -141,6 +157,15 @@ TEST_CASE("api: an adopted device draws into the application's own image what th
             CHECK(recorded.rgba == offscreen.rgba);  // the same passes, the same pixels
         }
         CHECK_THROWS_AS(recorder.record(VK_NULL_HANDLE, camera, {}, 2), inkwell::Error);
+        // The application's frame gives the Renderer's marks, to the byte.
+        recorder.writeVector(svgRecorder, 1, page);
+        std::ifstream a(svgRenderer), b(svgRecorder);
+        std::string textA((std::istreambuf_iterator<char>(a)), {}), textB((std::istreambuf_iterator<char>(b)), {});
+        CHECK(textA.size() > 1000);
+        CHECK(textA == textB);
+        CHECK(textA.find("stroke=\"#1a3399\"") != std::string::npos);  // the ink's colour
+        std::filesystem::remove(svgRenderer);
+        std::filesystem::remove(svgRecorder);
     }
     ink::destroyBuffer(gpu.ctx, readback);
     ink::destroyImage(gpu.ctx, target);

@@ -8,10 +8,12 @@
 
 #include <sys/wait.h>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -115,6 +117,47 @@ TEST_CASE("viewer: --size sets the window, and the window shows what render draw
     CHECK(inked >= 300);
     CHECK(reddish >= inked * 9 / 10);
     CHECK(different <= inked / 20);  // the same renderer, camera and style: at most a few edge pixels differ
+}
+
+TEST_CASE("viewer: --vector saves the window's marks as an SVG that draws as its screenshot") {
+    // A page of the window's shape without margins, at 2 pixels a millimetre: drawn at the window's size by
+    // rsvg-convert, the SVG is the screenshot (the same frame) after a 1-pixel blur.
+    std::string shot = tempPng("inkwell-viewer-vector.png"), svg = tempPng("inkwell-viewer-vector.svg");
+    std::string drawn = tempPng("inkwell-viewer-vector-svg.png");
+    Run r = view(std::string(kBunny) + " --size 400 300 --frames 3 --screenshot " + shot + " --vector " + svg +
+                     " --page 200x150mm --margin 0 --pen-width 0.5 --validation",
+                 180);
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("view: saved " + svg) != std::string::npos);
+    REQUIRE(shell("rsvg-convert -w 400 -h 300 -b white -o " + drawn + " " + svg).status == 0);
+    ink::RgbaImage a = ink::readPng(shot), b = ink::readPng(drawn);
+    REQUIRE(a.width == b.width);
+    REQUIRE(a.height == b.height);
+    auto blurred = [](const ink::RgbaImage& im) {
+        std::vector<float> l(size_t(im.width) * im.height), out(l.size());
+        for (size_t i = 0; i < l.size(); ++i)
+            l[i] = (float(im.pixels[4 * i]) + float(im.pixels[4 * i + 1]) + float(im.pixels[4 * i + 2])) / 3.0f;
+        for (int y = 0; y < int(im.height); ++y)
+            for (int x = 0; x < int(im.width); ++x) {
+                float sum = 0;
+                int n = 0;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx)
+                        if (x + dx >= 0 && y + dy >= 0 && x + dx < int(im.width) && y + dy < int(im.height)) {
+                            sum += l[size_t(y + dy) * im.width + size_t(x + dx)];
+                            ++n;
+                        }
+                out[size_t(y) * im.width + size_t(x)] = sum / float(n);
+            }
+        return out;
+    };
+    std::vector<float> la = blurred(a), lb = blurred(b);
+    size_t differ = 0;
+    for (size_t i = 0; i < la.size(); ++i) differ += std::abs(la[i] - lb[i]) > 64.0f;
+    CHECK(countInk(a).dark >= 300);
+    CHECK(countInk(b).dark >= countInk(a).dark / 2);
+    CHECK(double(differ) / double(la.size()) <= 0.02);
 }
 
 TEST_CASE("viewer: without a display it says so in one line and exits 1") {

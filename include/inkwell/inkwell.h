@@ -8,6 +8,7 @@
 //             report's refined points, or direction sampling; the points can be read back or written as PLY
 //   Renderer  draws a Drawing into an image of its own and reads it back (headless use)
 //   FrameRecorder  records the drawing of a frame into the application's command buffer and colour image
+//   Page      a physical page and pen: a frame's marks written as SVG or PDF for pen plotters and print
 //
 // Objects own their Vulkan resources and free them when destroyed; a Drawing must outlive its renderers and a
 // Device its drawings. Errors are thrown as inkwell::Error (error.h) with a one-line message; the library
@@ -201,6 +202,35 @@ struct Image {
     void writePng(const std::string& path) const;  // atomically
 };
 
+// ---- Vector output (pen plotters, print) ----------------------------------------------------------------
+
+enum class DotStyle {
+    Circle,  // a small closed circle whose stroke covers the dot
+    Tick,    // a short 45° stroke
+};
+enum class Orientation { Auto, Portrait, Landscape };  // Auto: landscape when the image is wider than tall
+
+// The page a frame's marks are laid out on: the image scaled to fit within the margins and centred.
+struct Page {
+    double widthMm = 210, heightMm = 297;  // A4 (portrait; Orientation turns it)
+    Orientation orientation = Orientation::Auto;
+    double marginMm = 15;
+    double penWidthMm = 0.3;  // every path's stroke width
+    DotStyle dotStyle = DotStyle::Circle;
+    bool orderPaths = true;  // order each pen's paths for short pen-up travel (else the points' order)
+    // "A3", "A4", "A5", "letter" or "WxHmm"; throws naming the text.
+    static Page named(const std::string& size);
+};
+
+// One pen's layer as written: its paths and their pen-up travel (from the page's top-left corner) in the
+// points' order and as written, and the pen-down length, in mm.
+struct PenLayer {
+    uint32_t pen = 0;  // 1, 2, ... bottom layer first
+    std::string name;  // "hidden", "stipple", "direction"
+    size_t paths = 0;
+    double travelBeforeMm = 0, travelAfterMm = 0, penDownMm = 0;
+};
+
 // Draws into an image of its own and reads it back.
 class Renderer {
 public:
@@ -212,6 +242,10 @@ public:
     void setLook(const Look& look);
     Image render(const Camera& camera);  // one submission, waited for
     uint32_t dotsDrawn() const;          // by the last render
+    // The marks of the last render — the dots the device found visible, read back — laid out on `page` and
+    // written as SVG (an Inkscape layer a pen) or PDF by the extension of `path` (.svg, .pdf), atomically.
+    // The same frame and page give the same bytes. docs/file-formats.md describes the files.
+    std::vector<PenLayer> writeVector(const std::string& path, const Page& page = {}) const;
 
 private:
     struct Impl;
@@ -243,6 +277,9 @@ public:
     // Takes effect in the next recorded frame (recorded into it, after the frames before have read the old one).
     void setLook(const Look& look);
     void record(VkCommandBuffer cmd, const Camera& camera, const FrameTarget& target, uint32_t frame);
+    // Renderer::writeVector for the last frame recorded in slot `frame`, in the target's pixels; waits for the
+    // device to be idle first (the frame must have been submitted).
+    std::vector<PenLayer> writeVector(const std::string& path, uint32_t frame, const Page& page = {}) const;
 
 private:
     struct Impl;
