@@ -261,7 +261,9 @@ std::string plotSvg(const Plot& plot) {
             s += ' ';
             appendNumber(s, a.y);
             if (p.circle()) {
-                // Two half circles from the leftmost point, closed.
+                // Two half circles from the leftmost point back to it. Not closed with `z`: cairo (rsvg-convert,
+                // Inkscape) strokes a closed circle narrower than its pen as a ring with a hole, while the
+                // open one, with round caps, is drawn as the disk the pen makes.
                 for (double dx : {2.0 * p.radius, -2.0 * p.radius}) {
                     s += 'a';
                     appendNumber(s, p.radius);
@@ -271,7 +273,6 @@ std::string plotSvg(const Plot& plot) {
                     appendNumber(s, dx);
                     s += " 0";
                 }
-                s += 'z';
             } else {
                 s += 'L';
                 for (size_t i = 1; i < p.points.size(); ++i) {
@@ -331,7 +332,7 @@ std::string plotPdf(const Plot& plot) {
                 point(o + glm::dvec2(0, r), " c ");
                 point(o + glm::dvec2(-k, r), " ");
                 point(o + glm::dvec2(-r, k), " ");
-                point(o + glm::dvec2(-r, 0), " c h S\n");
+                point(o + glm::dvec2(-r, 0), " c S\n");  // not closed: as in the SVG
             } else {
                 point(p.points[0], " m");
                 for (size_t i = 1; i < p.points.size(); ++i) {

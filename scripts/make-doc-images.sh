@@ -16,6 +16,15 @@ $ink -q render assets/bunny.obj --control-points 684 --style direction --levels 
   --camera 150,20,1.6 -o $out/bunny-direction.png
 $ink -q render assets/bunny.obj --control-points 684 --style direction --direction curvature-max --levels 5 \
   --size 640 640 -o $out/bunny-curvature.png
+# Vector output for plotters: the bunny with hidden lines on an A5 page, as rsvg-convert (librsvg2-bin) draws
+# the SVG: the whole page, and a detail at 8x (the paths a pen draws).
+svg=$(mktemp --suffix=.svg)
+trap 'rm -f "$svg"' EXIT
+$ink -q render assets/bunny.obj --control-points 684 --size 640 640 --hidden-lines --page A5 --margin 10 -o "$svg" \
+  > /dev/null
+rsvg-convert -h 640 -b white -o $out/bunny-plot.png "$svg"
+rsvg-convert -z 8 --left=-1900 --top=-2600 --page-width 452 --page-height 640 -b white \
+  -o $out/bunny-plot-detail.png "$svg"
 # Refinement levels 0-4 as the report makes them (ρ/3 a level), each level alone, without tone, for stippling
 # and direction sampling.
 for level in 0 1 2 3 4; do

@@ -126,7 +126,7 @@ ParsedSvg parseSvg(const std::string& text) {
 }
 
 // A path's length and its extent, from the commands the writer uses (M, L with absolute points; a with a
-// relative end point; z).
+// relative end point; z, which it does not write).
 struct PathShape {
     double length = 0;
     double minX = 1e30, minY = 1e30, maxX = -1e30, maxY = -1e30;
@@ -320,9 +320,9 @@ TEST_CASE("vector: render writes the frame's marks as SVG and PDF that independe
     // page is the image. 2 pixels a millimetre: the 2-pixel dots are 1 mm, filled by a 0.5 mm pen.
     const std::string common = "render " + kBunny +
                                " --control-points 200 --levels 4 --ink-density 3 --size 320 320 --page 160x160mm "
-                               "--margin 0 --pen-width 0.5 --validation";
-    Run r = runInkwell(common + " -o " + dir / "a.png" + " -o " + dir / "a.svg" + " -o " + dir / "a.pdf" + " --stats " +
-                       dir / "a.json");
+                               "--margin 0 --validation";
+    Run r = runInkwell(common + " --pen-width 0.5 -o " + dir / "a.png" + " -o " + dir / "a.svg" + " -o " +
+                       dir / "a.pdf" + " --stats " + dir / "a.json");
     REQUIRE_MESSAGE(r.status == 0, r.output);
     CHECK(r.output.find("pen 1 (stipple):") != std::string::npos);
     ink::RgbaImage png = ink::readPng(dir / "a.png");
@@ -355,8 +355,9 @@ TEST_CASE("vector: render writes the frame's marks as SVG and PDF that independe
     CHECK(stats["vector"]["layers"][0]["paths"].get<size_t>() ==
           parseSvg(readFile(dir / "a.svg")).layers.at(0).paths.size());
 
-    // Hidden lines: a grey layer of their own, below, and the picture still the PNG's.
-    r = runInkwell(common + " --hidden-lines -o " + dir / "h.png" + " -o " + dir / "h.svg");
+    // Hidden lines, and a pen wider than the dots (the circles' stroke covers their centre): a grey layer of
+    // its own below, and the picture still the PNG's.
+    r = runInkwell(common + " --hidden-lines --pen-width 0.8 -o " + dir / "h.png" + " -o " + dir / "h.svg");
     REQUIRE_MESSAGE(r.status == 0, r.output);
     ParsedSvg hidden = parseSvg(readFile(dir / "h.svg"));
     REQUIRE(hidden.layers.size() == 2);
