@@ -32,6 +32,7 @@ struct Options {
     std::string statsPath;
     ink::RefineOptions refine;
     std::string backend = "gpu";
+    bool fidelity = false;  // sample: measure the refined points against the input mesh
     std::string keepLevels = "all";
     std::vector<double> axis;
     std::string direction = "axis", seeds = "control", sampling = "stipple", styleName = "stipple";

@@ -1,15 +1,18 @@
 // fit, sample, render, devices.
 #include "commands.h"
 #include "export.h"
+#include "fidelity.h"
 #include "files.h"
 #include "hrbf_io.h"
 #include "image.h"
 #include "select.h"
+#include "surface_sampling.h"
 #include "vector.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 
 namespace app {
@@ -40,21 +43,44 @@ static json selectJson(const ink::SelectPlan& plan, size_t candidates, const std
             {"stage_added", added}};
 }
 
+// The mesh --fidelity measures against, read before any other work so that a file without faces is refused first.
+static ink::OrientedPoints fidelityMesh(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == ".hrbf")
+        throw ink::Error(path + ": --fidelity measures against the input mesh; give the mesh, not a fitted .hrbf");
+    ink::OrientedPoints mesh = ink::loadPoints(path);
+    double area = 0;
+    for (double a : ink::triangleAreas(mesh)) area += a;
+    if (!(area > 0)) throw ink::Error(path + ": --fidelity needs a mesh with faces; this file has none with area");
+    return mesh;
+}
+
+static json fidelityJson(const ink::Fidelity& f) {
+    return {{"tolerance", f.tolerance}, {"surface_samples", f.surfaceSamples}, {"points", f.points},
+            {"coverage", f.coverage},   {"coverage_p99", f.coverageP99},       {"coverage_max", f.coverageMax},
+            {"accuracy", f.accuracy},   {"accuracy_p99", f.accuracyP99},       {"accuracy_max", f.accuracyMax}};
+}
+
 static int runSample(Options& o, const std::string& pointsPath) {
     finishOptions(o);
     ink::checkOutputs({pointsPath, o.statsPath}, {o.model, o.preset});
+    ink::OrientedPoints mesh;
+    if (o.fidelity) mesh = fidelityMesh(o.model);
     // The device first: without one there is no point in fitting.
     std::unique_ptr<Session> session;
     if (o.backend != "cpu") session = std::make_unique<Session>(o);
     ink::Model model = ink::loadModel(o.model, {o.controlPoints});
     json stats = {{"control_points", model.fit.controlPoints}, {"fit", fitJson(model)}};
     std::vector<ink::PointRecord> points;
+    std::vector<ink::PointRecord> refined;  // every refined point, before any selection: what --fidelity measures
     std::vector<ink::LevelStats> levels;
     if (!session) {
         auto start = Clock::now();
         ink::RefinePlan plan = ink::planRefinement(model.hrbf, o.refine, ink::kMaxCpuPoints);
         points = ink::refineOnCpu(model.hrbf, o.refine, plan, &levels);
         stats["refine"]["seconds"] = secondsSince(start);
+        if (o.fidelity) refined = points;
         if (o.refine.selects()) {
             start = Clock::now();
             ink::SelectPlan selectPlan = ink::planSelection(model.hrbf, plan, ink::selectOptions(o.refine));
@@ -79,6 +105,7 @@ static int runSample(Options& o, const std::string& pointsPath) {
                 stats["select"]["gpu_ms"] = ink::selectionMs(session->ctx, r);
             }
             points = ink::readDrawnPoints(session->ctx, r);
+            if (o.fidelity) refined = r.selection ? ink::readPoints(session->ctx, r) : points;
         }
         session->checkValidation();
         stats.update(deviceJson(session->ctx));
@@ -86,7 +113,23 @@ static int runSample(Options& o, const std::string& pointsPath) {
     stats["refine"]["points"] = points.size();
     stats["refine"]["levels"] = levelsJson(levels);
     if (!o.statsPath.empty()) stats["spacing"] = spacingJson(points);  // nearest neighbours: only when asked
-    ink::OutputBatch outputs;                                          // the points and the stats, both or neither
+    if (o.fidelity) {
+        std::vector<Eigen::Vector3d> at;
+        at.reserve(refined.size());
+        for (const ink::PointRecord& p : refined)
+            at.push_back(model.hrbf.frame.toInput(Eigen::Vector3d(p.position[0], p.position[1], p.position[2])));
+        auto start = Clock::now();
+        ink::Fidelity f = ink::measureFidelity(mesh, at);
+        stats["fidelity"] = fidelityJson(f);
+        stats["fidelity"]["seconds"] = secondsSince(start);
+        std::printf(
+            "fidelity: %.2f%% of the surface has a refined point within %g%% of the diagonal (99th percentile "
+            "%.3g%%, max %.3g%%); %.2f%% of the %zu refined points lie within it of the surface (99th "
+            "percentile %.3g%%, max %.3g%%)\n",
+            100 * f.coverage, 100 * f.tolerance, 100 * f.coverageP99, 100 * f.coverageMax, 100 * f.accuracy, f.points,
+            100 * f.accuracyP99, 100 * f.accuracyMax);
+    }
+    ink::OutputBatch outputs;  // the points and the stats, both or neither
     ink::writePointsPly(pointsPath, points, model.hrbf.frame);
     writeJson(o.statsPath, stats);
     outputs.commit();
@@ -170,6 +213,9 @@ void addModelCommands(CLI::App& cli, Options& o, Commands& commands) {
         ->check(CLI::IsMember({"stipple", "direction"}))
         ->capture_default_str();
     sample->add_option("--points", *output, "Output PLY (binary little endian, float x y z nx ny nz)")->required();
+    sample->add_flag("--fidelity", o.fidelity,
+                     "Measure the refined points against MODEL's faces: the share of the surface with a point within "
+                     "1% of the diagonal, and of the points within 1% of the surface");
     sample->add_option("--backend", o.backend, "gpu (Vulkan) or cpu (the multi-threaded reference)")
         ->check(CLI::IsMember({"gpu", "cpu"}))
         ->capture_default_str();

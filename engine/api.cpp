@@ -5,12 +5,14 @@
 #include "common.h"
 #include "context.h"
 #include "export.h"
+#include "fidelity.h"
 #include "files.h"
 #include "hrbf_io.h"
 #include "image.h"
 #include "model.h"
 #include "renderer.h"
 #include "scene.h"
+#include "surface_sampling.h"
 #include "vector.h"
 
 #include <algorithm>
@@ -122,6 +124,24 @@ Vec3 Model::gradient(const Vec3& x) const {
     Eigen::Vector3d g;
     h.eval(h.frame.toNormalized(toEigen(x)), g);
     return toVec3(g * h.frame.scale);  // d/dx_input = scale · d/dx_normalized
+}
+
+// ---- Fidelity
+
+Fidelity measureFidelity(const std::string& meshPath, const std::vector<Vec3>& points, double tolerance,
+                         const Reporter& reporter) {
+    ink::ScopedReporter reporting(reporter);
+    if (!(tolerance > 0)) throw Error("the fidelity tolerance must be positive (it is in bounding-box diagonals)");
+    ink::OrientedPoints mesh = ink::loadPoints(meshPath);
+    double area = 0;
+    for (double a : ink::triangleAreas(mesh)) area += a;
+    if (!(area > 0)) throw Error(meshPath + ": fidelity needs a mesh with faces; this file has none with area");
+    std::vector<Eigen::Vector3d> at;
+    at.reserve(points.size());
+    for (const Vec3& p : points) at.push_back(toEigen(p));
+    ink::Fidelity f = ink::measureFidelity(mesh, at, tolerance);
+    return {f.tolerance,   f.surfaceSamples, f.points,      f.coverage,   f.coverageP99,
+            f.coverageMax, f.accuracy,       f.accuracyP99, f.accuracyMax};
 }
 
 // ---- Device

@@ -1,0 +1,289 @@
+// The fidelity measure (fidelity.h) against brute force and known answers, and issue 15's "Done when" on the
+// low-poly test models of tests/models/ (scripts/make-test-models.py): a spider with thin legs, an open
+// hemisphere, three separate parts, each fitted, refined on the device and measured against its mesh.
+#include "common.h"
+#include "fidelity.h"
+#include "gpu_fixture.h"
+#include "inkwell/inkwell.h"
+#include "model.h"
+#include "points.h"
+#include "refine.h"
+#include "run_command.h"
+#include "surface_sampling.h"
+#include "temp_dir.h"
+#include "triangle.h"
+
+#include <doctest/doctest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <random>
+
+using Eigen::Vector3d;
+using ink::OrientedPoints;
+
+namespace {
+
+const std::string kModels = std::string(INKWELL_SOURCE_DIR) + "/tests/models/";
+
+double bruteDistance(const OrientedPoints& mesh, const Vector3d& p) {
+    double best = INFINITY;
+    std::vector<double> areas = ink::triangleAreas(mesh);
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        if (areas[t] == 0) continue;
+        const ink::Triangle& tri = mesh.triangles[t];
+        Vector3d q =
+            ink::closestPointOnTriangle(p, mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]);
+        best = std::min(best, (q - p).norm());
+    }
+    return best;
+}
+
+double diagonalOf(const OrientedPoints& mesh) {
+    Vector3d lo = mesh.positions[0], hi = lo;
+    for (const Vector3d& p : mesh.positions) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    return (hi - lo).norm();
+}
+
+// The refined points (every one, before any selection), in the input's units.
+std::vector<Vector3d> refine(GpuFixture& gpu, const ink::Model& model) {
+    Refinement refined(gpu.ctx, model.hrbf, ink::RefineOptions{});
+    std::vector<Vector3d> out;
+    for (const ink::PointRecord& p : ink::readPoints(gpu.ctx, refined.r))
+        out.push_back(model.hrbf.frame.toInput(Vector3d(p.position[0], p.position[1], p.position[2])));
+    return out;
+}
+
+// The spider's legs as scripts/make-test-models.py builds them: hip (inside the body), knee, foot.
+std::vector<std::array<Vector3d, 3>> spiderLegs() {
+    std::vector<std::array<Vector3d, 3>> legs;
+    const Vector3d body(0.36, 0.22, 0.28);
+    for (double side : {1.0, -1.0})
+        for (int k = 0; k < 4; ++k) {
+            double a = (-50.0 + 33.0 * k) * M_PI / 180;
+            Vector3d out(side * std::cos(a), 0, std::sin(a));
+            legs.push_back({Vector3d(out.x() * body.x() * 0.9, 0.02, out.z() * body.z() * 0.9),
+                            0.75 * out + Vector3d(0, 0.35, 0), 1.45 * out + Vector3d(0, -0.45, 0)});
+        }
+    return legs;
+}
+
+// The longest stretch of a leg's axis (hip to foot) with no refined point within `radius` of the axis there:
+// points are projected onto the axis' two segments, and the gaps between them (and to either end) measured.
+double longestGap(const std::array<Vector3d, 3>& leg, const std::vector<Vector3d>& points, double radius) {
+    const double first = (leg[1] - leg[0]).norm(), length = first + (leg[2] - leg[1]).norm();
+    std::vector<double> along;
+    for (const Vector3d& p : points)
+        for (int s = 0; s < 2; ++s) {
+            Vector3d a = leg[size_t(s)], b = leg[size_t(s) + 1];
+            double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+            if ((a + t * (b - a) - p).norm() <= radius) along.push_back((s ? first : 0.0) + t * (b - a).norm());
+        }
+    std::sort(along.begin(), along.end());
+    double gap = along.empty() ? length : std::max(along.front(), length - along.back());
+    for (size_t i = 1; i < along.size(); ++i) gap = std::max(gap, along[i] - along[i - 1]);
+    return gap;
+}
+
+struct Measured {
+    ink::Fidelity fidelity;
+    double worstLegGap = 0;  // the spider's, in diagonals
+};
+
+Measured measure(GpuFixture& gpu, const OrientedPoints& mesh, const ink::Model& model, bool spider) {
+    std::vector<Vector3d> points = refine(gpu, model);
+    Measured m{ink::measureFidelity(mesh, points), 0};
+    if (spider)
+        for (const auto& leg : spiderLegs())
+            m.worstLegGap = std::max(m.worstLegGap, longestGap(leg, points, 0.04) / m.fidelity.diagonal);
+    gpu.requireNoValidationErrors();
+    return m;
+}
+
+// Issue 15's "Done when": 99% of the surface within 1% of the diagonal of a refined point, 99% of the refined
+// points within 1% of the surface; and a spider's legs connected: no stretch of a leg longer than 2% of the
+// diagonal without refined points around it.
+void checkDoneWhen(const std::string& name, const Measured& m, bool spider) {
+    INFO(name << ": coverage " << m.fidelity.coverage << " (p99 " << m.fidelity.coverageP99 << ", max "
+              << m.fidelity.coverageMax << "), accuracy " << m.fidelity.accuracy << " (p99 " << m.fidelity.accuracyP99
+              << ", max " << m.fidelity.accuracyMax << "), " << m.fidelity.points << " points, worst leg gap "
+              << m.worstLegGap);
+    CHECK(m.fidelity.coverage >= 0.99);
+    CHECK(m.fidelity.accuracy >= 0.99);
+    if (spider) CHECK(m.worstLegGap <= 0.02);
+}
+
+}  // namespace
+
+TEST_CASE("fidelity: distances to a mesh are the brute-force ones, near it and far from it") {
+    for (const char* name : {"spider.obj", "parts.obj", "hemisphere.obj"}) {
+        OrientedPoints mesh = ink::loadPoints(kModels + name);
+        const double d = diagonalOf(mesh);
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<double> box(-1.5, 1.5), off(-0.05, 0.05);
+        std::vector<Vector3d> points;
+        // Near the surface (face samples pushed off it), anywhere in and around the box, and far away.
+        OrientedPoints near = ink::sampleFaces(mesh, 300, 3);
+        for (size_t i = 0; i < near.positions.size(); ++i)
+            points.push_back(near.positions[i] + off(rng) * d * near.normals[i]);
+        for (int i = 0; i < 300; ++i) points.push_back(Vector3d(box(rng), box(rng), box(rng)));
+        for (int i = 0; i < 20; ++i) points.push_back(Vector3d(box(rng), box(rng), box(rng)) * 40);
+        std::vector<double> grid = ink::distancesToMesh(mesh, points);
+        REQUIRE(grid.size() == points.size());
+        for (size_t i = 0; i < points.size(); ++i) {
+            INFO(name << " point " << i << " at " << points[i].transpose());
+            CHECK(grid[i] == doctest::Approx(bruteDistance(mesh, points[i])).epsilon(1e-12));
+        }
+    }
+}
+
+TEST_CASE("fidelity: the shares and distances of known point sets") {
+    OrientedPoints mesh = ink::loadPoints(kModels + "parts.obj");
+    const double d = diagonalOf(mesh);
+    SUBCASE("points on the surface everywhere: both shares 1") {
+        OrientedPoints s = ink::sampleFaces(mesh, 200000, 11);
+        ink::Fidelity f = ink::measureFidelity(mesh, s.positions);
+        CHECK(f.diagonal == doctest::Approx(d));
+        CHECK(f.points == 200000);
+        CHECK(f.surfaceSamples >= 10000);
+        CHECK(f.coverage == 1.0);
+        CHECK(f.accuracy == 1.0);
+        CHECK(f.accuracyMax < 1e-12);
+        CHECK(f.coverageMax < 0.005);
+    }
+    SUBCASE("the surface moved out by 2% of the diagonal: no point within 1%, all within 2%") {
+        // Points pushed along the vertex-interpolated normals leave the smooth parts by exactly 2%; near the
+        // box's edges and corners, where the normals turn, by less: the share within 1% stays small.
+        OrientedPoints s = ink::sampleFaces(mesh, 100000, 5);
+        for (size_t i = 0; i < s.positions.size(); ++i) s.positions[i] += 0.02 * d * s.normals[i];
+        ink::Fidelity f = ink::measureFidelity(mesh, s.positions);
+        CHECK(f.accuracy < 0.05);
+        CHECK(f.accuracyMax <= 0.02 + 1e-9);
+        CHECK(f.accuracyP99 > 0.015);
+    }
+    SUBCASE("points on one part only: coverage is that part's share of the area") {
+        OrientedPoints sphere = mesh;
+        // The sphere is the part around the origin, within 0.41 of it.
+        std::vector<ink::Triangle> kept;
+        for (const ink::Triangle& t : mesh.triangles)
+            if (mesh.positions[t[0]].norm() < 0.41) kept.push_back(t);
+        sphere.triangles = kept;
+        double part = 0, all = 0;
+        for (double a : ink::triangleAreas(sphere)) part += a;
+        for (double a : ink::triangleAreas(mesh)) all += a;
+        OrientedPoints s = ink::sampleFaces(sphere, 100000, 5);
+        ink::Fidelity f = ink::measureFidelity(mesh, s.positions, 0.01, 400000);
+        CHECK(f.surfaceSamples == 400000);
+        CHECK(f.accuracy == 1.0);
+        // Within 1% of the diagonal of the sphere there is no other part: the share is the area's, to sampling.
+        CHECK(f.coverage == doctest::Approx(part / all).epsilon(0.01));
+        CHECK(f.coverageMax > 0.3);
+    }
+    SUBCASE("no points, and no faces") {
+        ink::Fidelity f = ink::measureFidelity(mesh, {});
+        CHECK(f.points == 0);
+        CHECK(f.coverage == 0);
+        OrientedPoints cloud = mesh;
+        cloud.triangles.clear();
+        CHECK_THROWS_WITH_AS(ink::measureFidelity(cloud, mesh.positions),
+                             "fidelity needs a mesh: the model has no triangles with area", ink::Error);
+    }
+}
+
+TEST_CASE("fidelity: the public measureFidelity reads the mesh, and refuses files without faces") {
+    OrientedPoints mesh = ink::loadPoints(kModels + "hemisphere.obj");
+    std::vector<inkwell::Vec3> corners;
+    for (const Vector3d& p : mesh.positions) corners.push_back({p.x(), p.y(), p.z()});
+    // The 65 corners lie on the surface, and cover only the parts of it within 1% of the diagonal of one.
+    inkwell::Fidelity f = inkwell::measureFidelity(kModels + "hemisphere.obj", corners);
+    CHECK(f.points == corners.size());
+    CHECK(f.accuracy == 1.0);
+    CHECK(f.accuracyMax < 1e-7);
+    CHECK(f.coverage > 0.01);
+    CHECK(f.coverage < 0.2);
+    // A looser tolerance covers more.
+    CHECK(inkwell::measureFidelity(kModels + "hemisphere.obj", corners, 0.2).coverage == 1.0);
+    TempDir dir;
+    std::string pts = dir.write("c.pts", "0 0 0 0 0 1\n1 0 0 0 0 1\n");
+    CHECK_THROWS_WITH_AS(inkwell::measureFidelity(pts, corners),
+                         (pts + ": fidelity needs a mesh with faces; this file has none with area").c_str(),
+                         inkwell::Error);
+    CHECK_THROWS_WITH_AS(inkwell::measureFidelity(kModels + "hemisphere.obj", corners, 0),
+                         "the fidelity tolerance must be positive (it is in bounding-box diagonals)", inkwell::Error);
+}
+
+TEST_CASE("fidelity: sample --fidelity prints and writes both shares; files without faces are refused") {
+    TempDir dir;
+    Run run = runInkwell("sample " + kModels + "parts.obj --points " + (dir / "p.ply") + " --fidelity --stats " +
+                         (dir / "s.json"));
+    REQUIRE(run.status == 0);
+    CHECK(run.output.find("fidelity: ") != std::string::npos);
+    CHECK(run.output.find("of the surface has a refined point within 1% of the diagonal") != std::string::npos);
+    nlohmann::json stats = nlohmann::json::parse(std::ifstream(dir / "s.json"));
+    const nlohmann::json& f = stats.at("fidelity");
+    CHECK(f.at("tolerance") == 0.01);
+    CHECK(f.at("points").get<size_t>() > stats.at("refine").at("points").get<size_t>());  // all, not the stipples
+    for (const char* key : {"coverage", "accuracy"}) {
+        CHECK(f.at(key).get<double>() > 0.5);
+        CHECK(f.at(key).get<double>() <= 1.0);
+    }
+    CHECK(f.at("coverage_max").get<double>() >= f.at("coverage_p99").get<double>());
+    CHECK(f.at("accuracy_max").get<double>() >= f.at("accuracy_p99").get<double>());
+
+    std::string pts = dir.write("c.pts", "0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n0 0 1 1 0 0\n");
+    run = runInkwell("sample " + pts + " --points " + (dir / "q.ply") + " --fidelity");
+    CHECK(run.status == 1);
+    CHECK(run.output.find(pts + ": --fidelity needs a mesh with faces; this file has none with area") !=
+          std::string::npos);
+    CHECK(!std::filesystem::exists(dir / "q.ply"));
+    run = runInkwell("fit " + kModels + "parts.obj -o " + (dir / "parts.hrbf"));
+    REQUIRE(run.status == 0);
+    run = runInkwell("sample " + (dir / "parts.hrbf") + " --points " + (dir / "q.ply") + " --fidelity");
+    CHECK(run.status == 1);
+    CHECK(run.output.find("--fidelity measures against the input mesh; give the mesh, not a fitted .hrbf") !=
+          std::string::npos);
+}
+
+TEST_CASE("fidelity: the spider and the separate parts, fitted to their vertices and face samples, are followed") {
+    // Face sampling on its own, through today's fit: what makes the legs whole.
+    GpuFixture gpu;
+    for (const char* name : {"spider.obj", "parts.obj"}) {
+        OrientedPoints mesh = ink::loadPoints(kModels + name);
+        OrientedPoints points = mesh;
+        OrientedPoints samples = ink::sampleFaces(mesh, ink::faceSampleCount(mesh), 1);
+        points.positions.insert(points.positions.end(), samples.positions.begin(), samples.positions.end());
+        points.normals.insert(points.normals.end(), samples.normals.begin(), samples.normals.end());
+        bool spider = std::string(name) == "spider.obj";
+        checkDoneWhen(name, measure(gpu, mesh, ink::fitModel(points, {}), spider), spider);
+    }
+}
+
+TEST_CASE("fidelity: the spider with default options keeps its legs whole" * doctest::skip()) {
+    // Enabled when the partition-of-unity fit lands with face sampling in fitModel (issue 15): today's default
+    // fits the vertices only, and the legs become beads (coverage 0.44, a leg gap of 0.27 of the diagonal).
+    GpuFixture gpu;
+    OrientedPoints mesh = ink::loadPoints(kModels + "spider.obj");
+    checkDoneWhen("spider.obj", measure(gpu, mesh, ink::loadModel(kModels + "spider.obj", {}), true), true);
+}
+
+TEST_CASE("fidelity: separate parts with default options are followed" * doctest::skip()) {
+    // Enabled when the partition-of-unity fit lands with face sampling in fitModel (issue 15): today's default
+    // fits the vertices only (coverage 0.66).
+    GpuFixture gpu;
+    OrientedPoints mesh = ink::loadPoints(kModels + "parts.obj");
+    checkDoneWhen("parts.obj", measure(gpu, mesh, ink::loadModel(kModels + "parts.obj", {}), false), false);
+}
+
+TEST_CASE("fidelity: an open hemisphere with default options is followed" * doctest::skip()) {
+    // Enabled when the partition-of-unity fit lands (issue 15): today's global fit closes the open surface with a
+    // sheet of its own (accuracy 0.86 on the vertices alone; 0.990 - just under - with face samples).
+    GpuFixture gpu;
+    OrientedPoints mesh = ink::loadPoints(kModels + "hemisphere.obj");
+    checkDoneWhen("hemisphere.obj", measure(gpu, mesh, ink::loadModel(kModels + "hemisphere.obj", {}), false), false);
+}
