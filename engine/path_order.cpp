@@ -39,8 +39,8 @@ class PointGrid {
 public:
     PointGrid(const std::vector<glm::dvec2>& points, std::vector<uint32_t> ids) : points_(points) { build(ids); }
 
-    // The nearest live point to q of a path other than skipPath (ties: the lower id); UINT32_MAX when none.
-    uint32_t nearest(glm::dvec2 q, uint32_t skipPath = UINT32_MAX) {
+    // The nearest live point to q (ties: the lower id); UINT32_MAX when none is left.
+    uint32_t nearest(glm::dvec2 q) {
         if (live_ == 0) return UINT32_MAX;
         glm::ivec2 c = cellOf(q);
         uint32_t best = UINT32_MAX;
@@ -58,7 +58,6 @@ public:
                     for (uint32_t id : cell) {
                         if (dead_[id]) continue;
                         cell[kept++] = id;
-                        if ((id >> 1) == skipPath) continue;
                         double d = glm::distance(points_[id], q);
                         if (d < bestD || (d == bestD && id < best)) bestD = d, best = id;
                     }
@@ -70,35 +69,6 @@ public:
             if (best != UINT32_MAX && bestD <= double(r) * cell_) break;
         }
         return best;
-    }
-
-    // The kNeighbours nearest live points to q of paths other than skipPath, nearest first (ties: the lower
-    // id), into out (UINT32_MAX where there are fewer).
-    void nearestK(glm::dvec2 q, uint32_t skipPath, uint32_t* out) const {
-        std::pair<double, uint32_t> best[kNeighbours];
-        int count = 0;
-        glm::ivec2 c = cellOf(q);
-        int maxRing = std::max(side_.x, side_.y);
-        for (int r = 0; r <= maxRing + 1; ++r) {
-            for (int y = c.y - r; y <= c.y + r; ++y) {
-                if (y < 0 || y >= side_.y) continue;
-                bool edgeRow = y == c.y - r || y == c.y + r;
-                for (int x = c.x - r; x <= c.x + r; x += edgeRow ? 1 : 2 * std::max(r, 1)) {
-                    if (x < 0 || x >= side_.x) continue;
-                    for (uint32_t id : cells_[size_t(y) * size_t(side_.x) + size_t(x)]) {
-                        if (dead_[id] || (id >> 1) == skipPath) continue;
-                        std::pair<double, uint32_t> candidate{glm::distance(points_[id], q), id};
-                        if (count == kNeighbours && !(candidate < best[count - 1])) continue;
-                        int k = count < kNeighbours ? count++ : count - 1;
-                        for (; k > 0 && candidate < best[k - 1]; --k) best[k] = best[k - 1];
-                        best[k] = candidate;
-                    }
-                    if (r == 0) break;
-                }
-            }
-            if (count == kNeighbours && best[count - 1].first <= double(r) * cell_) break;
-        }
-        for (int k = 0; k < kNeighbours; ++k) out[k] = k < count ? best[k].second : UINT32_MAX;
     }
 
     void remove(uint32_t id) {
@@ -151,6 +121,60 @@ private:
     size_t live_ = 0;
 };
 
+// For every point of `ids`, the kNeighbours nearest points of `ids` on other paths (id >> 1), nearest first
+// (ties: the lower id), into out[id * kNeighbours ...] (UINT32_MAX where there are fewer). The grid is flat
+// (the ids sorted by cell) and the points are queried cell by cell, so that a query's cells are in cache.
+void nearestNeighbours(const std::vector<glm::dvec2>& points, const std::vector<uint32_t>& ids,
+                       std::vector<uint32_t>& out) {
+    glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (uint32_t id : ids) lo = glm::min(lo, points[id]), hi = glm::max(hi, points[id]);
+    const glm::dvec2 extent = glm::max(hi - lo, glm::dvec2(1e-9));
+    const double cell = std::max(std::sqrt(extent.x * extent.y * 2.0 / double(std::max<size_t>(ids.size(), 1))),
+                                 std::max(extent.x, extent.y) / 4096.0);
+    const glm::ivec2 side(glm::min(glm::floor(extent / cell) + 1.0, glm::dvec2(4096)));
+    auto cellOf = [&](glm::dvec2 p) {
+        return glm::ivec2(glm::clamp(glm::floor((p - lo) / cell), glm::dvec2(0), glm::dvec2(side - 1)));
+    };
+    auto index = [&](glm::ivec2 c) { return size_t(c.y) * size_t(side.x) + size_t(c.x); };
+    std::vector<uint32_t> start(size_t(side.x) * size_t(side.y) + 1, 0), sorted(ids.size());
+    for (uint32_t id : ids) ++start[index(cellOf(points[id])) + 1];
+    for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+    {
+        std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+        for (uint32_t id : ids) sorted[fill[index(cellOf(points[id]))]++] = id;
+    }
+    const int maxRing = std::max(side.x, side.y);
+    for (uint32_t id : sorted) {
+        const glm::dvec2 q = points[id];
+        const glm::ivec2 c = cellOf(q);
+        std::pair<double, uint32_t> best[kNeighbours];
+        int count = 0;
+        for (int r = 0; r <= maxRing + 1; ++r) {
+            for (int y = std::max(c.y - r, 0); y <= std::min(c.y + r, side.y - 1); ++y) {
+                const bool edgeRow = y == c.y - r || y == c.y + r;
+                for (int x = c.x - r; x <= c.x + r; x += edgeRow ? 1 : 2 * std::max(r, 1)) {
+                    if (x < 0 || x >= side.x) continue;
+                    const size_t k = index({x, y});
+                    for (uint32_t i = start[k]; i < start[k + 1]; ++i) {
+                        const uint32_t other = sorted[i];
+                        if ((other >> 1) == (id >> 1)) continue;
+                        std::pair<double, uint32_t> candidate{glm::distance(points[other], q), other};
+                        if (count == kNeighbours && !(candidate < best[count - 1])) continue;
+                        int at = count < kNeighbours ? count++ : count - 1;
+                        for (; at > 0 && candidate < best[at - 1]; --at) best[at] = best[at - 1];
+                        best[at] = candidate;
+                    }
+                    if (r == 0) break;
+                }
+            }
+            // Points in ring r + 1 and beyond are at least r cells away.
+            if (count == kNeighbours && best[count - 1].first <= double(r) * cell) break;
+        }
+        for (int k = 0; k < kNeighbours; ++k)
+            out[size_t(id) * kNeighbours + size_t(k)] = k < count ? best[k].second : UINT32_MAX;
+    }
+}
+
 }  // namespace
 
 void orderPaths(std::vector<PlotPath>& paths, glm::dvec2 home) {
@@ -159,15 +183,17 @@ void orderPaths(std::vector<PlotPath>& paths, glm::dvec2 home) {
     // Path end 2p is path p's start as given, 2p + 1 its end.
     std::vector<glm::dvec2> ends(2 * size_t(n));
     for (uint32_t p = 0; p < n; ++p) ends[2 * p] = paths[p].start(), ends[2 * p + 1] = paths[p].end();
-    std::vector<uint32_t> all(ends.size());
-    for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+    // The grids hold both ends of a polyline and one of a circle (its start is its end).
+    std::vector<uint32_t> all;
+    all.reserve(ends.size());
+    for (uint32_t p = 0; p < n; ++p) {
+        all.push_back(2 * p);
+        if (!paths[p].circle()) all.push_back(2 * p + 1);
+    }
 
     // Each path end's nearest ends of other paths (the geometry does not change, only which end is which).
     std::vector<uint32_t> neighbours(ends.size() * kNeighbours, UINT32_MAX);
-    {
-        PointGrid grid(ends, all);
-        for (uint32_t e = 0; e < ends.size(); ++e) grid.nearestK(ends[e], e >> 1, &neighbours[e * kNeighbours]);
-    }
+    nearestNeighbours(ends, all, neighbours);
 
     // Greedy nearest neighbour from home.
     std::vector<uint32_t> order;
@@ -205,6 +231,11 @@ void orderPaths(std::vector<PlotPath>& paths, glm::dvec2 home) {
         double after = glm::distance(a, c) + link(b, hi + 1);
         return before - after;
     };
+    auto travelOf = [&] {
+        double sum = 0;
+        for (int64_t i = -1; i + 1 < int64_t(n); ++i) sum += link(endAt(i), i + 1);
+        return sum;
+    };
     auto apply = [&](int64_t lo, int64_t hi) {
         std::reverse(order.begin() + lo + 1, order.begin() + hi + 1);
         for (int64_t i = lo + 1; i <= hi; ++i) {
@@ -213,8 +244,10 @@ void orderPaths(std::vector<PlotPath>& paths, glm::dvec2 home) {
             reversed[p] ^= 1u;
         }
     };
+    // Passes until one gains less than a thousandth of the travel (later passes find little).
     for (int pass = 0; pass < kMaxPasses; ++pass) {
         bool improved = false;
+        double gained = 0;
         for (int64_t i = -1; i + 1 < int64_t(n); ++i) {
             for (int side = 0; side < 2; ++side) {
                 // side 0: new link end(i) → an end nearby; side 1: new link start(i + 1) → a start nearby.
@@ -226,14 +259,17 @@ void orderPaths(std::vector<PlotPath>& paths, glm::dvec2 home) {
                     if (id == UINT32_MAX) break;
                     uint32_t q = id >> 1;
                     int64_t j = position[q];
-                    if (side == 0 && id != endId(q)) continue;
+                    const bool circle = paths[q].circle();  // its one end is both
+                    if (side == 0 && id != endId(q) && !circle) continue;
                     if (side == 1) {
-                        if (id != startId(q)) continue;
+                        if (id != startId(q) && !circle) continue;
                         j -= 1;
                     }
                     if (j == i) continue;
                     int64_t lo = std::min(i, j), hi = std::max(i, j);
-                    if (gain(lo, hi) > 1e-9) {
+                    const double g = gain(lo, hi);
+                    if (g > 1e-9) {
+                        gained += g;
                         apply(lo, hi);
                         improved = true;
                         break;
@@ -241,7 +277,7 @@ void orderPaths(std::vector<PlotPath>& paths, glm::dvec2 home) {
                 }
             }
         }
-        if (!improved) break;
+        if (!improved || gained < 1e-3 * travelOf()) break;
     }
 
     std::vector<PlotPath> out;

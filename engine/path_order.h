@@ -25,9 +25,9 @@ struct PlotPath {
 double travel(const std::vector<PlotPath>& paths, glm::dvec2 home);
 
 // Orders `paths` (reversing polylines where that helps) to shorten the pen-up travel from `home`: greedy
-// nearest neighbour over a uniform grid of the free path ends, then 2-opt moves (reversing a run of paths)
-// between each path end and its nearest path ends until none gains. O(n log n)-ish; 50,000 dots take tens of
-// milliseconds. The result depends only on the input (no randomness, no hashing of addresses).
+// nearest neighbour over a uniform grid of the free path ends, then passes of 2-opt moves (reversing a run of
+// paths) between each path end and its 8 nearest path ends, until a pass gains less than 0.1% of the travel.
+// 50,000 random dots take about 0.3 s on a loaded 2-core machine. The result depends only on the input.
 void orderPaths(std::vector<PlotPath>& paths, glm::dvec2 home);
 
 // Joins consecutive polylines whose end and start lie within `tolerance` (touching strokes become one stroke).
