@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 namespace ink {
 
@@ -102,18 +103,24 @@ size_t faceSampleCount(const OrientedPoints& mesh) {
     for (double a : areas) total += a;
     if (!(total > 0) || !(spacing > 0)) return 0;
     double wanted = total / (spacing * spacing);
+    // Each edge longer than the spacing, with the tallest of its triangles over it: samples spread along an edge
+    // from a triangle of height h over it, count · (area / total) of them over its length, come a spacing apart
+    // when count = 2 · total / (h · spacing). The tallest triangle is the one that fills the edge's surroundings:
+    // a sliver beside a well-shaped neighbour asks for nothing, a strip of slivers (a thin leg) does.
+    std::unordered_map<uint64_t, double> tallest;
     for (size_t t = 0; t < areas.size(); ++t) {
         if (areas[t] == 0) continue;
         const Triangle& tri = mesh.triangles[t];
-        double longest = 0;
-        for (int e = 0; e < 3; ++e)
-            longest =
-                std::max(longest, (mesh.positions[tri[size_t(e)]] - mesh.positions[tri[size_t(e + 1) % 3]]).norm());
-        if (longest < spacing) continue;  // its corners are within a spacing of all of it
-        // The triangle's share, count · (area / total), should reach longest / spacing.
-        const double height = std::max(2 * areas[t] / longest, spacing / 8);
-        wanted = std::max(wanted, total * 2 / (height * spacing));
+        for (size_t e = 0; e < 3; ++e) {
+            const uint32_t a = tri[e], b = tri[(e + 1) % 3];
+            const double length = (mesh.positions[a] - mesh.positions[b]).norm();
+            if (length < spacing) continue;  // its ends are within a spacing of all of it
+            double& h = tallest[uint64_t(std::min(a, b)) << 32 | std::max(a, b)];
+            h = std::max(h, 2 * areas[t] / length);
+        }
     }
+    for (const auto& [edge, height] : tallest)
+        wanted = std::max(wanted, total * 2 / (std::max(height, spacing / 8) * spacing));
     const size_t room = mesh.positions.size() < kMaxSampledPoints ? kMaxSampledPoints - mesh.positions.size() : 0;
     return std::min(room, size_t(std::ceil(std::min(wanted, double(kMaxSampledPoints)))));
 }

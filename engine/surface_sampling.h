@@ -32,10 +32,11 @@ std::vector<double> triangleAreas(const OrientedPoints& mesh);
 OrientedPoints sampleFaces(const OrientedPoints& mesh, size_t count, uint32_t seed);
 
 // How many face samples a mesh needs: enough for a spacing of kFaceSpacing of the diagonal over the whole area,
-// and for every triangle whose long edge is longer than that spacing to get about one sample per spacing along
-// it (a strip of height h needs a density of 1/(h · spacing); heights below 1/8 of the spacing count as 1/8, so
-// a needle cannot ask for millions). Capped so that samples and vertices stay within kMaxSampledPoints. 0 for a
-// mesh without triangles.
+// and for about one sample a spacing along every edge longer than that from the tallest triangle beside it (a
+// strip of height h needs a density of 2/(h · spacing); heights below 1/8 of the spacing count as 1/8, so a
+// needle cannot ask for millions). A sliver between well-shaped triangles asks for nothing: their samples fill
+// its surroundings. Capped so that samples and vertices stay within kMaxSampledPoints. 0 for a mesh without
+// triangles.
 size_t faceSampleCount(const OrientedPoints& mesh);
 
 }  // namespace ink

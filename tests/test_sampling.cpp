@@ -444,6 +444,23 @@ TEST_CASE("sampling: the count follows the area and the long thin triangles, wit
     gap = std::max(gap, 1 - x.back());
     CHECK(gap < 2 * legSpacing);
 
+    // A sliver between well-shaped triangles asks for nothing more than the area does; left at the mesh's
+    // border, with nothing beside its long edge, it does.
+    OrientedPoints sliver;
+    for (Vector3d p : {v(0, 0, 0), v(1, 0, 0), v(0.5, 0.001, 0), v(0.5, -1, 0), v(0.5, 1, 0)}) {
+        sliver.positions.push_back(p);
+        sliver.normals.push_back(v(0, 0, 1));
+    }
+    sliver.triangles = {{0, 1, 2}, {0, 3, 1}, {0, 2, 4}, {2, 1, 4}};
+    auto uniform = [](const OrientedPoints& m) {
+        double area = 0, spacing = ink::kFaceSpacing * v(1, 2, 0).norm();
+        for (double a : ink::triangleAreas(m)) area += a;
+        return size_t(std::ceil(area / (spacing * spacing)));
+    };
+    CHECK(ink::faceSampleCount(sliver) == uniform(sliver));
+    sliver.triangles.erase(sliver.triangles.begin() + 1);
+    CHECK(ink::faceSampleCount(sliver) > 10 * uniform(sliver));
+
     // The cap: vertices and samples together stay within it.
     OrientedPoints many = cube;
     many.positions.resize(ink::kMaxSampledPoints - 10, v(0.5, 0.5, 0.5));
