@@ -69,8 +69,20 @@ void addRefineOptions(CLI::App* cmd, Options& o) {
 
 void addRenderOptions(CLI::App* cmd, Options& o) {
     ink::RenderStyle& s = o.render;
-    cmd->add_option("--style", o.styleName, "Stipples, hatch-like lines of dots (direction sampling), or both")
-        ->check(CLI::IsMember({"stipple", "direction", "both"}))
+    cmd->add_option("--style", o.styleName,
+                    "What is drawn, parts joined by '+': dots (stipple, direction: hatch-like lines of dots, or both) "
+                    "and pen lines (contours, hatching), e.g. contours+hatching+stipple (docs/lines.md)")
+        ->capture_default_str();
+    cmd->add_option("--contour-width", s.penWidth, "Contour pen width in pixels")->capture_default_str();
+    cmd->add_option("--hatch-width", s.hatchWidth, "Hatching pen width in pixels")->capture_default_str();
+    cmd->add_option("--halo", s.haloWidth, "Paper kept clear each side of an interior contour, in pixels")
+        ->capture_default_str();
+    cmd->add_option("--hatch-spacing", o.lines.hatch.spacing,
+                    "Spacing of the finest hatching, as a fraction of the bounding-box diagonal")
+        ->capture_default_str();
+    cmd->add_option("--hatch-families", o.lines.hatch.families,
+                    "Hatching families: 1, or 2 to cross the first in dark tones")
+        ->check(CLI::Range(1u, 2u))
         ->capture_default_str();
     cmd->add_option("--size", o.size, "Image width and height in pixels")
         ->expected(2)
@@ -150,6 +162,39 @@ static void applyPreset(Options& o) {
     set(o.refine.levels, p.levels, "--levels");
     set(o.refine.passes, p.passes, "--passes");
     set(o.direction, p.direction, "--direction");
+    set(o.render.penWidth, p.contourWidth, "--contour-width");
+    set(o.render.hatchWidth, p.hatchWidth, "--hatch-width");
+    set(o.render.haloWidth, p.halo, "--halo");
+    if (p.hatchSpacing && !given("--hatch-spacing")) o.lines.hatch.spacing = double(*p.hatchSpacing);
+    set(o.lines.hatch.families, p.hatchFamilies, "--hatch-families");
+}
+
+// "--style contours+hatching+stipple": at most one dot style (stipple, direction, both) and any pen lines. Without
+// dots the stipple set is still refined: its splats give the depth the lines are tested against.
+static void parseStyle(Options& o) {
+    std::string dots;
+    o.lines.contours = o.lines.hatching = false;
+    if (o.styleName.empty() || o.styleName.back() == '+' || o.styleName.front() == '+' ||
+        o.styleName.find("++") != std::string::npos)
+        throw ink::Error(
+            "style '" + o.styleName +
+            "' has an empty part: use stipple, direction, both, contours, hatching or parts joined by '+'");
+    std::stringstream parts(o.styleName);
+    std::string part;
+    while (std::getline(parts, part, '+')) {
+        if (part == "contours" && !o.lines.contours)
+            o.lines.contours = true;
+        else if (part == "hatching" && !o.lines.hatching)
+            o.lines.hatching = true;
+        else if ((part == "stipple" || part == "direction" || part == "both") && dots.empty())
+            dots = part;
+        else
+            throw ink::Error("style '" + o.styleName + "': '" + part +
+                             "' is not stipple, direction, both, contours or hatching, or is given twice (parts are "
+                             "joined by '+', at most one of stipple, direction and both)");
+    }
+    o.style = dots == "direction" ? DrawStyle::Direction : dots == "both" ? DrawStyle::Both : DrawStyle::Stipple;
+    o.render.drawDots = !dots.empty();
 }
 
 const CLI::Validator& nonNegativeInteger() {
@@ -180,14 +225,7 @@ void finishOptions(Options& o) {
     if (o.refine.passes > 64) throw ink::Error("--passes must be between 1 and 64");
     if (o.refine.grid < 2 || o.refine.grid > 512)
         throw ink::Error("--grid " + std::to_string(o.refine.grid) + " must be between 2 and 512 cells");
-    if (o.styleName == "stipple")
-        o.style = DrawStyle::Stipple;
-    else if (o.styleName == "direction")
-        o.style = DrawStyle::Direction;
-    else if (o.styleName == "both")
-        o.style = DrawStyle::Both;
-    else
-        throw ink::Error("style '" + o.styleName + "' is not stipple, direction or both");
+    parseStyle(o);
     if (o.direction == "axis")
         o.refine.direction = ink::DirectionField::Axis;
     else if (o.direction == "curvature-min")
@@ -199,6 +237,7 @@ void finishOptions(Options& o) {
     o.refine.seeds = o.seeds == "grid" ? ink::SeedMode::Grid : ink::SeedMode::ControlPoints;
     o.refine.style = o.sampling == "direction" ? ink::SampleStyle::Direction : ink::SampleStyle::Stipple;
     if (!o.axis.empty()) o.refine.axis = Eigen::Vector3d(o.axis[0], o.axis[1], o.axis[2]);
+    o.lines.hatch.axis = o.refine.axis;
     if (!(o.refine.axis.norm() > 0) || !o.refine.axis.allFinite()) throw ink::Error("--axis must be a non-zero vector");
     o.refine.keepAllLevels = o.keepLevels == "all";
     o.refine.distribution =
@@ -220,6 +259,11 @@ void finishOptions(Options& o) {
     for (float v : {o.render.frontSize, o.render.silhouetteSize})
         if (!(v > 0 && v <= 64)) throw ink::Error("dot sizes must be in (0, 64] pixels");
     if (!(o.render.tau >= 0 && o.render.tau < 1)) throw ink::Error("--tau must be in [0, 1)");
+    for (float v : {o.render.penWidth, o.render.hatchWidth})
+        if (!(v > 0 && v <= 32)) throw ink::Error("pen widths must be in (0, 32] pixels");
+    if (!(o.render.haloWidth >= 0 && o.render.haloWidth <= 32)) throw ink::Error("--halo must be in [0, 32] pixels");
+    if (!(o.lines.hatch.spacing >= 0.001 && o.lines.hatch.spacing <= 0.1))
+        throw ink::Error("--hatch-spacing must be in [0.001, 0.1] of the diagonal");
     if (!(o.render.toneGamma >= 0 && o.render.toneGamma <= 16)) throw ink::Error("--tone must be in [0, 16]");
     if (!(o.render.inkDensity >= 0 && o.render.inkDensity <= 100))
         throw ink::Error("--ink-density must be in [0, 100]");
@@ -303,7 +347,7 @@ void Session::checkValidation() const {
 }
 
 Scene::Scene(ink::Context& ctx, const Options& o)
-    : ink::Scene(ctx, ink::loadModel(o.model, {o.controlPoints}), o.style, o.refine) {}
+    : ink::Scene(ctx, ink::loadModel(o.model, {o.controlPoints}), o.style, o.refine, o.lines) {}
 
 json fitJson(const ink::Model& m) {
     return {{"seconds", m.fit.seconds},
@@ -356,6 +400,22 @@ json plotJson(const ink::Plot& plot) {
                           {"travel_after_mm", l.travelAfter},
                           {"pen_down_mm", l.penDown}});
     return {{"page_mm", {plot.width, plot.height}}, {"pen_width_mm", plot.penWidth}, {"layers", layers}};
+}
+
+json linesJson(const ink::Scene& scene) {
+    const ink::HatchStats& h = scene.hatchStats;
+    const ink::ContourStats& c = scene.contourStats;
+    return {
+        {"hatching",
+         {{"strokes", scene.hatching.size()}, {"vertices", h.vertices}, {"length", h.length}, {"seconds", h.seconds}}},
+        {"contours",
+         {{"curves", c.curves},
+          {"closed_curves", c.closedCurves},
+          {"pieces", scene.contours.size()},
+          {"cusps", c.cusps},
+          {"seeds_tried", c.seedsTried},
+          {"vertices", c.vertices},
+          {"seconds", c.seconds}}}};
 }
 
 json deviceJson(const ink::Context& ctx) { return {{"device", ctx.properties.deviceName}, {"driver", ctx.driverInfo}}; }

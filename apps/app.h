@@ -40,6 +40,7 @@ struct Options {
     // Rendering
     DrawStyle style = DrawStyle::Stipple;
     ink::RenderStyle render;
+    ink::LineOptions lines;     // pen lines the style asks for
     std::vector<float> camera;  // azimuth, elevation, distance
     std::vector<uint32_t> size{1024, 1024};
     std::string ink = "#000000", paper = "#ffffff", preset;
@@ -77,7 +78,7 @@ struct Session {
 // The engine's scene (scene.h) made from the command's options: loads, fits, refines.
 struct Scene : ink::Scene {
     Scene(ink::Context& ctx, const Options& o);
-    void refine(const Options& o) { ink::Scene::refine(o.style, o.refine); }
+    void refine(const Options& o) { ink::Scene::refine(o.style, o.refine, o.lines); }
 };
 
 json fitJson(const ink::Model& m);
@@ -91,6 +92,8 @@ ink::Plot writeVectorView(const ink::PointRenderer& renderer, uint32_t frame, co
 void noteRings(const ink::Plot& plot);
 // A plot's layers: pen, name, paths, pen-up travel before and after ordering and pen-down length in mm.
 json plotJson(const ink::Plot& plot);
+// The pen lines traced: strokes, vertices, lengths and times.
+json linesJson(const ink::Scene& scene);
 // Spacing of a ranked point set: the whole set and its prefixes 1/2, 1/4, 1/8, the area estimated from it.
 json spacingJson(const std::vector<ink::PointRecord>& points);
 // Writes JSON atomically; does nothing for an empty path.

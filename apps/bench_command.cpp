@@ -21,11 +21,14 @@ struct Workload {
     std::string model;  // a path, or "" for the sphere of six axis points
     size_t controlPoints;
     uint32_t levels;
+    bool lines = false;  // pen lines: contours and hatching over the stipple set's depth, no dots (docs/lines.md)
 };
 
 const std::vector<Workload>& builtinWorkloads() {
-    static const std::vector<Workload> w = {
-        {"sphere", "", 6, 6}, {"bunny-312", "bunny", 312, 4}, {"bunny-684", "bunny", 684, 4}};
+    static const std::vector<Workload> w = {{"sphere", "", 6, 6},
+                                            {"bunny-312", "bunny", 312, 4},
+                                            {"bunny-684", "bunny", 684, 4},
+                                            {"bunny-684-lines", "bunny", 684, 4, true}};
     return w;
 }
 
@@ -58,22 +61,28 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
     ink::RefineOptions options;
     options.levels = w.levels;
     options.distribution = distribution;  // the passes follow it: 1 for blue-noise stipples, the report's 2 else
+    ink::LineOptions lines;
+    lines.contours = lines.hatching = w.lines;
     json out;
     {
-        ink::Refinement refinement(session.ctx, model.hrbf, options);
-        ink::GpuRefinement& r = refinement.gpu();
-        auto refineStart = Clock::now();
-        ink::runRefinement(session.ctx, r);
-        double refineSeconds = secondsSince(refineStart);
+        ink::Scene scene(session.ctx, std::move(model), ink::DrawStyle::Stipple, options, lines);
+        const ink::Model& fitted = scene.model;
+        ink::GpuRefinement& r = scene.sets.front()->gpu();
+        double refineSeconds = scene.refineSeconds;
         auto levels = ink::readLevelStats(session.ctx, r);
 
         ink::RenderStyle style;
         style.supersample = 1;
-        ink::OffscreenRenderer renderer(session.ctx, 1024, 1024, style, {&r});
+        style.drawDots = !w.lines;
+        ink::Camera first;
+        first.azimuthDeg = 30.0f;
+        scene.traceContours(first);  // the first view's contour: part of the preprocessing
+        double contourSeconds = scene.contourStats.seconds;
+        ink::OffscreenRenderer renderer(session.ctx, 1024, 1024, style, scene.pointers(), scene.strokes.get());
         double preprocess = secondsSince(start);
 
         // Frames with the camera moving every frame; the first few warm caches and pipelines up.
-        std::vector<double> frameMs, splatMs, stampMs, inkMs;
+        std::vector<double> frameMs, splatMs, stampMs, inkMs, traceMs;
         uint32_t dots = 0;  // drawn in the first timed frame
         ink::Camera camera;
         for (uint32_t i = 0; i < frames + 3; ++i) {
@@ -81,6 +90,11 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
             auto t = Clock::now();
             renderer.draw(camera);
             if (i < 3) continue;
+            if (w.lines) {  // the contour of the next view, traced apart from the frame (a viewer does both)
+                auto traceStart = Clock::now();
+                scene.traceContours(camera);
+                traceMs.push_back(1000.0 * secondsSince(traceStart));
+            }
             frameMs.push_back(1000.0 * secondsSince(t));
             ink::PointRenderer::Timings passes = renderer.timings();
             splatMs.push_back(passes.splatMs);
@@ -90,7 +104,7 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
         }
 
         auto cpuStart = Clock::now();
-        ink::refineOnCpu(model.hrbf, options, r.plan);
+        ink::refineOnCpu(fitted.hrbf, options, r.plan);
         double cpuRefine = secondsSince(cpuStart);
         uint64_t stipples = 0;
         if (r.selection)
@@ -104,14 +118,14 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
             levelMs.push_back(l.gpuMs);
         }
         out = {{"workload", w.name},
-               {"control_points", model.fit.controlPoints},
+               {"control_points", fitted.fit.controlPoints},
                {"levels", w.levels},
                {"candidates", candidates},
                {"points", points},
                {"distribution", distribution == ink::Distribution::BlueNoise ? "blue-noise" : "refinement"},
                {"stipples", stipples},
                {"select_ms", ink::selectionMs(session.ctx, r)},
-               {"fit_seconds", model.fit.seconds},
+               {"fit_seconds", fitted.fit.seconds},
                {"refine_seconds", refineSeconds},
                {"preprocess_seconds", preprocess},
                {"frame_ms_median", median(frameMs)},
@@ -123,6 +137,14 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
                {"gpu_over_cpu_refine", cpuRefine / refineSeconds},
                {"level_gpu_ms", levelMs},
                {"peak_memory_mb", peakMemoryMb()}};
+        if (w.lines)
+            out.update({{"hatch_seconds", scene.hatchSeconds},
+                        {"hatch_strokes", scene.hatching.size()},
+                        {"hatch_vertices", scene.hatchStats.vertices},
+                        {"contour_seconds_first_view", contourSeconds},
+                        {"contour_trace_ms_median", median(traceMs)},
+                        {"contour_vertices", scene.contourStats.vertices},
+                        {"frame_with_trace_ms_median", median(frameMs) + median(traceMs)}});
         out.update(deviceJson(session.ctx));
     }
     return out;
@@ -149,7 +171,7 @@ int runBench(Options& o, const std::vector<std::string>& names, const std::strin
         auto it = std::find_if(builtinWorkloads().begin(), builtinWorkloads().end(),
                                [&](const Workload& w) { return w.name == name; });
         if (it == builtinWorkloads().end())
-            throw ink::Error("unknown workload '" + name + "': use sphere, bunny-312 or bunny-684");
+            throw ink::Error("unknown workload '" + name + "': use sphere, bunny-312, bunny-684 or bunny-684-lines");
         workloads.push_back(*it);
     }
     if (!o.model.empty())
@@ -177,6 +199,10 @@ int runBench(Options& o, const std::vector<std::string>& names, const std::strin
             m["refine_seconds"].get<double>(), m["select_ms"].get<double>(), m["cpu_refine_seconds"].get<double>(),
             m["gpu_over_cpu_refine"].get<double>(), m["preprocess_seconds"].get<double>(),
             m["frame_ms_median"].get<double>(), m["fps"].get<double>());
+        if (m.contains("hatch_seconds"))
+            std::printf("%-10s hatching %6.3f s (%llu strokes)  contours %6.3f s first view, %6.1f ms a view\n", "",
+                        m["hatch_seconds"].get<double>(), (unsigned long long)m["hatch_strokes"].get<uint64_t>(),
+                        m["contour_seconds_first_view"].get<double>(), m["contour_trace_ms_median"].get<double>());
         results.push_back(m);
     }
     session.checkValidation();
@@ -192,7 +218,7 @@ void addBenchCommand(CLI::App& cli, Options& o, Commands& commands) {
     auto repeat = std::make_shared<uint32_t>(3);
     auto frames = std::make_shared<uint32_t>(30);
     CLI::App* bench = cli.add_subcommand("bench", "Time the report's workloads (preprocessing, frames, CPU reference)");
-    bench->add_option("--workload", *names, "sphere, bunny-312, bunny-684 (default: all)");
+    bench->add_option("--workload", *names, "sphere, bunny-312, bunny-684, bunny-684-lines (default: all)");
     bench->add_option("--model", o.model, "Also time this model (with --control-points and --levels)");
     bench->add_option("--control-points", o.controlPoints, "Control points for --model (default: as fit)")
         ->check(nonNegativeInteger());

@@ -156,13 +156,15 @@ int runCapture(Options& o, const CaptureOptions& c) {
     const ink::Camera base = cameraFrom(o);
     ordered frames = ordered::array();
     {
-        ink::OffscreenRenderer renderer(session.ctx, o.size[0], o.size[1], o.render, scene.pointers());
+        ink::OffscreenRenderer renderer(session.ctx, o.size[0], o.size[1], o.render, scene.pointers(),
+                                        scene.strokes.get());
         ink::Progress progress("capture", c.frames);
         for (uint32_t i = 0; i < c.frames; ++i) {
             ink::Camera camera = base;
             // From i, not accumulated frame to frame, and in double: the last of 10000 frames is as exact
             // as the first.
             camera.azimuthDeg = float(double(base.azimuthDeg) + double(c.orbitDeg) * i / c.frames);
+            scene.traceContours(camera);  // the contour of this view
             ink::RgbaImage image = renderer.render(camera);
             session.checkValidation();  // before writing: a frame drawn with validation errors is not kept
             char name[32];

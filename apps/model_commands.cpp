@@ -148,11 +148,13 @@ static int runRender(Options& o, const std::vector<std::string>& outputs) {
     Session session(o);
     ink::checkOffscreenSize(session.ctx, o.size[0], o.size[1], std::max(1u, o.render.supersample));
     Scene scene(session.ctx, o);
+    scene.traceContours(cameraFrom(o));
     ink::RgbaImage image;
     ink::VectorDrawing marks;
     const bool vectors = std::any_of(outputs.begin(), outputs.end(), ink::isVectorPath);
     {
-        ink::OffscreenRenderer renderer(session.ctx, o.size[0], o.size[1], o.render, scene.pointers());
+        ink::OffscreenRenderer renderer(session.ctx, o.size[0], o.size[1], o.render, scene.pointers(),
+                                        scene.strokes.get());
         image = renderer.render(cameraFrom(o));
         if (vectors) marks = renderer.vectorDrawing();
     }
@@ -178,6 +180,7 @@ static int runRender(Options& o, const std::vector<std::string>& outputs) {
     json stats = {{"control_points", scene.model.fit.controlPoints},
                   {"fit", fitJson(scene.model)},
                   {"refine", {{"seconds", scene.refineSeconds}, {"points", points}, {"sets", levels}}},
+                  {"lines", linesJson(scene)},
                   {"seconds", secondsSince(start)}};
     if (plot) {
         stats["vector"] = plotJson(*plot);

@@ -72,8 +72,28 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
     if (!j.is_object()) throw ink::Error("preset '" + name + "' must be a JSON object");
     Preset p;
     for (auto& [key, value] : j.items()) {
-        if (key == "style")
-            p.style = text(value, name, key, {"stipple", "direction", "both"});
+        if (key == "style") {
+            // Parts joined by '+' (finishOptions checks how they combine).
+            p.style = text(value, name, key);
+            std::string rest = *p.style + "+";
+            for (size_t at = 0; (at = rest.find('+')) != std::string::npos; rest.erase(0, at + 1)) {
+                std::string part = rest.substr(0, at);
+                if (part != "stipple" && part != "direction" && part != "both" && part != "contours" &&
+                    part != "hatching")
+                    fail(name, key,
+                         "is " + ink::quoted(*p.style) +
+                             ", not parts of stipple, direction, both, contours, hatching joined by '+'");
+            }
+        } else if (key == "contour_width")
+            p.contourWidth = ranged(value, name, key, 0, 32, true, false, "(0, 32] pixels");
+        else if (key == "hatch_width")
+            p.hatchWidth = ranged(value, name, key, 0, 32, true, false, "(0, 32] pixels");
+        else if (key == "halo")
+            p.halo = ranged(value, name, key, 0, 32, false, false, "[0, 32] pixels");
+        else if (key == "hatch_spacing")
+            p.hatchSpacing = ranged(value, name, key, 0.001, 0.1, false, false, "[0.001, 0.1] of the diagonal");
+        else if (key == "hatch_families")
+            p.hatchFamilies = integer(value, name, key, 1, 2);
         else if (key == "direction")
             p.direction = text(value, name, key, {"axis", "curvature-min", "curvature-max"});
         else if (key == "up")

@@ -13,7 +13,8 @@ namespace app {
 
 struct Preset {
     std::optional<std::string> style, ink, paper, up, direction;
-    std::optional<float> dotSize, silhouetteSize, tau, tone, inkDensity;
+    std::optional<float> dotSize, silhouetteSize, tau, tone, inkDensity, contourWidth, hatchWidth, halo, hatchSpacing;
+    std::optional<uint32_t> hatchFamilies;
     std::optional<bool> hiddenLines;
     std::optional<std::vector<float>> light;  // three finite numbers, not all zero
     std::optional<uint32_t> levels, passes;

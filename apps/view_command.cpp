@@ -186,6 +186,7 @@ private:
     uint64_t points_ = 0;
 
     ink::Camera camera_, home_;
+    glm::vec3 tracedEye_{NAN};  // where the contours were traced from
     DrawStyle appliedStyle_;
     uint32_t appliedLevels_;
     float toneGamma_;  // what T restores
@@ -228,7 +229,8 @@ Viewer::Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene
             VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
             VK_CHECK(vkCreateSemaphore(ctx.device, &semaphoreInfo, nullptr, &f.acquired));
         }
-        renderer_ = std::make_unique<ink::PointRenderer>(ctx, scene.pointers(), format_.format, kFramesInFlight);
+        renderer_ = std::make_unique<ink::PointRenderer>(ctx, scene.pointers(), format_.format, kFramesInFlight,
+                                                         scene.strokes.get());
         points_ = scene.points();
     } catch (...) {
         release();
@@ -394,12 +396,19 @@ void Viewer::refine() {
     }
     appliedStyle_ = o_.style;
     appliedLevels_ = o_.refine.levels;
-    renderer_ = std::make_unique<ink::PointRenderer>(ctx_, scene_.pointers(), format_.format, kFramesInFlight);
+    renderer_ = std::make_unique<ink::PointRenderer>(ctx_, scene_.pointers(), format_.format, kFramesInFlight,
+                                                     scene_.strokes.get());
+    tracedEye_ = glm::vec3(NAN);
     points_ = scene_.points();
     restyle_ = true;  // the new renderer's style block is empty
 }
 
 void Viewer::record(Frame& f, uint32_t index, bool capture) {
+    // The contour depends on the eye: traced again whenever it moved (docs/lines.md).
+    if (scene_.lines.contours && camera_.eye() != tracedEye_) {
+        scene_.traceContours(camera_);
+        tracedEye_ = camera_.eye();
+    }
     VkCommandBuffer cmd = f.cmd;
     VK_CHECK(vkResetCommandBuffer(cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};

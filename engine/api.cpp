@@ -48,6 +48,13 @@ ink::RenderStyle toStyle(const Look& look) {
     s.light = {look.light[0], look.light[1], look.light[2]};
     s.lightFollowsCamera = look.lightFollowsCamera;
     s.supersample = std::max(1u, look.supersample);
+    s.drawDots = look.dots;
+    if (!(look.penWidth > 0 && look.penWidth <= 32 && look.hatchWidth > 0 && look.hatchWidth <= 32))
+        throw Error("pen widths must be in (0, 32] pixels");
+    if (!(look.halo >= 0 && look.halo <= 32)) throw Error("halo must be in [0, 32] pixels");
+    s.penWidth = look.penWidth;
+    s.hatchWidth = look.hatchWidth;
+    s.haloWidth = look.halo;
     return s;
 }
 
@@ -172,10 +179,42 @@ uint32_t Device::validationErrors() const { return impl_->ctx.validationErrors.l
 
 // ---- Drawing
 
+ink::LineOptions toLines(const DrawingOptions& o) {
+    if (!(o.hatchSpacing >= 0.001f && o.hatchSpacing <= 0.1f))
+        throw Error("hatchSpacing must be in [0.001, 0.1] of the diagonal");
+    if (o.hatchFamilies < 1 || o.hatchFamilies > 2) throw Error("hatchFamilies must be 1 or 2");
+    ink::LineOptions l;
+    l.contours = o.contours;
+    l.hatching = o.hatching;
+    l.hatch.spacing = o.hatchSpacing;
+    l.hatch.families = o.hatchFamilies;
+    return l;
+}
+
+std::vector<Polyline> toPolylines(const std::vector<ink::Stroke>& strokes, const ink::Frame& frame) {
+    std::vector<Polyline> out;
+    for (const ink::Stroke& s : strokes) {
+        Polyline p;
+        p.closed = s.closed;
+        p.family = s.family;
+        p.level = s.level;
+        for (const Eigen::Vector3f& x : s.points) p.points.push_back(toVec3(frame.toInput(x.cast<double>())));
+        out.push_back(std::move(p));
+    }
+    return out;
+}
+
 struct Drawing::Impl {
     ink::Scene scene;
+    glm::vec3 tracedEye{NAN};  // where the contours on the device were traced from
     Impl(ink::Context& ctx, const ink::Model& model, const DrawingOptions& o)
-        : scene(ctx, model, toDrawStyle(o.style), toRefine(o)) {}
+        : scene(ctx, model, toDrawStyle(o.style), toRefine(o), toLines(o)) {}
+    // The contours of the view from `camera`, traced again when the eye moved.
+    void traceFor(const ink::Camera& camera) {
+        if (!scene.lines.contours || camera.eye() == tracedEye) return;
+        scene.traceContours(camera);
+        tracedEye = camera.eye();
+    }
 };
 
 Drawing::Drawing(Device& device, const Model& model, const DrawingOptions& options, const Reporter& reporter) {
@@ -189,7 +228,17 @@ Drawing& Drawing::operator=(Drawing&&) noexcept = default;
 
 void Drawing::refine(const DrawingOptions& options, const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
-    impl_->scene.refine(toDrawStyle(options.style), toRefine(options));
+    impl_->scene.refine(toDrawStyle(options.style), toRefine(options), toLines(options));
+    impl_->tracedEye = glm::vec3(NAN);
+}
+
+std::vector<Polyline> Drawing::hatching() const {
+    return toPolylines(impl_->scene.hatching, impl_->scene.model.hrbf.frame);
+}
+
+std::vector<Polyline> Drawing::contours(const Camera& camera) const {
+    impl_->traceFor(toCamera(camera));
+    return toPolylines(impl_->scene.contours, impl_->scene.model.hrbf.frame);
 }
 
 size_t Drawing::sets() const { return impl_->scene.sets.size(); }
@@ -249,17 +298,18 @@ std::vector<PenLayer> writeVectorDrawing(const std::string& path, const ink::Vec
 }  // namespace
 
 struct Renderer::Impl {
+    Drawing::Impl& drawing;
     ink::OffscreenRenderer renderer;
     ink::RenderStyle style;
-    Impl(ink::Scene& scene, uint32_t width, uint32_t height, const ink::RenderStyle& s)
-        : renderer(scene.ctx, width, height, s, scene.pointers()), style(s) {}
+    Impl(Drawing::Impl& d, uint32_t width, uint32_t height, const ink::RenderStyle& s)
+        : drawing(d), renderer(d.scene.ctx, width, height, s, d.scene.pointers(), d.scene.strokes.get()), style(s) {}
 };
 
 Renderer::Renderer(const Drawing& drawing, uint32_t width, uint32_t height, const Look& look) {
     ink::Scene& scene = drawing.impl().scene;
     ink::RenderStyle style = toStyle(look);
     ink::checkOffscreenSize(scene.ctx, width, height, style.supersample);
-    impl_ = std::make_unique<Impl>(scene, width, height, style);
+    impl_ = std::make_unique<Impl>(drawing.impl(), width, height, style);
 }
 
 Renderer::~Renderer() = default;
@@ -278,6 +328,7 @@ Image Renderer::render(const Camera& camera) {
         impl_->style.up = ink::UpAxis(int(camera.up));
         impl_->renderer.setStyle(impl_->style);
     }
+    impl_->drawing.traceFor(toCamera(camera));
     ink::RgbaImage image = impl_->renderer.render(toCamera(camera));
     return {image.width, image.height, std::move(image.pixels)};
 }
@@ -289,16 +340,16 @@ std::vector<PenLayer> Renderer::writeVector(const std::string& path, const Page&
 }
 
 struct FrameRecorder::Impl {
+    Drawing::Impl& drawing;
     ink::PointRenderer renderer;
     ink::RenderStyle style;
     bool restyle = true;
-    Impl(ink::Scene& scene, VkFormat format, uint32_t frames, const ink::RenderStyle& s)
-        : renderer(scene.ctx, scene.pointers(), format, frames), style(s) {}
+    Impl(Drawing::Impl& d, VkFormat format, uint32_t frames, const ink::RenderStyle& s)
+        : drawing(d), renderer(d.scene.ctx, d.scene.pointers(), format, frames, d.scene.strokes.get()), style(s) {}
 };
 
 FrameRecorder::FrameRecorder(const Drawing& drawing, VkFormat colorFormat, uint32_t framesInFlight, const Look& look) {
-    ink::Scene& scene = drawing.impl().scene;
-    impl_ = std::make_unique<Impl>(scene, colorFormat, std::max(1u, framesInFlight), toStyle(look));
+    impl_ = std::make_unique<Impl>(drawing.impl(), colorFormat, std::max(1u, framesInFlight), toStyle(look));
 }
 
 FrameRecorder::~FrameRecorder() = default;
@@ -322,6 +373,7 @@ void FrameRecorder::record(VkCommandBuffer cmd, const Camera& camera, const Fram
         impl_->renderer.setStyle(cmd, impl_->style, 1.0f);
         impl_->restyle = false;
     }
+    impl_->drawing.traceFor(toCamera(camera));  // waits for the device when the eye moved
     impl_->renderer.recordFrame(cmd, toCamera(camera), target, frame);
 }
 

@@ -35,4 +35,10 @@ VkPipelineLayout createPipelineLayout(Context& ctx, VkDescriptorSetLayout setLay
                                       VkShaderStageFlags pushStages);
 VkPipeline createComputePipeline(Context& ctx, VkPipelineLayout layout, std::span<const uint32_t> spirv);
 
+// A graphics pipeline for dynamic rendering into one colour attachment of `colorFormat`: triangles from the vertex
+// index alone (no vertex input), no culling or depth, alpha blended over the target (occlusion is decided in
+// compute), dynamic viewport and scissor.
+VkPipeline createBlendedPipeline(Context& ctx, VkPipelineLayout layout, VkFormat colorFormat,
+                                 std::span<const uint32_t> vertex, std::span<const uint32_t> fragment);
+
 }  // namespace ink

@@ -16,70 +16,6 @@ namespace ink {
 
 namespace {
 
-VkPipeline createInkPipeline(Context& ctx, VkPipelineLayout layout, VkFormat colorFormat) {
-    VkShaderModule vert = createShaderModule(ctx, spv_ink_vert);
-    VkShaderModule frag = createShaderModule(ctx, spv_ink_frag);
-    VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                                 {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-    stages[0].module = vert;
-    stages[0].pName = "main";
-    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-    stages[1].module = frag;
-    stages[1].pName = "main";
-
-    VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    viewport.viewportCount = 1;
-    viewport.scissorCount = 1;
-    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    raster.polygonMode = VK_POLYGON_MODE_FILL;
-    raster.cullMode = VK_CULL_MODE_NONE;
-    raster.lineWidth = 1.0f;
-    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    // Occlusion was decided per point in stamp.comp; the ink blends over whatever the target holds.
-    VkPipelineColorBlendAttachmentState blendAttachment{};
-    blendAttachment.colorWriteMask =
-        VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-    blendAttachment.blendEnable = VK_TRUE;
-    blendAttachment.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
-    blendAttachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-    blendAttachment.colorBlendOp = VK_BLEND_OP_ADD;
-    blendAttachment.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
-    blendAttachment.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-    blendAttachment.alphaBlendOp = VK_BLEND_OP_ADD;
-    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    blend.attachmentCount = 1;
-    blend.pAttachments = &blendAttachment;
-    VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    dynamic.dynamicStateCount = 2;
-    dynamic.pDynamicStates = dynamicStates;
-    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachmentFormats = &colorFormat;
-
-    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
-    info.stageCount = 2;
-    info.pStages = stages;
-    info.pVertexInputState = &vertexInput;
-    info.pInputAssemblyState = &assembly;
-    info.pViewportState = &viewport;
-    info.pRasterizationState = &raster;
-    info.pMultisampleState = &multisample;
-    info.pColorBlendState = &blend;
-    info.pDynamicState = &dynamic;
-    info.layout = layout;
-    VkPipeline pipeline;
-    VK_CHECK(vkCreateGraphicsPipelines(ctx.device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
-    vkDestroyShaderModule(ctx.device, vert, nullptr);
-    vkDestroyShaderModule(ctx.device, frag, nullptr);
-    return pipeline;
-}
-
 // The spacing the splats must cover: for stippling the finest level's ρ (the densest points); direction
 // sampling makes lines about ρ₀ apart, so its splats must bridge the gaps between lines.
 float splatSpacing(const GpuRefinement& r) {
@@ -116,7 +52,7 @@ struct PointRenderer::Push {
 static_assert(sizeof(glm::mat4) + 4 * sizeof(glm::vec4) == 128, "push constants within the guaranteed 128 bytes");
 
 PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat,
-                             uint32_t framesInFlight)
+                             uint32_t framesInFlight, const StrokeBuffers* strokes)
     : ctx_(ctx), frames_(std::max(1u, framesInFlight)) {
     // A throw half way (out of memory, a lost device) releases what was made: no destructor runs then.
     try {
@@ -156,7 +92,8 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
         layout_ = createPipelineLayout(ctx, frames_.front().descriptors.front().layout, sizeof(Push), kStages);
         splat_ = createComputePipeline(ctx, layout_, spv_splat_comp);
         stamp_ = createComputePipeline(ctx, layout_, spv_stamp_comp);
-        ink_ = createInkPipeline(ctx, layout_, colorFormat);
+        ink_ = createBlendedPipeline(ctx, layout_, colorFormat, spv_ink_vert, spv_ink_frag);
+        if (strokes) lines_ = std::make_unique<LineRenderer>(ctx, *strokes, colorFormat, uint32_t(frames_.size()));
     } catch (...) {
         release();
         throw;
@@ -166,6 +103,7 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
 PointRenderer::~PointRenderer() { release(); }
 
 void PointRenderer::release() {
+    lines_.reset();
     for (VkPipeline p : {splat_, stamp_, ink_}) vkDestroyPipeline(ctx_.device, p, nullptr);
     vkDestroyPipelineLayout(ctx_.device, layout_, nullptr);
     for (Frame& f : frames_) {
@@ -210,7 +148,7 @@ void PointRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pi
     home.up = s.up;
     if (!s.lightFollowsCamera) l = glm::transpose(glm::mat3(home.view())) * l;
     b.light = glm::vec4(l, s.toneGamma);
-    b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, 0.0f, 0.0f, 0.0f);
+    b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.drawDots ? 0.0f : 1.0f, 0.0f, 0.0f);
     b.tone = glm::vec4(s.inkDensity, s.ambient, 1.0f, kMaxDotPixels * pixelScale);
     // A frame still in flight may be reading the block: its reads finish before this write.
     stageBarrier(cmd,
@@ -221,6 +159,7 @@ void PointRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pi
     stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                  VK_ACCESS_2_UNIFORM_READ_BIT);
+    if (lines_) lines_->setStyle(cmd, s, pixelScale);
 }
 
 PointRenderer::Push PointRenderer::push(const Set& s, const Camera& camera, VkExtent2D extent) const {
@@ -256,6 +195,7 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
         f.extent = extent;
         bindDescriptors(f);
     }
+    if (lines_) lines_->sync(frame, f.depth);
     const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     const auto rw = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
     const auto indirect = VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT;
@@ -268,6 +208,7 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
     vkCmdUpdateBuffer(cmd, f.drawn.buffer, 0, sizeof(kNothingDrawn), kNothingDrawn);
     const uint32_t noDots[4] = {0, 1, 1, 0};  // an empty list: no workgroups
     for (const Buffer& dots : f.dots) vkCmdUpdateBuffer(cmd, dots.buffer, 0, sizeof(noDots), noDots);
+    if (lines_) lines_->recordReset(cmd, frame);
     stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute, rw);
     vkCmdResetQueryPool(cmd, f.timestamps, 0, 4);
     vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, f.timestamps, 0);
@@ -291,8 +232,17 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
         bind(k);
         vkCmdDispatchIndirect(cmd, f.dots[k].buffer, 0);
     }
+    if (lines_) {
+        // The pen lines against the same depth, pushed back as the dots are.
+        float pushBack = 0;
+        if (style_.occlusion)
+            for (const Set& s : sets_) pushBack = std::max(pushBack, style_.splatScale * s.splatRadius);
+        glm::mat4 p = camera.projection(float(extent.width) / float(extent.height));
+        lines_->recordCull(cmd, camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]), extent, pushBack, frame);
+    }
     vkCmdWriteTimestamp2(cmd, compute, f.timestamps, 2);
-    stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, graphics, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, graphics | indirect,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
 }
 
 void PointRenderer::draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent, uint32_t frame) const {
@@ -307,6 +257,7 @@ void PointRenderer::draw(VkCommandBuffer cmd, const Camera& camera, VkExtent2D e
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1,
                             &frames_.at(frame).descriptors.front().set, 0, nullptr);
     vkCmdDraw(cmd, 6, 1, 0, 0);
+    if (lines_) lines_->recordDraw(cmd, extent, frame);
 }
 
 void PointRenderer::recordFrame(VkCommandBuffer cmd, const Camera& camera, const FrameTarget& target, uint32_t frame,
@@ -393,6 +344,10 @@ uint32_t PointRenderer::drawnDots(uint32_t frame) const {
     return dots;
 }
 
+std::vector<DrawnSegment> PointRenderer::drawnSegments(StrokeBuffers::Kind kind, uint32_t frame) const {
+    return lines_ ? lines_->drawn(kind, frame) : std::vector<DrawnSegment>{};
+}
+
 std::vector<uint32_t> PointRenderer::drawnPoints(size_t set, uint32_t frame) const {
     vkDeviceWaitIdle(ctx_.device);
     const Buffer& list = frames_.at(frame).dots.at(set);
@@ -453,8 +408,8 @@ VectorDrawing PointRenderer::vectorDrawing(uint32_t frame) const {
 }
 
 OffscreenRenderer::OffscreenRenderer(Context& ctx, uint32_t width, uint32_t height, const RenderStyle& style,
-                                     std::vector<const GpuRefinement*> sets)
-    : ctx_(ctx), factor_(std::max(1u, style.supersample)), renderer_(ctx, std::move(sets), kColorFormat) {
+                                     std::vector<const GpuRefinement*> sets, const StrokeBuffers* strokes)
+    : ctx_(ctx), factor_(std::max(1u, style.supersample)), renderer_(ctx, std::move(sets), kColorFormat, 1, strokes) {
     checkOffscreenSize(ctx, width, height, factor_);
     uint32_t w = width * factor_, h = height * factor_;
     try {

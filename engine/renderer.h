@@ -9,39 +9,16 @@
 #include "image.h"
 #include "pipelines.h"
 #include "refine.h"
+#include "render_style.h"
 #include "resources.h"
 #include "vector.h"
+#include "strokes.h"
 
 #include <glm/glm.hpp>
+#include <memory>
 #include <vector>
 
 namespace ink {
-
-struct RenderStyle {
-    glm::vec4 ink{0.0f, 0.0f, 0.0f, 1.0f};
-    glm::vec4 paper{1.0f, 1.0f, 1.0f, 1.0f};
-    glm::vec4 hiddenInk{0.0f, 0.0f, 0.0f, 0.45f};  // blended over the paper once: a grey line
-    float frontSize = 2.0f;                        // dot diameter in output pixels
-    float silhouetteSize = 2.4f;
-    float hiddenSize = 1.4f;
-    float tau = 0.1f;          // τ of the silhouette test (report §5)
-    bool hiddenLines = false;  // draw occluded silhouettes faint
-    bool occlusion = true;     // the splat depth pre-pass; off: every front-facing dot shows
-    // Towards the light, in view space (x right, y up, z to the viewer) as seen from the default camera. The light
-    // stays fixed to the model as the camera moves (so do the dots tone draws), unless it follows the camera.
-    glm::vec3 light{-0.5f, 0.6f, 0.65f};
-    bool lightFollowsCamera = false;
-    UpAxis up = UpAxis::PosY;  // the default camera's up axis, which a light fixed to the model is given from
-    // Tone: a front dot is drawn when its rank (PointRecord::tone: a selected stipple's rank, a refined point's
-    // fixed random value) is below
-    //   (ambient + (1 − max(0, n·l))^γ) · inkDensity · k,
-    // k scaling the expected ink coverage of fully dark regions to about 60% at any zoom and point count.
-    float toneGamma = 1.5f;  // 0: no tone, every front dot is drawn
-    float inkDensity = 1.0f;
-    float ambient = 0.04f;
-    float splatScale = 2.0f;   // splat radius in units of the finest level's ρ
-    uint32_t supersample = 2;  // offscreen: render this many times larger and filter down
-};
 
 // Matches `Style` in render_common.glsl (std140).
 struct StyleBlock {
@@ -63,8 +40,9 @@ using FrameTarget = inkwell::FrameTarget;
 class PointRenderer {
 public:
     // `colorFormat` is that of the colour attachment draw() renders into (no depth attachment).
+    // `strokes`, when given, are drawn over the dots (and must outlive the renderer).
     PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat,
-                  uint32_t framesInFlight = 1);
+                  uint32_t framesInFlight = 1, const StrokeBuffers* strokes = nullptr);
     ~PointRenderer();
     PointRenderer(const PointRenderer&) = delete;
     PointRenderer& operator=(const PointRenderer&) = delete;
@@ -103,6 +81,8 @@ public:
     // visible silhouette and front dots, and the hidden silhouettes in a layer "hidden" below them; dots in
     // the order of their points, so the same frame gives the same marks.
     VectorDrawing vectorDrawing(uint32_t frame = 0) const;
+    // The pen-line segments of `kind` frame `frame` drew last (waits for the device); none without strokes.
+    std::vector<DrawnSegment> drawnSegments(StrokeBuffers::Kind kind, uint32_t frame = 0) const;
 
 private:
     struct Set {
@@ -133,6 +113,7 @@ private:
     std::vector<Frame> frames_;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
     VkPipeline splat_ = VK_NULL_HANDLE, stamp_ = VK_NULL_HANDLE, ink_ = VK_NULL_HANDLE;
+    std::unique_ptr<LineRenderer> lines_;
 };
 
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
@@ -141,7 +122,7 @@ constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 class OffscreenRenderer {
 public:
     OffscreenRenderer(Context& ctx, uint32_t width, uint32_t height, const RenderStyle& style,
-                      std::vector<const GpuRefinement*> sets);
+                      std::vector<const GpuRefinement*> sets, const StrokeBuffers* strokes = nullptr);
     ~OffscreenRenderer();
     OffscreenRenderer(const OffscreenRenderer&) = delete;
     OffscreenRenderer& operator=(const OffscreenRenderer&) = delete;
@@ -155,6 +136,8 @@ public:
     std::vector<uint32_t> drawnPoints(size_t set) const { return renderer_.drawnPoints(set); }
     // The last frame's marks as vectors, in pixels of the requested width × height (renderer.vectorDrawing).
     VectorDrawing vectorDrawing() const;
+    std::vector<DrawnSegment> drawnSegments(StrokeBuffers::Kind kind) const { return renderer_.drawnSegments(kind); }
+    uint32_t supersample() const { return factor_; }
 
 private:
     FrameTarget target() const;

@@ -9,13 +9,15 @@ const char* drawStyleName(DrawStyle s) {
     return s == DrawStyle::Stipple ? "stipple" : s == DrawStyle::Direction ? "direction" : "both";
 }
 
-Scene::Scene(Context& c, Model m, DrawStyle style, const RefineOptions& options) : ctx(c), model(std::move(m)) {
-    refine(style, options);
+Scene::Scene(Context& c, Model m, DrawStyle style, const RefineOptions& options, const LineOptions& l)
+    : ctx(c), model(std::move(m)) {
+    refine(style, options, l);
 }
 
-void Scene::refine(DrawStyle style, const RefineOptions& options) {
+void Scene::refine(DrawStyle style, const RefineOptions& options, const LineOptions& l) {
     vkDeviceWaitIdle(ctx.device);
     sets.clear();
+    lines = l;
     std::vector<SampleStyle> styles;
     if (style != DrawStyle::Direction) styles.push_back(SampleStyle::Stipple);
     if (style != DrawStyle::Stipple) styles.push_back(SampleStyle::Direction);
@@ -27,6 +29,31 @@ void Scene::refine(DrawStyle style, const RefineOptions& options) {
         runRefinement(ctx, sets.back()->gpu());
     }
     refineSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    samples.clear();
+    hatching.clear();
+    contours.clear();
+    if (!lines.any()) {
+        strokes.reset();
+        return;
+    }
+    start = std::chrono::steady_clock::now();
+    if (!strokes) strokes = std::make_unique<StrokeBuffers>(ctx);
+    for (const PointRecord& p : readDrawnPoints(ctx, sets.front()->gpu()))
+        samples.push_back({Eigen::Vector3d(p.position[0], p.position[1], p.position[2]),
+                           Eigen::Vector3d(p.normal[0], p.normal[1], p.normal[2])});
+    if (lines.hatching) hatching = traceHatching(model.hrbf, samples, lines.hatch, &hatchStats);
+    strokes->set(StrokeBuffers::Hatching, hatching);
+    strokes->set(StrokeBuffers::Contours, {});
+    hatchSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void Scene::traceContours(const Camera& camera) {
+    if (!strokes || !lines.contours) return;
+    glm::vec3 eye = camera.eye();
+    contours =
+        ink::traceContours(model.hrbf, Eigen::Vector3d(eye.x, eye.y, eye.z), samples, lines.contour, &contourStats);
+    strokes->set(StrokeBuffers::Contours, contours);
 }
 
 std::vector<const GpuRefinement*> Scene::pointers() const {

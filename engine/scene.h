@@ -2,8 +2,11 @@
 // embedding application keeps between frames.
 #pragma once
 
+#include "camera.h"
+#include "lines.h"
 #include "model.h"
 #include "refine.h"
+#include "strokes.h"
 
 #include <memory>
 #include <vector>
@@ -14,16 +17,28 @@ namespace ink {
 enum class DrawStyle { Stipple, Direction, Both };
 const char* drawStyleName(DrawStyle style);  // "stipple", "direction", "both"
 
+// Pen lines to trace besides the point sets (docs/lines.md).
+struct LineOptions {
+    bool contours = false;  // the occluding contour, traced for each view (traceContours)
+    bool hatching = false;  // hatching strokes, traced once for the model
+    ContourOptions contour;
+    HatchOptions hatch;
+    bool any() const { return contours || hatching; }
+};
+
 class Scene {
 public:
-    // Refines the model for the style: one submission a set, waited for.
-    Scene(Context& ctx, Model model, DrawStyle style, const RefineOptions& options);
+    // Refines the model for the style: one submission a set, waited for; then traces the hatching.
+    Scene(Context& ctx, Model model, DrawStyle style, const RefineOptions& options, const LineOptions& lines = {});
     Scene(const Scene&) = delete;
     Scene& operator=(const Scene&) = delete;
 
     // Replaces the point sets (new levels, another style); waits for the device to be idle first, since a
     // frame in flight may still read the old ones.
-    void refine(DrawStyle style, const RefineOptions& options);
+    void refine(DrawStyle style, const RefineOptions& options, const LineOptions& lines = {});
+    // Traces the occluding contour seen from `camera` (nothing without LineOptions::contours) and replaces the
+    // contour strokes on the device (waits for it to be idle).
+    void traceContours(const Camera& camera);
     // The sets as the renderer takes them.
     std::vector<const GpuRefinement*> pointers() const;
     // Kept points over all sets (reads the level counts back).
@@ -33,6 +48,13 @@ public:
     Model model;
     std::vector<std::unique_ptr<Refinement>> sets;
     double refineSeconds = 0;  // of the last refine, wall clock
+    LineOptions lines;
+    std::unique_ptr<StrokeBuffers> strokes;  // null without pen lines
+    std::vector<SurfaceSample> samples;      // the first set's points: seeds of the tracing
+    std::vector<Stroke> hatching, contours;
+    HatchStats hatchStats;
+    ContourStats contourStats;
+    double hatchSeconds = 0;  // tracing and upload
 };
 
 }  // namespace ink

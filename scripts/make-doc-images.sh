@@ -25,6 +25,15 @@ $ink -q render assets/bunny.obj --control-points 684 --size 640 640 --hidden-lin
 rsvg-convert -h 640 -b white -o $out/bunny-plot.png "$svg"
 rsvg-convert -z 8 --left=-1900 --top=-2600 --page-width 452 --page-height 640 -b white \
   -o $out/bunny-plot-detail.png "$svg"
+# Pen lines (docs/lines.md): contours alone, hatching (one family), cross-hatching with stipples, and the presets.
+$ink -q render assets/bunny.obj --control-points 684 --style contours --hidden-lines --size 640 640 \
+  -o $out/bunny-contours.png
+$ink -q render assets/bunny.obj --control-points 684 --style contours+hatching --hatch-families 1 --size 640 640 \
+  -o $out/bunny-hatching.png
+$ink -q render assets/bunny.obj --control-points 684 --preset assets/presets/crosshatch-stipple.json --size 640 640 \
+  -o $out/bunny-crosshatch-stipple.png
+$ink -q render assets/bunny.obj --control-points 684 --preset assets/presets/pen.json --size 640 640 \
+  --camera 120,25,1.6 -o $out/bunny-pen.png
 # Refinement levels 0-4 as the report makes them (ρ/3 a level), each level alone, without tone, for stippling
 # and direction sampling.
 for level in 0 1 2 3 4; do

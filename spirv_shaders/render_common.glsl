@@ -13,7 +13,7 @@ layout(std140, binding = 1) uniform Style {
     vec4 light;     // xyz: unit direction towards the light, in view space or (options.x) model space; w: tone
                     // gamma (0: no tone)
     vec4 tone;      // x: ink density, y: ambient darkness, zw: dot diameter range in pixels
-    vec4 options;   // x: 1 when the light is fixed to the model
+    vec4 options;   // x: 1 when the light is fixed to the model; y: 1 = no dots (the points only splat depth)
 } style;
 
 // Per frame and set: the dots that passed class, tone and frustum (splat.comp), for stamp.comp to test for

@@ -89,7 +89,7 @@ void main() {
     if (inFront && cam.splat.x > 0.0 && nv >= -0.2) splat(c, n);
 
     Dot d;
-    bool selected = inFront && selectDot(p, i, c, n, nv, d);
+    bool selected = inFront && style.options.y == 0.0 && selectDot(p, i, c, n, nv, d);
     // Appended a subgroup at a time: one atomic for the slots, one for the dispatch size.
     uvec4 ballot = subgroupBallot(selected);
     uint count = subgroupBallotBitCount(ballot), first = 0u;

@@ -176,3 +176,51 @@ TEST_CASE("api: an adopted device draws into the application's own image what th
     CHECK(bluest > 120);
     gpu.requireNoValidationErrors();
 }
+
+TEST_CASE("api: a drawing's contour is the sphere's circle seen from the eye, and its hatching lies on the surface") {
+    std::vector<inkwell::Vec3> positions, normals;
+    for (const Eigen::Vector3d& p : ink::spherePoints(300, 0.5).positions) {
+        positions.push_back({p.x(), p.y(), p.z()});
+        normals.push_back({p.x(), p.y(), p.z()});
+    }
+    inkwell::Model model = inkwell::Model::fit(positions, normals);
+    inkwell::DeviceOptions validated;
+    validated.validation = true;
+    inkwell::Device device(validated);
+    inkwell::DrawingOptions options;
+    options.levels = 3;
+    options.contours = options.hatching = true;
+    inkwell::Drawing drawing(device, model, options);
+    inkwell::Camera camera;
+    camera.azimuthDeg = 0;  // the eye on +z, 1.6 diagonals (of the sphere's box, √3) away
+    camera.elevationDeg = 0;
+    const double r = 0.5, eye = 1.6 * std::sqrt(3.0);
+    std::vector<inkwell::Polyline> contours = drawing.contours(camera);
+    REQUIRE(contours.size() == 1);  // one closed circle, no cusps
+    CHECK(contours[0].closed);
+    CHECK(contours[0].points.size() > 50);
+    for (const inkwell::Vec3& p : contours[0].points) {
+        // On the sphere, where its tangent plane holds the eye: z = r²/eye (in the fit's accuracy).
+        CHECK(std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) == doctest::Approx(r).epsilon(2e-3));
+        CHECK(p[2] == doctest::Approx(r * r / eye).epsilon(2e-2));
+    }
+    std::vector<inkwell::Polyline> hatching = drawing.hatching();
+    REQUIRE(hatching.size() > 20);
+    size_t families[2] = {0, 0};
+    for (const inkwell::Polyline& s : hatching) {
+        ++families[s.family];
+        for (const inkwell::Vec3& p : s.points) CHECK(std::abs(model.value(p)) < 1e-5);
+    }
+    CHECK(families[0] > 10);
+    CHECK(families[1] > 10);
+    inkwell::Look look;
+    look.dots = false;
+    inkwell::Image image = inkwell::Renderer(drawing, 128, 128, look).render(camera);
+    size_t inked = 0;
+    for (size_t i = 0; i < image.rgba.size(); i += 4) inked += image.rgba[i] < 128;
+    CHECK(inked > 200);  // the circle alone is about 2π·40 pixels of pen
+    look.penWidth = 0;
+    CHECK_THROWS_WITH_AS(inkwell::Renderer(drawing, 128, 128, look), "pen widths must be in (0, 32] pixels",
+                         inkwell::Error);
+    CHECK(device.validationErrors() == 0);
+}

@@ -8,6 +8,7 @@
 #include "model.h"
 #include "refine.h"
 #include "renderer.h"
+#include "scene.h"
 
 #include "run_command.h"
 
@@ -44,6 +45,7 @@ struct GoldenScene {
     ink::SampleStyle style;
     ink::Camera camera;
     bool hiddenLines;
+    bool lines = false;  // with contours and hatching (--style contours+hatching+stipple)
 };
 
 ink::Camera camera(float azimuthDeg, float elevationDeg, float distance) {
@@ -62,6 +64,8 @@ const GoldenScene kBunnyDirection{"bunny-direction",           "assets/bunny.obj
                                   ink::SampleStyle::Direction, camera(-60, 20, 1.5f), false};
 const GoldenScene kTorusHidden{
     "torus-hidden", "tests/golden/torus.pts", 0, 4, ink::SampleStyle::Stipple, camera(20, 20, 1.4f), true};
+const GoldenScene kTorusLines{
+    "torus-lines", "tests/golden/torus.pts", 0, 3, ink::SampleStyle::Stipple, camera(20, 20, 1.4f), true, true};
 
 std::string sourcePath(const std::string& relative) { return std::string(INKWELL_SOURCE_DIR) + "/" + relative; }
 
@@ -258,6 +262,15 @@ ink::RgbaImage renderScene(ink::Context& ctx, const GoldenScene& scene, const Sc
     style.hiddenLines = scene.hiddenLines;
     ink::Camera camera = scene.camera;
     if (change) change(options, style, camera);
+    if (scene.lines) {
+        ink::LineOptions lines;
+        lines.contours = lines.hatching = true;
+        ink::Scene drawing(ctx, std::move(model), ink::DrawStyle::Stipple, options, lines);
+        drawing.traceContours(camera);
+        ink::OffscreenRenderer renderer(ctx, kGoldenSize, kGoldenSize, style, drawing.pointers(),
+                                        drawing.strokes.get());
+        return renderer.render(camera);
+    }
     Refinement refined(ctx, model.hrbf, options);
     ink::OffscreenRenderer renderer(ctx, kGoldenSize, kGoldenSize, style, {&refined.r});
     return renderer.render(camera);
@@ -370,6 +383,8 @@ TEST_CASE("capture: golden bunny-direction (another angle) matches") { checkGold
 
 TEST_CASE("capture: golden torus-hidden (oriented points, hidden lines) matches") { checkGolden(kTorusHidden); }
 
+TEST_CASE("capture: golden torus-lines (contours, hatching and stipples) matches") { checkGolden(kTorusLines); }
+
 TEST_CASE("capture: the hidden lines of the torus are faint added ink that the default tolerance notices") {
     // The grey hidden silhouettes are the smallest feature a golden holds (0.4% of the pixels): if the
     // tolerance let them go, it would let most regressions go.
@@ -409,7 +424,7 @@ TEST_CASE("capture: the drawing comparison passes other seeds' dots and fails br
     // apply it against lavapipe's pictures.
     GpuFixture gpu;
     INFO("rendered on " << gpu.ctx.properties.deviceName);
-    for (const GoldenScene* scene : {&kBunnyStipple, &kBunnyDirection, &kTorusHidden}) {
+    for (const GoldenScene* scene : {&kBunnyStipple, &kBunnyDirection, &kTorusHidden, &kTorusLines}) {
         std::string name = scene->name;
         CAPTURE(name);
         ink::RgbaImage reference = renderScene(gpu.ctx, *scene);
@@ -443,8 +458,12 @@ TEST_CASE("capture: the drawing comparison passes other seeds' dots and fails br
               changed([](ink::RefineOptions&, ink::RenderStyle& s, ink::Camera&) { s.occlusion = false; }), false);
         check("no tone", changed([](ink::RefineOptions&, ink::RenderStyle& s, ink::Camera&) { s.toneGamma = 0; }),
               false);
-        check("dots 25% smaller",
-              changed([](ink::RefineOptions&, ink::RenderStyle& s, ink::Camera&) { s.frontSize *= 0.75f; }), false);
+        check("dots and pens 25% smaller", changed([](ink::RefineOptions&, ink::RenderStyle& s, ink::Camera&) {
+                  s.frontSize *= 0.75f;
+                  s.penWidth *= 0.75f;
+                  s.hatchWidth *= 0.75f;
+              }),
+              false);
         check("light from below",
               changed([](ink::RefineOptions&, ink::RenderStyle& s, ink::Camera&) { s.light.y = -s.light.y; }), false);
 

@@ -190,7 +190,11 @@ TEST_CASE("inputs: a preset's values are checked for type, size and range, namin
         {R"({"passes": 0})", "\"passes\" must be an integer from 1 to 64"},
         {R"({"tau": 1})", "\"tau\" must be in [0, 1)"},
         {R"({"dot_size": "big"})", "\"dot_size\" must be a number"},
-        {R"({"style": "cubist"})", "\"style\" is 'cubist', not one of stipple, direction, both"},
+        {R"({"style": "cubist"})", "\"style\" is 'cubist', not parts of stipple, direction, both, contours, hatching"},
+        {R"({"style": "contours+"})", "\"style\" is 'contours+', not parts of"},
+        {R"({"contour_width": 0})", "\"contour_width\" must be in (0, 32] pixels"},
+        {R"({"hatch_spacing": 0.5})", "\"hatch_spacing\" must be in [0.001, 0.1] of the diagonal"},
+        {R"({"hatch_families": 3})", "\"hatch_families\" must be an integer from 1 to 2"},
         {R"({"ink": "#12345"})", "\"ink\" is '#12345', not a colour"},
         {R"({"hidden_lines": 1})", "\"hidden_lines\" must be true or false"},
         {R"({"shade": 1})", "unknown key 'shade'"},
@@ -218,6 +222,20 @@ TEST_CASE("inputs: --rho, --control-points, --passes and --grid are refused befo
     refused(sample + "--passes 0", {"--passes"}, true);
     refused(sample + "--seeds grid --grid 1", {"--grid 1 must be between 2 and 512"});
     CHECK_FALSE(fs::exists(dir / "out.ply"));
+}
+
+TEST_CASE("inputs: --style parts and pen options are refused before the fit, naming what is wrong") {
+    TempDir dir;
+    const std::string render = "render " + kBunny + " -o " + (dir / "out.png") + " ";
+    refused(render + "--style contours+cubist", {"style 'contours+cubist': 'cubist' is not stipple"});
+    refused(render + "--style stipple+both", {"'both' is not stipple", "at most one of stipple, direction and both"});
+    refused(render + "--style hatching+hatching", {"given twice"});
+    refused(render + "--style contours+", {"style 'contours+' has an empty part"});
+    refused(render + "--style contours --contour-width 0", {"pen widths must be in (0, 32] pixels"});
+    refused(render + "--style hatching --hatch-spacing 0.5", {"--hatch-spacing must be in [0.001, 0.1]"});
+    refused(render + "--style hatching --halo -1", {"--halo must be in [0, 32] pixels"});
+    refused(render + "--style hatching --hatch-families 3", {"--hatch-families"}, true);
+    CHECK_FALSE(fs::exists(dir / "out.png"));
 }
 
 // ---- Item 9: the CPU backend's limit ----------------------------------------------------------------------

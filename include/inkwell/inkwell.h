@@ -143,7 +143,13 @@ enum class Distribution {
 };
 
 struct DrawingOptions {
-    Style style = Style::Stipple;
+    Style style = Style::Stipple;  // the dots (Look::dots turns them off, e.g. for pen lines alone)
+    // Pen lines (docs/lines.md), traced on the CPU: the occluding contour for each view a renderer draws (re-traced
+    // when the eye moves: about 20–60 ms for the 684-point bunny), and hatching strokes once, along the surface.
+    bool contours = false;
+    bool hatching = false;
+    float hatchSpacing = 0.007f;  // of the bounding-box diagonal, the finest level (the coarse one is twice this)
+    uint32_t hatchFamilies = 2;   // 1, or 2 to cross the first in dark tones
     Distribution distribution = Distribution::BlueNoise;
     uint32_t levels = 4;                // refinement levels after the seeds (each about 4× the points)
     float candidatesPerStipple = 4.0f;  // blue noise: keep about one refined point in this many (2..16)
@@ -158,8 +164,18 @@ struct Point {
     uint32_t level;  // the refinement level that made it
 };
 
+struct Camera;  // below
+
+// A stroke of the pen: a polyline on the surface, in the input's units.
+struct Polyline {
+    std::vector<Vec3> points;
+    bool closed = false;  // the last point joins the first
+    uint32_t family = 0;  // hatching: 0 along the field, 1 across it (dark tones)
+    uint32_t level = 0;   // hatching: 0 the coarse spacing, 1 filled in between (darker tones)
+};
+
 // A model's point sets on a device: one for Stipple or Direction, two for Both. Made on the device in one
-// submission a set, waited for (0.9 s for the 684-point bunny on lavapipe).
+// submission a set, waited for (0.9 s for the 684-point bunny on lavapipe), then the hatching traced.
 class Drawing {
 public:
     Drawing(Device& device, const Model& model, const DrawingOptions& options = {}, const Reporter& reporter = {});
@@ -173,6 +189,10 @@ public:
     // The points set `set` draws (reads them back), and the same written as binary PLY with rank and level.
     std::vector<Point> points(size_t set = 0) const;
     void writePly(const std::string& path, size_t set = 0) const;
+    // The hatching strokes (empty without DrawingOptions::hatching), and the occluding contour seen from `camera`
+    // (traced for it; empty without DrawingOptions::contours), in pieces that end at its cusps.
+    std::vector<Polyline> hatching() const;
+    std::vector<Polyline> contours(const Camera& camera) const;
 
     struct Impl;
     Impl& impl() const { return *impl_; }
@@ -204,7 +224,11 @@ struct Look {
     float tau = 0.1f;
     float toneGamma = 1.5f;    // tone curve exponent; 0 draws every front dot
     float inkDensity = 1.0f;   // scales how many dots the tone draws
-    bool hiddenLines = false;  // occluded silhouettes drawn faint
+    bool hiddenLines = false;  // occluded silhouettes and contours drawn faint
+    bool dots = true;          // off: only pen lines are drawn (the dots still hide what is behind the surface)
+    float penWidth = 2.0f;     // contour pen width in output pixels
+    float hatchWidth = 1.0f;   // hatching pen width, tapering at the strokes' ends
+    float halo = 4.0f;         // paper kept clear each side of an interior contour (Brazil et al. 2011)
     // Towards the light, x right, y up, z to the viewer, as seen from the default camera; fixed to the model
     // as the camera moves, unless lightFollowsCamera.
     std::array<float, 3> light{-0.5f, 0.6f, 0.65f};

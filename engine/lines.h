@@ -1,0 +1,84 @@
+// Pen lines on the HRBF surface, traced on the CPU in object space (docs/lines.md): the occluding contour as
+// polylines (Bremer & Hughes 1998), and hatching strokes as evenly spaced streamlines of a direction field
+// (Jobard & Lefer 1997; Hertzmann & Zorin 2000). The device decides each frame which pieces show (lines.comp).
+// No Vulkan here.
+#pragma once
+
+#include "hrbf.h"
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+namespace ink {
+
+// A point on f = 0 and its unit normal: what the tracing is seeded from (the refined or selected points).
+struct SurfaceSample {
+    Eigen::Vector3d position, normal;
+};
+
+// A polyline on the surface, in normalized coordinates.
+struct Stroke {
+    std::vector<Eigen::Vector3f> points;
+    std::vector<Eigen::Vector3f> normals;  // unit ∇f at each point
+    bool closed = false;                   // the last point joins the first
+    uint32_t curve = 0;    // contours: the traced closed curve it is a piece of (pieces end at cusps)
+    uint32_t family = 0;   // hatching: 0 along the field, 1 across it (the crossing strokes of dark tones)
+    uint32_t level = 0;    // hatching: 0 traced at twice the spacing, 1 filled in between (darker tones)
+    double length() const;
+};
+
+// ---- Occluding contour ------------------------------------------------------------------------------------
+// The curve where f = 0 and g = ∇f·(p − eye) = 0, traced by predictor–corrector steps: a step of `step` along
+// t = ∇f × ∇g (∇g = H (p − eye) + ∇f, H the Hessian of f), then Newton steps onto both equations (the
+// minimum-norm correction Δ = −Jᵀ(JJᵀ)⁻¹(f, g), J = [∇f; ∇g]). Each curve is traced until it closes, and split
+// at its cusps (where its image reverses: the tangent's component along n × v changes sign).
+struct ContourOptions {
+    // Predictor step, normalized units (the diagonal is 1): about 2.6 pixels at the default 1024² view; twice this
+    // where the curve runs straight, down to a sixteenth where it turns.
+    double step = 0.003;
+    double seedBand = 0.12;         // samples with |n·v| below this (v the unit view vector) seed curves
+    uint32_t maxVertices = 100000;  // per curve
+};
+
+struct ContourStats {
+    size_t seedsTried = 0, curves = 0, closedCurves = 0, pieces = 0, cusps = 0, vertices = 0;
+    double seconds = 0;
+};
+
+// `eye` in normalized coordinates. Pieces come out in tracing order; a closed curve without cusps is one
+// closed stroke.
+std::vector<Stroke> traceContours(const Hrbf& hrbf, const Eigen::Vector3d& eye,
+                                  const std::vector<SurfaceSample>& seeds, const ContourOptions& options = {},
+                                  ContourStats* stats = nullptr);
+
+// Corrects x onto the contour (f = 0, g = 0) by Newton steps; false when it does not converge.
+bool projectToContour(const Hrbf& hrbf, const Eigen::Vector3d& eye, Eigen::Vector3d& x);
+
+// ---- Hatching ------------------------------------------------------------------------------------------------
+// The field is the tangent projection of an axis, d = a − (a·n)n, and for the crossing family n × d: smooth
+// everywhere but at the two poles where n ∥ a (strokes end there). docs/lines.md says why not principal directions.
+struct HatchOptions {
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitY();
+    double spacing = 0.007;   // separation of the finest level, normalized units: about 6 pixels at the default view
+    double testRatio = 0.6;   // a stroke stops closer than this × its separation to another (d_test / d_sep)
+    uint32_t families = 2;    // 1: no crossing strokes
+    uint32_t levels = 2;      // level k is traced at spacing · 2^(levels − 1 − k)
+    double minLengthRatio = 3.0;  // strokes shorter than this × their separation are dropped
+};
+
+struct HatchStats {
+    size_t strokes = 0, vertices = 0;
+    double length = 0;  // normalized units
+    double seconds = 0;
+};
+
+// Streamlines of the field on f = 0 (Euler steps of spacing/2, each projected back onto the surface by Newton
+// steps along ∇f), seeded à la Jobard & Lefer: beside every accepted stroke at the separation, then from the
+// samples for what those do not reach; a stroke ends where the field vanishes or turns sharply, where it comes
+// closer than d_test to another stroke of its family (tested against a spatial hash), or where it closes.
+// Families are traced in parallel, each on its own thread.
+std::vector<Stroke> traceHatching(const Hrbf& hrbf, const std::vector<SurfaceSample>& samples,
+                                  const HatchOptions& options = {}, HatchStats* stats = nullptr);
+
+}  // namespace ink

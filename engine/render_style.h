@@ -1,0 +1,47 @@
+// How a frame is drawn: colours, dot and pen sizes, tone, light (renderer.h draws it, strokes.h its pen lines).
+#pragma once
+
+#include "camera.h"
+
+#include <glm/glm.hpp>
+#include <cstdint>
+
+namespace ink {
+
+struct RenderStyle {
+    glm::vec4 ink{0.0f, 0.0f, 0.0f, 1.0f};
+    glm::vec4 paper{1.0f, 1.0f, 1.0f, 1.0f};
+    glm::vec4 hiddenInk{0.0f, 0.0f, 0.0f, 0.45f};  // blended over the paper once: a grey line
+    float frontSize = 2.0f;                        // dot diameter in output pixels
+    float silhouetteSize = 2.4f;
+    float hiddenSize = 1.4f;
+    float tau = 0.1f;          // τ of the silhouette test (report §5)
+    bool hiddenLines = false;  // draw occluded silhouettes faint
+    bool occlusion = true;     // the splat depth pre-pass; off: every front-facing dot shows
+    // Towards the light, in view space (x right, y up, z to the viewer) as seen from the default camera. The light
+    // stays fixed to the model as the camera moves (so do the dots tone draws), unless it follows the camera.
+    glm::vec3 light{-0.5f, 0.6f, 0.65f};
+    bool lightFollowsCamera = false;
+    UpAxis up = UpAxis::PosY;  // the default camera's up axis, which a light fixed to the model is given from
+    // Tone: a front dot is drawn when its rank (PointRecord::tone: a selected stipple's rank, a refined point's
+    // fixed random value) is below
+    //   (ambient + (1 − max(0, n·l))^γ) · inkDensity · k,
+    // k scaling the expected ink coverage of fully dark regions to about 60% at any zoom and point count.
+    float toneGamma = 1.5f;  // 0: no tone, every front dot is drawn
+    float inkDensity = 1.0f;
+    float ambient = 0.04f;
+    float splatScale = 2.0f;   // splat radius in units of the finest level's ρ
+    bool drawDots = true;      // off: the point sets only give the depth the pen lines are tested against
+    // Pen lines (strokes.h, docs/lines.md), widths in output pixels.
+    float penWidth = 2.0f;        // visible contours
+    float hiddenPenWidth = 1.2f;  // hidden contours (with hiddenLines, in hiddenInk)
+    float hatchWidth = 1.0f;      // hatching, tapering at the ends
+    float haloWidth = 4.0f;       // paper kept clear on each side of an interior contour, beyond its pen
+    // The darkness (ambient + (1 − max(0, n·l))^γ) · inkDensity from which each hatching family and level shows:
+    // (along, coarse), (along, fine), (across, coarse), (across, fine).
+    glm::vec4 hatchThresholds{0.25f, 0.45f, 0.65f, 0.85f};
+    float hatchMinFacing = 0.1f;  // hatching where |n·v| is below this is not drawn (foreshortened strokes)
+    uint32_t supersample = 2;  // offscreen: render this many times larger and filter down
+};
+
+}  // namespace ink

@@ -1,0 +1,273 @@
+#include "strokes.h"
+
+#include "render_style.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "line.frag.h"
+#include "line.vert.h"
+#include "lines.comp.h"
+
+namespace ink {
+
+namespace {
+
+constexpr VkShaderStageFlags kStages =
+    VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+constexpr uint32_t kGroup = 256;
+constexpr uint32_t kTexelsPerSegment = 3;
+constexpr VkDeviceSize kSegmentBytes = kTexelsPerSegment * 16;
+constexpr VkDeviceSize kDrawSegmentBytes = 32;  // DrawSegment in lines_common.glsl
+constexpr float kTaper = 0.02f;                 // hatching tapers over this much at each end (model units)
+
+// Matches `LineStyle` in lines_common.glsl (std140).
+struct LineStyleBlock {
+    glm::vec4 ink, hiddenInk, paper, widths, thresholds, light, tone, options;
+};
+
+float floatOf(uint32_t u) {
+    float f;
+    std::memcpy(&f, &u, 4);
+    return f;
+}
+
+}  // namespace
+
+std::vector<float> segmentTexels(const std::vector<Stroke>& strokes, bool hatching) {
+    std::vector<float> out;
+    for (const Stroke& s : strokes) {
+        const size_t m = s.points.size();
+        if (m < 2) continue;
+        std::vector<float> arc(m, 0.0f);
+        for (size_t i = 1; i < m; ++i) arc[i] = arc[i - 1] + (s.points[i] - s.points[i - 1]).norm();
+        const float length = arc.back(), taper = std::min(kTaper, 0.3f * length);
+        auto width = [&](size_t i) {
+            if (!hatching || s.closed) return 1.0f;
+            return 0.25f + 0.75f * std::min(1.0f, std::min(arc[i], length - arc[i]) / taper);
+        };
+        const uint32_t kind = hatching ? 1u | (s.family & 1u) << 1 | (s.level & 1u) << 2 : 0u;
+        const size_t segments = m - 1 + (s.closed ? 1 : 0);
+        for (size_t i = 0; i < segments; ++i) {
+            size_t j = (i + 1) % m;
+            Eigen::Vector3f n = (s.normals[i] + s.normals[j]).normalized();
+            const float texels[12] = {s.points[i].x(), s.points[i].y(), s.points[i].z(), width(i),
+                                      s.points[j].x(), s.points[j].y(), s.points[j].z(), width(j),
+                                      n.x(),           n.y(),           n.z(),           floatOf(kind)};
+            out.insert(out.end(), texels, texels + 12);
+        }
+    }
+    return out;
+}
+
+std::vector<uint32_t> segmentStrokes(const std::vector<Stroke>& strokes) {
+    std::vector<uint32_t> out;
+    for (uint32_t k = 0; k < strokes.size(); ++k) {
+        const size_t m = strokes[k].points.size();
+        if (m >= 2) out.insert(out.end(), m - 1 + (strokes[k].closed ? 1 : 0), k);
+    }
+    return out;
+}
+
+StrokeBuffers::StrokeBuffers(Context& ctx) : ctx_(ctx) {
+    try {
+        set(Contours, {});
+        set(Hatching, {});
+    } catch (...) {
+        release();
+        throw;
+    }
+}
+
+StrokeBuffers::~StrokeBuffers() { release(); }
+
+void StrokeBuffers::release() {
+    for (Segments& s : segments_) {
+        vkDestroyBufferView(ctx_.device, s.view, nullptr);
+        destroyBuffer(ctx_, s.buffer);
+    }
+}
+
+void StrokeBuffers::set(Kind kind, const std::vector<Stroke>& strokes) {
+    std::vector<float> texels = segmentTexels(strokes, kind == Hatching);
+    const uint32_t count = uint32_t(texels.size() / (4 * kTexelsPerSegment));
+    Segments& s = segments_[kind];
+    vkDeviceWaitIdle(ctx_.device);  // a frame in flight may read the old segments
+    if (count > s.capacity || !s.buffer.buffer) {
+        vkDestroyBufferView(ctx_.device, s.view, nullptr);
+        s.view = VK_NULL_HANDLE;
+        destroyBuffer(ctx_, s.buffer);
+        s.capacity = std::max(count, 1024u);
+        s.buffer = createBuffer(ctx_, s.capacity * kSegmentBytes,
+                                VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                MemoryUse::Device);
+        VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+        info.buffer = s.buffer.buffer;
+        info.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+        info.range = VK_WHOLE_SIZE;
+        VK_CHECK(vkCreateBufferView(ctx_.device, &info, nullptr, &s.view));
+    }
+    uploadBuffer(ctx_, s.buffer, texels.data(), texels.size() * sizeof(float));
+    s.count = count;
+    ++s.generation;
+}
+
+LineRenderer::LineRenderer(Context& ctx, const StrokeBuffers& strokes, VkFormat colorFormat, uint32_t framesInFlight)
+    : ctx_(ctx), strokes_(strokes), frames_(std::max(1u, framesInFlight)) {
+    try {
+        styleBuffer_ = createBuffer(ctx, sizeof(LineStyleBlock),
+                                    VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                    MemoryUse::Device);
+        // The set layout every frame's sets share (created alike, hence compatible).
+        VkDescriptorSetLayoutBinding bindings[4] = {
+            {0, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, kStages, nullptr},
+            {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
+            {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, kStages, nullptr},
+            {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr}};
+        VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        info.bindingCount = 4;
+        info.pBindings = bindings;
+        VK_CHECK(vkCreateDescriptorSetLayout(ctx.device, &info, nullptr, &setLayout_));
+        layout_ = createPipelineLayout(ctx, setLayout_, sizeof(Push), kStages);
+        cull_ = createComputePipeline(ctx, layout_, spv_lines_comp);
+        draw_ = createBlendedPipeline(ctx, layout_, colorFormat, spv_line_vert, spv_line_frag);
+    } catch (...) {
+        release();
+        throw;
+    }
+}
+
+LineRenderer::~LineRenderer() { release(); }
+
+void LineRenderer::release() {
+    for (Frame& f : frames_)
+        for (List& l : f.lists) {
+            destroyDescriptorSet(ctx_, l.descriptors);
+            destroyBuffer(ctx_, l.buffer);
+        }
+    frames_.clear();
+    vkDestroyPipeline(ctx_.device, cull_, nullptr);
+    vkDestroyPipeline(ctx_.device, draw_, nullptr);
+    vkDestroyPipelineLayout(ctx_.device, layout_, nullptr);
+    vkDestroyDescriptorSetLayout(ctx_.device, setLayout_, nullptr);
+    destroyBuffer(ctx_, styleBuffer_);
+    cull_ = draw_ = VK_NULL_HANDLE;
+    layout_ = VK_NULL_HANDLE;
+    setLayout_ = VK_NULL_HANDLE;
+}
+
+void LineRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pixelScale) {
+    pixelScale_ = pixelScale;
+    LineStyleBlock b{};
+    b.ink = s.ink;
+    b.hiddenInk = s.hiddenInk;
+    b.paper = s.paper;
+    b.widths = glm::vec4(s.penWidth, s.hiddenPenWidth, s.hatchWidth, s.haloWidth) * pixelScale;
+    b.thresholds = s.hatchThresholds;
+    glm::vec3 l = glm::length(s.light) > 0 ? glm::normalize(s.light) : glm::vec3(0, 0, 1);
+    Camera home;
+    home.up = s.up;
+    if (!s.lightFollowsCamera) l = glm::transpose(glm::mat3(home.view())) * l;
+    b.light = glm::vec4(l, s.toneGamma);
+    b.tone = glm::vec4(s.inkDensity, s.ambient, s.hatchMinFacing, 0.0f);
+    b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.hiddenLines ? 1.0f : 0.0f, 0.0f, 0.0f);
+    stageBarrier(cmd,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
+                     VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                 0, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    vkCmdUpdateBuffer(cmd, styleBuffer_.buffer, 0, sizeof(b), &b);
+    stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
+                     VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                 VK_ACCESS_2_UNIFORM_READ_BIT);
+}
+
+void LineRenderer::sync(uint32_t frame, const Buffer& depth) {
+    Frame& f = frames_.at(frame);
+    for (int kind = 0; kind < 2; ++kind) {
+        List& l = f.lists[kind];
+        const StrokeBuffers::Segments& s = strokes_.segments(StrokeBuffers::Kind(kind));
+        if (l.generation == s.generation && l.depth == depth.buffer) continue;
+        vkDeviceWaitIdle(ctx_.device);  // this frame slot's last use may still read the list and its set
+        const VkDeviceSize bytes = 16 + kDrawSegmentBytes * std::max(1u, s.capacity);
+        if (!l.buffer.buffer || l.buffer.size < bytes) {
+            destroyBuffer(ctx_, l.buffer);
+            l.buffer = createBuffer(ctx_, bytes,
+                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                    MemoryUse::Device);
+        }
+        destroyDescriptorSet(ctx_, l.descriptors);
+        l.descriptors = createDescriptorSet(ctx_,
+                                            {{0, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1, 0, 0, s.view},
+                                             {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, l.buffer.buffer},
+                                             {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer},
+                                             {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depth.buffer}},
+                                            kStages);
+        l.generation = s.generation;
+        l.depth = depth.buffer;
+    }
+}
+
+void LineRenderer::recordReset(VkCommandBuffer cmd, uint32_t frame) {
+    const uint32_t empty[4] = {6, 0, 0, 0};  // VkDrawIndirectCommand: no instances
+    for (List& l : frames_.at(frame).lists) vkCmdUpdateBuffer(cmd, l.buffer.buffer, 0, sizeof(empty), empty);
+}
+
+void LineRenderer::recordCull(VkCommandBuffer cmd, const glm::mat4& view, const glm::vec4& projection,
+                              VkExtent2D extent, float pushBack, uint32_t frame) {
+    Frame& f = frames_.at(frame);
+    f.push = Push{view, projection,
+                  glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
+                  glm::vec4(pushBack, pixelScale_, 0, 0), glm::uvec4(0)};
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, cull_);
+    for (int kind = 0; kind < 2; ++kind) {
+        const uint32_t count = strokes_.segments(StrokeBuffers::Kind(kind)).count;
+        if (count == 0) continue;
+        Push p = f.push;
+        p.counts = glm::uvec4(count, 0, 0, 0);
+        vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(p), &p);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &f.lists[kind].descriptors.set, 0,
+                                nullptr);
+        vkCmdDispatch(cmd, (count + kGroup - 1) / kGroup, 1, 1);
+    }
+}
+
+void LineRenderer::recordDraw(VkCommandBuffer cmd, VkExtent2D, uint32_t frame) const {
+    const Frame& f = frames_.at(frame);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, draw_);
+    // Hatching, then hidden contours, the halos of interior contours and the visible contours over them.
+    const std::pair<int, uint32_t> passes[4] = {{StrokeBuffers::Hatching, 0u},
+                                                {StrokeBuffers::Contours, 1u},
+                                                {StrokeBuffers::Contours, 2u},
+                                                {StrokeBuffers::Contours, 3u}};
+    for (auto [kind, mode] : passes) {
+        if (strokes_.segments(StrokeBuffers::Kind(kind)).count == 0) continue;
+        Push p = f.push;
+        p.counts = glm::uvec4(0, mode, 0, 0);
+        vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(p), &p);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &f.lists[kind].descriptors.set, 0,
+                                nullptr);
+        vkCmdDrawIndirect(cmd, f.lists[kind].buffer.buffer, 0, 1, 16);
+    }
+}
+
+std::vector<DrawnSegment> LineRenderer::drawn(StrokeBuffers::Kind kind, uint32_t frame) const {
+    vkDeviceWaitIdle(ctx_.device);
+    const List& l = frames_.at(frame).lists[kind];
+    uint32_t header[4] = {};
+    downloadBuffer(ctx_, l.buffer, 0, header, sizeof(header));
+    std::vector<DrawnSegment> out(header[1]);
+    static_assert(sizeof(DrawnSegment) == kDrawSegmentBytes);
+    std::vector<uint32_t> raw(8 * size_t(header[1]));
+    if (!raw.empty()) downloadBuffer(ctx_, l.buffer, 16, raw.data(), raw.size() * 4);
+    for (size_t i = 0; i < out.size(); ++i) {
+        const uint32_t* r = &raw[8 * i];
+        out[i] = {{floatOf(r[0]), floatOf(r[1])}, {floatOf(r[2]), floatOf(r[3])}, {floatOf(r[4]), floatOf(r[5])}, r[6],
+                  r[7]};
+    }
+    return out;
+}
+
+}  // namespace ink

@@ -1,0 +1,113 @@
+// Pen lines on the device (docs/lines.md): the traced strokes (lines.h) as segments fixed in object space, and
+// the per-frame passes that draw them. lines.comp decides per segment what shows — against the splat depth grid
+// the dots' pass built, and by tone for hatching — into a draw list; line.vert/line.frag draw the list as
+// antialiased capsules in one graphics pass: hatching, hidden contours, the halos of interior contours (paper),
+// then the visible contours.
+#pragma once
+
+#include "lines.h"
+#include "pipelines.h"
+#include "resources.h"
+
+#include <glm/glm.hpp>
+#include <vector>
+
+namespace ink {
+
+struct RenderStyle;
+
+// The strokes of a drawing on the device: hatching (fixed for the model) and contours (traced for a view, and
+// replaced when the view changes). Each replacement waits for the device to be idle.
+class StrokeBuffers {
+public:
+    explicit StrokeBuffers(Context& ctx);  // both empty
+    ~StrokeBuffers();
+    StrokeBuffers(const StrokeBuffers&) = delete;
+    StrokeBuffers& operator=(const StrokeBuffers&) = delete;
+
+    enum Kind { Contours = 0, Hatching = 1 };
+    void set(Kind kind, const std::vector<Stroke>& strokes);
+
+    struct Segments {
+        Buffer buffer;
+        VkBufferView view = VK_NULL_HANDLE;
+        uint32_t count = 0;
+        uint32_t capacity = 0;
+        uint64_t generation = 0;  // changes whenever buffer or count change
+    };
+    const Segments& segments(Kind kind) const { return segments_[kind]; }
+
+private:
+    void release();
+    Context& ctx_;
+    Segments segments_[2];
+};
+
+// A segment that showed in a frame (tests, statistics): its ends in pixels, whether it was visible, hidden or an
+// interior contour (the bits of lines_common.glsl), and its index among the traced segments (segmentTexels order).
+struct DrawnSegment {
+    glm::vec2 a, b;
+    glm::vec2 halfWidths;  // pixels
+    uint32_t flags;
+    uint32_t segment;
+};
+constexpr uint32_t kSegmentVisible = 1, kSegmentHidden = 2, kSegmentInterior = 4;
+
+// The per-frame side, owned by PointRenderer.
+class LineRenderer {
+public:
+    LineRenderer(Context& ctx, const StrokeBuffers& strokes, VkFormat colorFormat, uint32_t framesInFlight);
+    ~LineRenderer();
+    LineRenderer(const LineRenderer&) = delete;
+    LineRenderer& operator=(const LineRenderer&) = delete;
+
+    void setStyle(VkCommandBuffer cmd, const RenderStyle& style, float pixelScale);
+    // Host side, before recording frame `frame`: (re)binds its lists to the strokes and the frame's depth grid,
+    // waiting for the device when they changed.
+    void sync(uint32_t frame, const Buffer& depth);
+    // In the transfer phase of the frame (after the barrier that follows its previous use): empties its lists.
+    void recordReset(VkCommandBuffer cmd, uint32_t frame);
+    // After the depth grid is complete: lines.comp over every segment. `pushBack` in model units.
+    void recordCull(VkCommandBuffer cmd, const glm::mat4& view, const glm::vec4& projection, VkExtent2D extent,
+                    float pushBack, uint32_t frame);
+    // Inside the rendering pass, after the dots.
+    void recordDraw(VkCommandBuffer cmd, VkExtent2D extent, uint32_t frame) const;
+    // The segments of `kind` frame `frame` drew last (waits for the device).
+    std::vector<DrawnSegment> drawn(StrokeBuffers::Kind kind, uint32_t frame = 0) const;
+
+private:
+    struct Push {
+        glm::mat4 view;
+        glm::vec4 projection, viewport, params;
+        glm::uvec4 counts;
+    };
+    struct List {
+        Buffer buffer;
+        DescriptorSet descriptors;
+        uint64_t generation = ~uint64_t(0);
+        VkBuffer depth = VK_NULL_HANDLE;
+    };
+    struct Frame {
+        List lists[2];
+        Push push{};
+    };
+    void release();
+
+    Context& ctx_;
+    const StrokeBuffers& strokes_;
+    std::vector<Frame> frames_;
+    Buffer styleBuffer_;
+    float pixelScale_ = 1.0f;
+    VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;  // a throwaway set's, for the pipeline layout
+    DescriptorSet layoutSet_;
+    VkPipelineLayout layout_ = VK_NULL_HANDLE;
+    VkPipeline cull_ = VK_NULL_HANDLE, draw_ = VK_NULL_HANDLE;
+};
+
+// Segments of strokes as the device reads them: three RGBA32F texels each (lines_common.glsl). Hatching
+// strokes taper over their last `taper` (model units) at both ends.
+std::vector<float> segmentTexels(const std::vector<Stroke>& strokes, bool hatching);
+// The stroke each segment of segmentTexels belongs to.
+std::vector<uint32_t> segmentStrokes(const std::vector<Stroke>& strokes);
+
+}  // namespace ink

@@ -1,0 +1,373 @@
+// Pen lines (lines.h): the traced occluding contour of a fitted torus against the analytic one, and hatching.
+#include "camera.h"
+#include "lines.h"
+#include "model.h"
+#include "shapes.h"
+
+#include <doctest/doctest.h>
+
+#include <glm/glm.hpp>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+using Eigen::Vector3d;
+
+namespace {
+
+constexpr double kR = 0.3, kr = 0.1;  // torusPoints' default radii (input units), around the z axis
+
+const ink::Model& torus() {
+    static const ink::Model model = ink::fitModel(ink::torusPoints(48, 16, kR, kr), {});
+    return model;
+}
+
+// Samples of the analytic torus, in the model's normalized coordinates.
+std::vector<ink::SurfaceSample> torusSamples(const ink::Model& m, int nu, int nv) {
+    std::vector<ink::SurfaceSample> s;
+    for (int i = 0; i < nu; ++i)
+        for (int j = 0; j < nv; ++j) {
+            double u = 2 * M_PI * (i + 0.5) / nu, v = 2 * M_PI * (j + 0.25) / nv;
+            Vector3d c(std::cos(u), std::sin(u), 0), n = std::cos(v) * c + std::sin(v) * Vector3d::UnitZ();
+            s.push_back({m.hrbf.frame.toNormalized(kR * c + kr * n), n});
+        }
+    return s;
+}
+
+struct Projector {
+    glm::mat4 viewProjection;
+    double size;
+    Eigen::Vector2d operator()(const Vector3d& x) const {
+        glm::vec4 c = viewProjection * glm::vec4(float(x.x()), float(x.y()), float(x.z()), 1.0f);
+        return {(c.x / c.w * 0.5 + 0.5) * size, (c.y / c.w * 0.5 + 0.5) * size};
+    }
+};
+
+// The outer boundary of a set of image points as the largest radius about `centre` in each of `bins` angles.
+struct Outline {
+    Eigen::Vector2d centre;
+    std::vector<double> radius;
+    std::vector<int> owner;  // which polyline gave the largest radius
+    Outline(Eigen::Vector2d c, int bins) : centre(c), radius(bins, -1.0), owner(bins, -1) {}
+    void add(const Eigen::Vector2d& p, int who) {
+        Eigen::Vector2d d = p - centre;
+        int bin = int(std::floor((std::atan2(d.y(), d.x()) + M_PI) / (2 * M_PI) * double(radius.size())));
+        bin = std::clamp(bin, 0, int(radius.size()) - 1);
+        if (d.norm() > radius[bin]) radius[bin] = d.norm(), owner[bin] = who;
+    }
+};
+
+}  // namespace
+
+TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of the analytic one, in few pieces") {
+    const ink::Model& m = torus();
+    const double scale = m.hrbf.frame.scale;
+    const Vector3d centre = m.hrbf.frame.toNormalized(Vector3d::Zero());
+    for (float elevation : {15.0f, 50.0f}) {
+        CAPTURE(elevation);
+        ink::Camera camera;
+        camera.elevationDeg = elevation;
+        glm::vec3 eyeF = camera.eye();
+        const Vector3d eye(eyeF.x, eyeF.y, eyeF.z);
+        ink::ContourStats stats;
+        std::vector<ink::Stroke> pieces = ink::traceContours(m.hrbf, eye, torusSamples(m, 96, 32), {}, &stats);
+        REQUIRE(!pieces.empty());
+        // Every traced point is on both equations.
+        for (const ink::Stroke& s : pieces)
+            for (const Eigen::Vector3f& p : s.points) {
+                Vector3d x = p.cast<double>(), g;
+                double f = m.hrbf.eval(x, g);
+                CHECK(std::abs(f) / g.norm() < 1e-6);
+                CHECK(std::abs(g.normalized().dot((x - eye).normalized())) < 1e-4);
+            }
+        // Every traced curve closed, each in at most 4 pieces (cut at cusps), and no curve was traced twice: a torus
+        // has at most 2 contour curves seen from outside its hole's axis.
+        std::map<uint32_t, int> piecesOfCurve;
+        for (const ink::Stroke& s : pieces) ++piecesOfCurve[s.curve];
+        CHECK(stats.closedCurves == stats.curves);
+        CHECK(stats.curves <= 2);
+        for (auto [curve, count] : piecesOfCurve) CHECK(count <= 4);
+
+        const double size = 1024;
+        Projector project{camera.projection(1.0f) * camera.view(), size};
+        // The analytic contour: per meridian angle u, the roots in v of n(u, v)·(q(u, v) − eye) = 0, normalized.
+        Outline analytic(project(centre), 2048), traced(project(centre), 2048);
+        auto point = [&](double u, double v, Vector3d* normal = nullptr) {
+            Vector3d c(std::cos(u), std::sin(u), 0), n = std::cos(v) * c + std::sin(v) * Vector3d::UnitZ();
+            if (normal) *normal = n;
+            return Vector3d(centre + scale * (kR * c + kr * n));
+        };
+        auto g = [&](double u, double v) {
+            Vector3d n, q = point(u, v, &n);
+            return n.dot(q - eye);
+        };
+        const int nu = 8192, nv = 256;
+        for (int i = 0; i < nu; ++i) {
+            double u = 2 * M_PI * i / nu;
+            for (int j = 0; j < nv; ++j) {
+                double v0 = 2 * M_PI * j / nv, v1 = 2 * M_PI * (j + 1) / nv;
+                if ((g(u, v0) < 0) == (g(u, v1) < 0)) continue;
+                for (int k = 0; k < 40; ++k) {
+                    double mid = 0.5 * (v0 + v1);
+                    ((g(u, mid) < 0) == (g(u, v0) < 0) ? v0 : v1) = mid;
+                }
+                analytic.add(project(point(u, 0.5 * (v0 + v1))), 0);
+            }
+        }
+        for (size_t k = 0; k < pieces.size(); ++k) {
+            const auto& pts = pieces[k].points;
+            size_t segments = pts.size() - 1 + (pieces[k].closed ? 1 : 0);
+            for (size_t i = 0; i < segments; ++i) {
+                Eigen::Vector2d a = project(pts[i].cast<double>()), b = project(pts[(i + 1) % pts.size()].cast<double>());
+                int steps = std::max(1, int(std::ceil((b - a).norm() / 0.25)));
+                for (int t = 0; t <= steps; ++t) traced.add(a + (b - a) * (double(t) / steps), int(k));
+            }
+        }
+        size_t within = 0, bins = 0;
+        std::set<int> outerPieces;
+        for (size_t b = 0; b < analytic.radius.size(); ++b) {
+            if (analytic.radius[b] < 0) continue;
+            ++bins;
+            if (traced.radius[b] >= 0 && std::abs(traced.radius[b] - analytic.radius[b]) <= 1.0) ++within;
+            if (traced.owner[b] >= 0) outerPieces.insert(traced.owner[b]);
+        }
+        CHECK(bins > 2000 * 0.99);
+        CHECK(double(within) >= 0.99 * double(bins));
+        CHECK(outerPieces.size() <= 4);
+        MESSAGE("elevation " << elevation << ": " << stats.curves << " curves, " << pieces.size() << " pieces, "
+                             << stats.cusps << " cusps, " << stats.vertices << " vertices, " << within << "/" << bins
+                             << " bins within 1 px, " << stats.seconds * 1000 << " ms");
+    }
+}
+
+// ---- On the device ----------------------------------------------------------------------------------------------
+
+#include "gpu_fixture.h"
+#include "renderer.h"
+#include "scene.h"
+
+namespace {
+
+// Distance from p to segment ab.
+double segmentDistance(const Vector3d& p, const Vector3d& a, const Vector3d& b) {
+    Vector3d d = b - a;
+    double t = std::clamp((p - a).dot(d) / std::max(d.squaredNorm(), 1e-30), 0.0, 1.0);
+    return (p - (a + t * d)).norm();
+}
+
+// For points along the strokes, the distance to the nearest other stroke of the same family on the same side of
+// the surface: the spacing between neighbouring strokes. Returns the coefficient of variation and the mean.
+std::pair<double, double> spacingVariation(const std::vector<ink::Stroke>& strokes, uint32_t family,
+                                           uint32_t maxLevel, double reach) {
+    struct Seg {
+        Vector3d a, b, n;
+        size_t stroke;
+    };
+    std::vector<Seg> segs;
+    std::map<std::array<int, 3>, std::vector<size_t>> grid;
+    auto cell = [&](const Vector3d& p) {
+        return std::array<int, 3>{int(std::floor(p.x() / reach)), int(std::floor(p.y() / reach)),
+                                  int(std::floor(p.z() / reach))};
+    };
+    for (size_t k = 0; k < strokes.size(); ++k) {
+        const ink::Stroke& s = strokes[k];
+        if (s.family != family || s.level > maxLevel) continue;
+        for (size_t i = 0; i + 1 < s.points.size(); ++i) {
+            Seg g{s.points[i].cast<double>(), s.points[i + 1].cast<double>(), s.normals[i].cast<double>(), k};
+            grid[cell(0.5 * (g.a + g.b))].push_back(segs.size());
+            segs.push_back(g);
+        }
+    }
+    std::vector<double> distances;
+    for (size_t k = 0; k < strokes.size(); ++k) {
+        const ink::Stroke& s = strokes[k];
+        if (s.family != family || s.level > maxLevel) continue;
+        for (size_t i = 0; i < s.points.size(); i += 3) {
+            Vector3d p = s.points[i].cast<double>(), n = s.normals[i].cast<double>();
+            auto c = cell(p);
+            double best = reach;
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
+                        if (it == grid.end()) continue;
+                        for (size_t j : it->second)
+                            if (segs[j].stroke != k && segs[j].n.dot(n) > 0.5)
+                                best = std::min(best, segmentDistance(p, segs[j].a, segs[j].b));
+                    }
+            if (best < reach) distances.push_back(best);
+        }
+    }
+    double mean = 0, var = 0;
+    for (double d : distances) mean += d;
+    mean /= double(std::max<size_t>(1, distances.size()));
+    for (double d : distances) var += (d - mean) * (d - mean);
+    var /= double(std::max<size_t>(1, distances.size()));
+    return {std::sqrt(var) / mean, mean};
+}
+
+}  // namespace
+
+TEST_CASE("hatching: the bunny's strokes at 1024² are long, evenly spaced, and no stroke enters a contour's halo") {
+    GpuFixture gpu;
+    ink::LineOptions lines;
+    lines.contours = lines.hatching = true;
+    ink::Scene scene(gpu.ctx, ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {684}), ink::DrawStyle::Stipple,
+                     ink::RefineOptions{}, lines);
+    REQUIRE(scene.hatching.size() > 100);
+    const ink::Camera camera;
+    scene.traceContours(camera);
+    REQUIRE(!scene.contours.empty());
+
+    // Spacing between neighbouring strokes of one family, on the surface: the coarse level alone (light tones) and
+    // both levels (dark tones).
+    const double d = lines.hatch.spacing;
+    for (uint32_t family : {0u, 1u})
+        for (uint32_t level : {0u, 1u}) {
+            auto [cv, mean] = spacingVariation(scene.hatching, family, level, 4 * d);
+            CAPTURE(family);
+            CAPTURE(level);
+            MESSAGE("family " << family << " levels ≤ " << level << ": mean spacing " << mean / d
+                              << " × the finest, coefficient of variation " << cv);
+            CHECK(cv <= 0.3);
+            CHECK(mean == doctest::Approx(level == 0 ? 2 * d : d).epsilon(0.3));
+        }
+
+    ink::RenderStyle style;
+    style.supersample = 1;
+    style.drawDots = false;
+    ink::OffscreenRenderer renderer(gpu.ctx, 1024, 1024, style, scene.pointers(), scene.strokes.get());
+    ink::RgbaImage image = renderer.render(camera);
+
+    // Visible pieces: runs of consecutive drawn segments of one stroke.
+    std::vector<uint32_t> strokeOf = ink::segmentStrokes(scene.hatching);
+    std::vector<ink::DrawnSegment> drawn = renderer.drawnSegments(ink::StrokeBuffers::Hatching);
+    REQUIRE(drawn.size() > 1000);
+    std::sort(drawn.begin(), drawn.end(), [](auto& x, auto& y) { return x.segment < y.segment; });
+    std::vector<double> pieces;
+    for (size_t i = 0; i < drawn.size(); ++i) {
+        double length = glm::length(drawn[i].b - drawn[i].a);
+        if (i > 0 && drawn[i].segment == drawn[i - 1].segment + 1 &&
+            strokeOf[drawn[i].segment] == strokeOf[drawn[i - 1].segment])
+            pieces.back() += length;
+        else
+            pieces.push_back(length);
+    }
+    std::nth_element(pieces.begin(), pieces.begin() + pieces.size() / 2, pieces.end());
+    double median = pieces[pieces.size() / 2];
+    MESSAGE(drawn.size() << " hatching segments drawn in " << pieces.size() << " visible pieces, median " << median
+                         << " px");
+    CHECK(median >= 20.0);
+
+    // The halo: around every visible interior contour, the band between its ink and the halo's edge is paper
+    // unless another contour inks it. Without the halo, hatching inks part of that band (the test can fail).
+    std::vector<ink::DrawnSegment> contours = renderer.drawnSegments(ink::StrokeBuffers::Contours);
+    const float pen = 0.5f * style.penWidth, halo = pen + style.haloWidth;
+    auto distance = [](glm::vec2 p, const ink::DrawnSegment& s) {
+        glm::vec2 d = s.b - s.a;
+        float t = std::clamp(glm::dot(p - s.a, d) / std::max(glm::dot(d, d), 1e-12f), 0.0f, 1.0f);
+        return glm::length(p - (s.a + t * d));
+    };
+    std::vector<uint8_t> band(1024 * 1024, 0);  // 1: in a halo band, 2: on some contour's ink
+    size_t interior = 0;
+    for (const ink::DrawnSegment& s : contours) {
+        if (!(s.flags & ink::kSegmentVisible)) continue;
+        bool isInterior = (s.flags & ink::kSegmentInterior) != 0;
+        interior += isInterior;
+        glm::vec2 lo = glm::min(s.a, s.b) - halo - 1.0f, hi = glm::max(s.a, s.b) + halo + 1.0f;
+        for (int y = std::max(0, int(lo.y)); y <= std::min(1023, int(hi.y)); ++y)
+            for (int x = std::max(0, int(lo.x)); x <= std::min(1023, int(hi.x)); ++x) {
+                float dist = distance(glm::vec2(x + 0.5f, y + 0.5f), s);
+                uint8_t& b = band[size_t(y) * 1024 + size_t(x)];
+                if (dist < pen + 1.5f) b = 2;
+                else if (isInterior && dist < halo - 0.75f && b == 0) b = 1;
+            }
+    }
+    REQUIRE(interior > 20);
+    auto inkedInBand = [&](const ink::RgbaImage& img) {
+        size_t inked = 0, pixels = 0;
+        for (size_t i = 0; i < band.size(); ++i)
+            if (band[i] == 1) {
+                ++pixels;
+                inked += img.pixels[4 * i] < 250;
+            }
+        return std::pair{inked, pixels};
+    };
+    auto [inked, bandPixels] = inkedInBand(image);
+    MESSAGE(interior << " interior contour segments, " << bandPixels << " halo pixels, " << inked << " inked");
+    CHECK(bandPixels > 300);
+    CHECK(inked == 0);
+    style.haloWidth = 0;
+    renderer.setStyle(style);
+    auto [inkedWithout, unused] = inkedInBand(renderer.render(camera));
+    CHECK(inkedWithout > 50);
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("contours: each frame decides on the device which contour segments are hidden, as ray casting does") {
+    GpuFixture gpu;
+    ink::LineOptions lines;
+    lines.contours = true;
+    ink::RefineOptions options;
+    options.levels = 3;
+    ink::Scene scene(gpu.ctx, torus(), ink::DrawStyle::Stipple, options, lines);
+    const ink::Model& m = scene.model;
+    const double scale = m.hrbf.frame.scale;
+    const Vector3d centre = m.hrbf.frame.toNormalized(Vector3d::Zero());
+    ink::Camera camera;
+    camera.azimuthDeg = 80.0f;  // nearly edge-on: much of the inner contour is behind the tube
+    camera.elevationDeg = 20.0f;
+    scene.traceContours(camera);
+    ink::RenderStyle style;
+    style.supersample = 1;
+    style.hiddenLines = true;
+    ink::OffscreenRenderer renderer(gpu.ctx, 512, 512, style, scene.pointers(), scene.strokes.get());
+    renderer.render(camera);
+    std::vector<ink::DrawnSegment> drawn = renderer.drawnSegments(ink::StrokeBuffers::Contours);
+    std::vector<Eigen::Vector3f> mids;
+    for (const ink::Stroke& s : scene.contours)
+        for (size_t i = 0; i + 1 < s.points.size() + (s.closed ? 1 : 0); ++i)
+            mids.push_back(0.5f * (s.points[i] + s.points[(i + 1) % s.points.size()]));
+    REQUIRE(drawn.size() == mids.size());  // with hidden lines, every segment is drawn one way or the other
+    // The analytic torus's distance, marched from the eye towards each segment's midpoint.
+    glm::vec3 e = camera.eye();
+    const Vector3d eye(e.x, e.y, e.z);
+    auto sdf = [&](const Vector3d& x) {
+        Vector3d p = (x - centre) / scale;
+        return scale * (std::hypot(std::hypot(p.x(), p.y()) - kR, p.z()) - kr);
+    };
+    std::vector<bool> occluded(drawn.size(), false);
+    for (size_t k = 0; k < drawn.size(); ++k) {
+        Vector3d target = mids[drawn[k].segment].cast<double>(), dir = (target - eye).normalized();
+        for (double t = 0, end = (target - eye).norm() - 0.01; t < end;) {
+            double dist = sdf(eye + t * dir);
+            if (dist < 1e-5) {
+                occluded[k] = true;
+                break;
+            }
+            t += dist;
+        }
+    }
+    // Where the contour passes behind the surface (at a cusp or behind another contour) the depth grid's cells
+    // blur the change over a few pixels: a disagreement within 6 pixels of a segment that ray casting decides the
+    // other way is excused.
+    size_t agree = 0, hidden = 0, unexcused = 0;
+    auto mid = [&](size_t k) { return 0.5f * (drawn[k].a + drawn[k].b); };
+    for (size_t k = 0; k < drawn.size(); ++k) {
+        bool deviceHidden = (drawn[k].flags & ink::kSegmentHidden) != 0;
+        hidden += deviceHidden;
+        agree += deviceHidden == occluded[k];
+        if (deviceHidden == occluded[k]) continue;
+        bool excused = false;
+        for (size_t j = 0; j < drawn.size() && !excused; ++j)
+            excused = occluded[j] != occluded[k] && glm::length(mid(j) - mid(k)) < 6.0f;
+        unexcused += !excused;
+    }
+    MESSAGE(drawn.size() << " contour segments, " << hidden << " hidden, " << agree << " agree with ray casting, "
+                         << unexcused << " disagree farther than 6 px from a change of visibility");
+    CHECK(hidden > drawn.size() / 10);
+    CHECK(double(agree) >= 0.95 * double(drawn.size()));
+    CHECK(unexcused <= drawn.size() / 100);
+    gpu.requireNoValidationErrors();
+}
