@@ -90,7 +90,8 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
             auto t = Clock::now();
             renderer.draw(camera);
             if (i < 3) continue;
-            if (w.lines) {  // the contour of the next view, traced apart from the frame (a viewer does both)
+            // The contour of this view, traced apart from the frame: a viewer traces it once the eye stops.
+            if (w.lines) {
                 auto traceStart = Clock::now();
                 scene.traceContours(camera);
                 traceMs.push_back(1000.0 * secondsSince(traceStart));

@@ -186,7 +186,7 @@ private:
     uint64_t points_ = 0;
 
     ink::Camera camera_, home_;
-    glm::vec3 tracedEye_{NAN};  // where the contours were traced from
+    glm::vec3 tracedEye_{NAN}, previousEye_{NAN};  // where the contours were traced from; the last frame's eye
     DrawStyle appliedStyle_;
     uint32_t appliedLevels_;
     float toneGamma_;  // what T restores
@@ -404,11 +404,13 @@ void Viewer::refine() {
 }
 
 void Viewer::record(Frame& f, uint32_t index, bool capture) {
-    // The contour depends on the eye: traced again whenever it moved (docs/lines.md).
-    if (scene_.lines.contours && camera_.eye() != tracedEye_) {
+    // The contour depends on the eye: traced again once the eye stops (a frame without motion), since tracing
+    // takes longer than a frame (docs/lines.md); while it moves, the last view's contour is drawn.
+    if (scene_.lines.contours && camera_.eye() != tracedEye_ && camera_.eye() == previousEye_) {
         scene_.traceContours(camera_);
         tracedEye_ = camera_.eye();
     }
+    previousEye_ = camera_.eye();
     VkCommandBuffer cmd = f.cmd;
     VK_CHECK(vkResetCommandBuffer(cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};

@@ -144,7 +144,8 @@ std::vector<Stroke> traceContours(const Hrbf& hrbf, const Vector3d& eye, const s
     for (const auto& [nv, index] : order) {
         Vector3d x0 = seeds[index].position;
         // Most seeds lie beside a traced curve, or beside a seed that led nowhere.
-        if (traced.near(x0, seeds[index].normal, 4.0 * step) || tried.near(x0, seeds[index].normal, 3.0 * step)) continue;
+        if (traced.near(x0, seeds[index].normal, 4.0 * step) || tried.near(x0, seeds[index].normal, 3.0 * step))
+            continue;
         ++s.seedsTried;
         tried.add(x0, seeds[index].normal, 0, 0);
         if (!contourNewton(hrbf, eye, x0, 8 * step, 5)) continue;
@@ -162,13 +163,17 @@ std::vector<Stroke> traceContours(const Hrbf& hrbf, const Vector3d& eye, const s
                 Vector3d t = e.gradF.cross(e.gradG);
                 if (!(t.norm() > 1e-12 * e.gradF.norm() * e.gradG.norm())) return;
                 t.normalize();
-                if (previous.isZero()) t *= sign;
-                else if (t.dot(previous) < 0) t = -t;
+                if (previous.isZero())
+                    t *= sign;
+                else if (t.dot(previous) < 0)
+                    t = -t;
                 if (!previous.isZero()) {
                     // Shorter steps where the curve turns: the chord stays within a fraction of a pixel.
                     double turn = std::acos(std::clamp(t.dot(previous), -1.0, 1.0));
-                    if (turn > 0.15) h = std::max(step / 16, h * 0.5);
-                    else if (turn < 0.05) h = std::min(2 * step, h * 1.5);
+                    if (turn > 0.15)
+                        h = std::max(step / 16, h * 0.5);
+                    else if (turn < 0.05)
+                        h = std::min(2 * step, h * 1.5);
                 }
                 Vector3d y = x + h * t;
                 if (!contourNewton(hrbf, eye, y, 2 * h, 10, &next)) {
@@ -278,8 +283,12 @@ bool projectToSurface(const Hrbf& hrbf, Vector3d& x, Vector3d& n) {
 class Hatcher {
 public:
     Hatcher(const Hrbf& hrbf, const std::vector<SurfaceSample>& samples, const HatchOptions& o, uint32_t family)
-        : hrbf_(hrbf), samples_(samples), o_(o), family_(family),
-          hash_(0.9 * o.spacing * double(1u << (std::max(1u, o.levels) - 1))), step_(0.5 * o.spacing) {}
+        : hrbf_(hrbf),
+          samples_(samples),
+          o_(o),
+          family_(family),
+          hash_(0.9 * o.spacing * double(1u << (std::max(1u, o.levels) - 1))),
+          step_(0.5 * o.spacing) {}
 
     std::vector<Stroke> run() {
         for (uint32_t level = 0; level < std::max(1u, o_.levels); ++level) {

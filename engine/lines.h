@@ -22,9 +22,9 @@ struct Stroke {
     std::vector<Eigen::Vector3f> points;
     std::vector<Eigen::Vector3f> normals;  // unit ∇f at each point
     bool closed = false;                   // the last point joins the first
-    uint32_t curve = 0;    // contours: the traced closed curve it is a piece of (pieces end at cusps)
-    uint32_t family = 0;   // hatching: 0 along the field, 1 across it (the crossing strokes of dark tones)
-    uint32_t level = 0;    // hatching: 0 traced at twice the spacing, 1 filled in between (darker tones)
+    uint32_t curve = 0;                    // contours: the traced closed curve it is a piece of (pieces end at cusps)
+    uint32_t family = 0;  // hatching: 0 along the field, 1 across it (the crossing strokes of dark tones)
+    uint32_t level = 0;   // hatching: 0 traced at twice the spacing, 1 filled in between (darker tones)
     double length() const;
 };
 
@@ -48,9 +48,8 @@ struct ContourStats {
 
 // `eye` in normalized coordinates. Pieces come out in tracing order; a closed curve without cusps is one
 // closed stroke.
-std::vector<Stroke> traceContours(const Hrbf& hrbf, const Eigen::Vector3d& eye,
-                                  const std::vector<SurfaceSample>& seeds, const ContourOptions& options = {},
-                                  ContourStats* stats = nullptr);
+std::vector<Stroke> traceContours(const Hrbf& hrbf, const Eigen::Vector3d& eye, const std::vector<SurfaceSample>& seeds,
+                                  const ContourOptions& options = {}, ContourStats* stats = nullptr);
 
 // Corrects x onto the contour (f = 0, g = 0) by Newton steps; false when it does not converge.
 bool projectToContour(const Hrbf& hrbf, const Eigen::Vector3d& eye, Eigen::Vector3d& x);
@@ -60,10 +59,10 @@ bool projectToContour(const Hrbf& hrbf, const Eigen::Vector3d& eye, Eigen::Vecto
 // everywhere but at the two poles where n ∥ a (strokes end there). docs/lines.md says why not principal directions.
 struct HatchOptions {
     Eigen::Vector3d axis = Eigen::Vector3d::UnitY();
-    double spacing = 0.007;   // separation of the finest level, normalized units: about 6 pixels at the default view
-    double testRatio = 0.6;   // a stroke stops closer than this × its separation to another (d_test / d_sep)
-    uint32_t families = 2;    // 1: no crossing strokes
-    uint32_t levels = 2;      // level k is traced at spacing · 2^(levels − 1 − k)
+    double spacing = 0.007;  // separation of the finest level, normalized units: about 6 pixels at the default view
+    double testRatio = 0.6;  // a stroke stops closer than this × its separation to another (d_test / d_sep)
+    uint32_t families = 2;   // 1: no crossing strokes
+    uint32_t levels = 2;     // level k is traced at spacing · 2^(levels − 1 − k)
     double minLengthRatio = 3.0;  // strokes shorter than this × their separation are dropped
 };
 

@@ -3,8 +3,8 @@
 
 #include "camera.h"
 
-#include <glm/glm.hpp>
 #include <cstdint>
+#include <glm/glm.hpp>
 
 namespace ink {
 
@@ -30,8 +30,8 @@ struct RenderStyle {
     float toneGamma = 1.5f;  // 0: no tone, every front dot is drawn
     float inkDensity = 1.0f;
     float ambient = 0.04f;
-    float splatScale = 2.0f;   // splat radius in units of the finest level's ρ
-    bool drawDots = true;      // off: the point sets only give the depth the pen lines are tested against
+    float splatScale = 2.0f;  // splat radius in units of the finest level's ρ
+    bool drawDots = true;     // off: the point sets only give the depth the pen lines are tested against
     // Pen lines (strokes.h, docs/lines.md), widths in output pixels.
     float penWidth = 2.0f;        // visible contours
     float hiddenPenWidth = 1.2f;  // hidden contours (with hiddenLines, in hiddenInk)
@@ -41,6 +41,9 @@ struct RenderStyle {
     // (along, coarse), (along, fine), (across, coarse), (across, fine).
     glm::vec4 hatchThresholds{0.25f, 0.45f, 0.65f, 0.85f};
     float hatchMinFacing = 0.1f;  // hatching where |n·v| is below this is not drawn (foreshortened strokes)
+    // How pen lines reach the pixels: antialiased quads in a graphics pipeline (GPUs), or stamped into the
+    // coverage bits in compute like the dots (CPU drivers, whose triangle setup is serial); Auto picks by driver.
+    enum class LineRaster { Auto, Quads, Stamps } lineRaster = LineRaster::Auto;
     uint32_t supersample = 2;  // offscreen: render this many times larger and filter down
 };
 

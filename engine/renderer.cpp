@@ -188,14 +188,14 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
         destroyBuffer(ctx_, f.depth);
         destroyBuffer(ctx_, f.coverage);
         const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-        // The depth grid has one cell per 2×2 pixels; coverage has 2 bits a pixel.
+        // The depth grid has one cell per 2×2 pixels; coverage has 4 bits a pixel.
         f.depth = createBuffer(ctx_, depthGridBytes(extent), usage, MemoryUse::Device);
         f.coverage =
-            createBuffer(ctx_, (VkDeviceSize(extent.width) * extent.height + 15) / 16 * 4, usage, MemoryUse::Device);
+            createBuffer(ctx_, (VkDeviceSize(extent.width) * extent.height + 7) / 8 * 4, usage, MemoryUse::Device);
         f.extent = extent;
         bindDescriptors(f);
     }
-    if (lines_) lines_->sync(frame, f.depth);
+    if (lines_) lines_->sync(frame, f.depth, f.coverage, f.drawn);
     const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     const auto rw = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
     const auto indirect = VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT;
@@ -239,6 +239,10 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
             for (const Set& s : sets_) pushBack = std::max(pushBack, style_.splatScale * s.splatRadius);
         glm::mat4 p = camera.projection(float(extent.width) / float(extent.height));
         lines_->recordCull(cmd, camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]), extent, pushBack, frame);
+        if (lines_->stamps()) {
+            stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, compute, rw);
+            lines_->recordStamp(cmd, frame);
+        }
     }
     vkCmdWriteTimestamp2(cmd, compute, f.timestamps, 2);
     stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, graphics | indirect,

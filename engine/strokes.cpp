@@ -9,6 +9,7 @@
 #include "line.frag.h"
 #include "line.vert.h"
 #include "lines.comp.h"
+#include "lines_stamp.comp.h"
 
 namespace ink {
 
@@ -116,21 +117,27 @@ void StrokeBuffers::set(Kind kind, const std::vector<Stroke>& strokes) {
 LineRenderer::LineRenderer(Context& ctx, const StrokeBuffers& strokes, VkFormat colorFormat, uint32_t framesInFlight)
     : ctx_(ctx), strokes_(strokes), frames_(std::max(1u, framesInFlight)) {
     try {
-        styleBuffer_ = createBuffer(ctx, sizeof(LineStyleBlock),
-                                    VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                    MemoryUse::Device);
+        styleBuffer_ =
+            createBuffer(ctx, sizeof(LineStyleBlock),
+                         VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
         // The set layout every frame's sets share (created alike, hence compatible).
-        VkDescriptorSetLayoutBinding bindings[4] = {
-            {0, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, kStages, nullptr},
-            {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
-            {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, kStages, nullptr},
-            {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr}};
+        VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+        VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
+        vkGetPhysicalDeviceProperties2(ctx.physicalDevice, &properties);
+        cpuDriver_ = driver.driverID == VK_DRIVER_ID_MESA_LLVMPIPE;
+        VkDescriptorSetLayoutBinding bindings[6] = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, kStages, nullptr},
+                                                    {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
+                                                    {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, kStages, nullptr},
+                                                    {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
+                                                    {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
+                                                    {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr}};
         VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-        info.bindingCount = 4;
+        info.bindingCount = 6;
         info.pBindings = bindings;
         VK_CHECK(vkCreateDescriptorSetLayout(ctx.device, &info, nullptr, &setLayout_));
         layout_ = createPipelineLayout(ctx, setLayout_, sizeof(Push), kStages);
         cull_ = createComputePipeline(ctx, layout_, spv_lines_comp);
+        stamp_ = createComputePipeline(ctx, layout_, spv_lines_stamp_comp);
         draw_ = createBlendedPipeline(ctx, layout_, colorFormat, spv_line_vert, spv_line_frag);
     } catch (...) {
         release();
@@ -148,17 +155,20 @@ void LineRenderer::release() {
         }
     frames_.clear();
     vkDestroyPipeline(ctx_.device, cull_, nullptr);
+    vkDestroyPipeline(ctx_.device, stamp_, nullptr);
     vkDestroyPipeline(ctx_.device, draw_, nullptr);
     vkDestroyPipelineLayout(ctx_.device, layout_, nullptr);
     vkDestroyDescriptorSetLayout(ctx_.device, setLayout_, nullptr);
     destroyBuffer(ctx_, styleBuffer_);
-    cull_ = draw_ = VK_NULL_HANDLE;
+    cull_ = stamp_ = draw_ = VK_NULL_HANDLE;
     layout_ = VK_NULL_HANDLE;
     setLayout_ = VK_NULL_HANDLE;
 }
 
 void LineRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pixelScale) {
     pixelScale_ = pixelScale;
+    stamps_ = s.lineRaster == RenderStyle::LineRaster::Stamps ||
+              (s.lineRaster == RenderStyle::LineRaster::Auto && cpuDriver_);
     LineStyleBlock b{};
     b.ink = s.ink;
     b.hiddenInk = s.hiddenInk;
@@ -183,12 +193,12 @@ void LineRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pix
                  VK_ACCESS_2_UNIFORM_READ_BIT);
 }
 
-void LineRenderer::sync(uint32_t frame, const Buffer& depth) {
+void LineRenderer::sync(uint32_t frame, const Buffer& depth, const Buffer& coverage, const Buffer& drawn) {
     Frame& f = frames_.at(frame);
     for (int kind = 0; kind < 2; ++kind) {
         List& l = f.lists[kind];
         const StrokeBuffers::Segments& s = strokes_.segments(StrokeBuffers::Kind(kind));
-        if (l.generation == s.generation && l.depth == depth.buffer) continue;
+        if (l.generation == s.generation && l.depth == depth.buffer && l.coverage == coverage.buffer) continue;
         vkDeviceWaitIdle(ctx_.device);  // this frame slot's last use may still read the list and its set
         const VkDeviceSize bytes = 16 + kDrawSegmentBytes * std::max(1u, s.capacity);
         if (!l.buffer.buffer || l.buffer.size < bytes) {
@@ -199,28 +209,32 @@ void LineRenderer::sync(uint32_t frame, const Buffer& depth) {
                                     MemoryUse::Device);
         }
         destroyDescriptorSet(ctx_, l.descriptors);
-        l.descriptors = createDescriptorSet(ctx_,
-                                            {{0, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1, 0, 0, s.view},
-                                             {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, l.buffer.buffer},
-                                             {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer},
-                                             {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depth.buffer}},
-                                            kStages);
+        l.descriptors =
+            createDescriptorSet(ctx_,
+                                {{0, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1, 0, 0, s.view},
+                                 {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, l.buffer.buffer},
+                                 {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer},
+                                 {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depth.buffer},
+                                 {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage.buffer},
+                                 {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, drawn.buffer}},
+                                kStages);
         l.generation = s.generation;
         l.depth = depth.buffer;
+        l.coverage = coverage.buffer;
     }
 }
 
 void LineRenderer::recordReset(VkCommandBuffer cmd, uint32_t frame) {
-    const uint32_t empty[4] = {6, 0, 0, 0};  // VkDrawIndirectCommand: no instances
+    const uint32_t empty[4] = {0, 1, 0, 0};  // VkDrawIndirectCommand: no vertices
     for (List& l : frames_.at(frame).lists) vkCmdUpdateBuffer(cmd, l.buffer.buffer, 0, sizeof(empty), empty);
 }
 
 void LineRenderer::recordCull(VkCommandBuffer cmd, const glm::mat4& view, const glm::vec4& projection,
                               VkExtent2D extent, float pushBack, uint32_t frame) {
     Frame& f = frames_.at(frame);
-    f.push = Push{view, projection,
-                  glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
-                  glm::vec4(pushBack, pixelScale_, 0, 0), glm::uvec4(0)};
+    f.push =
+        Push{view, projection, glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
+             glm::vec4(pushBack, pixelScale_, 0, 0), glm::uvec4(0)};
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, cull_);
     for (int kind = 0; kind < 2; ++kind) {
         const uint32_t count = strokes_.segments(StrokeBuffers::Kind(kind)).count;
@@ -234,7 +248,24 @@ void LineRenderer::recordCull(VkCommandBuffer cmd, const glm::mat4& view, const 
     }
 }
 
+void LineRenderer::recordStamp(VkCommandBuffer cmd, uint32_t frame) {
+    if (!stamps_) return;
+    Frame& f = frames_.at(frame);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, stamp_);
+    for (int kind = 0; kind < 2; ++kind) {
+        const uint32_t count = strokes_.segments(StrokeBuffers::Kind(kind)).count;
+        if (count == 0) continue;
+        Push p = f.push;
+        p.counts = glm::uvec4(count, kind == StrokeBuffers::Hatching ? 0u : 1u, 0, 0);
+        vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(p), &p);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &f.lists[kind].descriptors.set, 0,
+                                nullptr);
+        vkCmdDispatch(cmd, (count + kGroup - 1) / kGroup, 1, 1);  // at most every segment shows
+    }
+}
+
 void LineRenderer::recordDraw(VkCommandBuffer cmd, VkExtent2D, uint32_t frame) const {
+    if (stamps_) return;  // the ink pass inks the stamped coverage
     const Frame& f = frames_.at(frame);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, draw_);
     // Hatching, then hidden contours, the halos of interior contours and the visible contours over them.
@@ -258,14 +289,14 @@ std::vector<DrawnSegment> LineRenderer::drawn(StrokeBuffers::Kind kind, uint32_t
     const List& l = frames_.at(frame).lists[kind];
     uint32_t header[4] = {};
     downloadBuffer(ctx_, l.buffer, 0, header, sizeof(header));
-    std::vector<DrawnSegment> out(header[1]);
+    std::vector<DrawnSegment> out(header[0] / 6);
     static_assert(sizeof(DrawnSegment) == kDrawSegmentBytes);
-    std::vector<uint32_t> raw(8 * size_t(header[1]));
+    std::vector<uint32_t> raw(8 * out.size());
     if (!raw.empty()) downloadBuffer(ctx_, l.buffer, 16, raw.data(), raw.size() * 4);
     for (size_t i = 0; i < out.size(); ++i) {
         const uint32_t* r = &raw[8 * i];
-        out[i] = {{floatOf(r[0]), floatOf(r[1])}, {floatOf(r[2]), floatOf(r[3])}, {floatOf(r[4]), floatOf(r[5])}, r[6],
-                  r[7]};
+        out[i] = {
+            {floatOf(r[0]), floatOf(r[1])}, {floatOf(r[2]), floatOf(r[3])}, {floatOf(r[4]), floatOf(r[5])}, r[6], r[7]};
     }
     return out;
 }

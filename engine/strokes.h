@@ -63,14 +63,18 @@ public:
 
     void setStyle(VkCommandBuffer cmd, const RenderStyle& style, float pixelScale);
     // Host side, before recording frame `frame`: (re)binds its lists to the strokes and the frame's depth grid,
-    // waiting for the device when they changed.
-    void sync(uint32_t frame, const Buffer& depth);
+    // coverage and drawn bounds (render_common.glsl), waiting for the device when they changed.
+    void sync(uint32_t frame, const Buffer& depth, const Buffer& coverage, const Buffer& drawn);
     // In the transfer phase of the frame (after the barrier that follows its previous use): empties its lists.
     void recordReset(VkCommandBuffer cmd, uint32_t frame);
     // After the depth grid is complete: lines.comp over every segment. `pushBack` in model units.
     void recordCull(VkCommandBuffer cmd, const glm::mat4& view, const glm::vec4& projection, VkExtent2D extent,
                     float pushBack, uint32_t frame);
-    // Inside the rendering pass, after the dots.
+    // Whether this style stamps the lines in compute (recordStamp) rather than drawing quads (recordDraw).
+    bool stamps() const { return stamps_; }
+    // After recordCull, behind a compute barrier: lines_stamp.comp into the coverage (stamps() only).
+    void recordStamp(VkCommandBuffer cmd, uint32_t frame);
+    // Inside the rendering pass, after the dots (nothing when stamps()).
     void recordDraw(VkCommandBuffer cmd, VkExtent2D extent, uint32_t frame) const;
     // The segments of `kind` frame `frame` drew last (waits for the device).
     std::vector<DrawnSegment> drawn(StrokeBuffers::Kind kind, uint32_t frame = 0) const;
@@ -85,7 +89,7 @@ private:
         Buffer buffer;
         DescriptorSet descriptors;
         uint64_t generation = ~uint64_t(0);
-        VkBuffer depth = VK_NULL_HANDLE;
+        VkBuffer depth = VK_NULL_HANDLE, coverage = VK_NULL_HANDLE;
     };
     struct Frame {
         List lists[2];
@@ -98,10 +102,12 @@ private:
     std::vector<Frame> frames_;
     Buffer styleBuffer_;
     float pixelScale_ = 1.0f;
+    bool cpuDriver_ = false;  // lavapipe: stamps by default
+    bool stamps_ = false;
     VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;  // a throwaway set's, for the pipeline layout
     DescriptorSet layoutSet_;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
-    VkPipeline cull_ = VK_NULL_HANDLE, draw_ = VK_NULL_HANDLE;
+    VkPipeline cull_ = VK_NULL_HANDLE, stamp_ = VK_NULL_HANDLE, draw_ = VK_NULL_HANDLE;
 };
 
 // Segments of strokes as the device reads them: three RGBA32F texels each (lines_common.glsl). Hatching

@@ -76,7 +76,7 @@ void main() {
     s.segment = index;
     uvec4 ballot = subgroupBallot(keep);
     uint count = subgroupBallotBitCount(ballot), first = 0u;
-    if (subgroupElect() && count > 0u) first = atomicAdd(drawList.draw.y, count);
+    if (subgroupElect() && count > 0u) first = atomicAdd(drawList.draw.x, 6u * count) / 6u;
     first = subgroupBroadcastFirst(first);
     if (keep) drawList.list[first + subgroupBallotExclusiveBitCount(ballot)] = s;
 }

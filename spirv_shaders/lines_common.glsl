@@ -18,7 +18,9 @@ struct DrawSegment {
 };
 const uint SEG_VISIBLE = 1u, SEG_HIDDEN = 2u, SEG_INTERIOR = 4u;
 layout(std430, binding = 1) buffer DrawList {
-    uvec4 draw;  // VkDrawIndirectCommand: 6 vertices, segments, 0, 0
+    // VkDrawIndirectCommand: 6 vertices a segment, 1 instance, 0, 0. One instance of 6·n vertices, not n instances
+    // of 6: a CPU driver (lavapipe) runs the whole vertex and setup path once per instance (5× slower here).
+    uvec4 draw;
     DrawSegment list[];
 } drawList;
 
@@ -34,13 +36,20 @@ layout(std140, binding = 2) uniform LineStyle {
 } lineStyle;
 
 layout(std430, binding = 3) buffer DepthBuffer { uint depth[]; };
+// The frame's coverage and drawn bounds (render_common.glsl), for lines_stamp.comp.
+layout(std430, binding = 4) buffer CoverageBuffer { uint coverage[]; };
+layout(std430, binding = 5) buffer Drawn {
+    uvec4 dotCount;
+    uvec4 bounds;
+} drawn;
 
 layout(push_constant) uniform LineCamera {
     mat4 view;        // model → view (rigid)
     vec4 projection;  // P00, P11, P22, P32
     vec4 viewport;    // width, height in pixels; width, height of the depth grid
     vec4 params;      // x: push-back (model units); y: pixel scale (supersampling)
-    uvec4 counts;     // x: segments; y: draw mode (line.vert): 0 hatching, 1 hidden contours, 2 halos, 3 contours
+    uvec4 counts;     // x: segments; y: draw mode (line.vert): 0 hatching, 1 hidden contours, 2 halos, 3 contours;
+                      // lines_stamp.comp: 0 hatching, 1 contours
 } cam;
 
 vec4 project(vec3 v) {

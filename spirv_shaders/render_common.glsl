@@ -38,10 +38,13 @@ layout(std430, binding = 2) buffer Drawn {
 } drawn;
 layout(std430, binding = 3) buffer DepthBuffer { uint depth[]; };
 
-// Per frame: the ink coverage of every target pixel, two bits a pixel, sixteen pixels a word (pixel i in
-// word i / 16 at bit 2·(i mod 16)). stamp.comp sets it; ink.frag turns it into colour.
+// Per frame: the ink coverage of every target pixel, four bits a pixel, eight pixels a word (pixel i in word
+// i / 8 at bit 4·(i mod 8)). stamp.comp sets it for the dots, lines_stamp.comp for pen lines where they are
+// stamped in compute; ink.frag turns it into colour: a contour's ink over a halo's paper over the dots' and
+// hatching's ink over hidden ink.
 layout(std430, binding = 5) buffer CoverageBuffer { uint coverage[]; };
-const uint INK_BIT = 1u, HIDDEN_BIT = 2u;
+const uint INK_BIT = 1u, HIDDEN_BIT = 2u, HALO_BIT = 4u, CONTOUR_BIT = 8u;
+const uint COVERAGE_SHIFT = 3u, COVERAGE_BITS = 4u;  // pixel i: word i >> 3, bits 4·(i & 7)
 
 // The same points as RGBA32F texels, two a point: texel fetches are vectorized gathers on CPU drivers, where
 // per-point storage-buffer loads become one scalar load per lane and component.

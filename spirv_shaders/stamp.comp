@@ -24,7 +24,7 @@ ivec4 stamp(vec2 center, float diameter, uint bit) {
             vec2 d = vec2(x, y) + 0.5 - center;
             if (dot(d, d) > r * r && ivec2(x, y) != own) continue;
             uint i = uint(y) * uint(size.x) + uint(x);
-            atomicOr(coverage[i >> 4u], bit << ((i & 15u) * 2u));
+            atomicOr(coverage[i >> COVERAGE_SHIFT], bit << ((i & 7u) * COVERAGE_BITS));
         }
     }
     return ivec4(lo, hi);

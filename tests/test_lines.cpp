@@ -6,9 +6,9 @@
 
 #include <doctest/doctest.h>
 
-#include <glm/glm.hpp>
 #include <algorithm>
 #include <cmath>
+#include <glm/glm.hpp>
 #include <map>
 #include <set>
 
@@ -119,7 +119,8 @@ TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of 
             const auto& pts = pieces[k].points;
             size_t segments = pts.size() - 1 + (pieces[k].closed ? 1 : 0);
             for (size_t i = 0; i < segments; ++i) {
-                Eigen::Vector2d a = project(pts[i].cast<double>()), b = project(pts[(i + 1) % pts.size()].cast<double>());
+                Eigen::Vector2d a = project(pts[i].cast<double>()),
+                                b = project(pts[(i + 1) % pts.size()].cast<double>());
                 int steps = std::max(1, int(std::ceil((b - a).norm() / 0.25)));
                 for (int t = 0; t <= steps; ++t) traced.add(a + (b - a) * (double(t) / steps), int(k));
             }
@@ -158,8 +159,8 @@ double segmentDistance(const Vector3d& p, const Vector3d& a, const Vector3d& b) 
 
 // For points along the strokes, the distance to the nearest other stroke of the same family on the same side of
 // the surface: the spacing between neighbouring strokes. Returns the coefficient of variation and the mean.
-std::pair<double, double> spacingVariation(const std::vector<ink::Stroke>& strokes, uint32_t family,
-                                           uint32_t maxLevel, double reach) {
+std::pair<double, double> spacingVariation(const std::vector<ink::Stroke>& strokes, uint32_t family, uint32_t maxLevel,
+                                           double reach) {
     struct Seg {
         Vector3d a, b, n;
         size_t stroke;
@@ -234,74 +235,82 @@ TEST_CASE("hatching: the bunny's strokes at 1024² are long, evenly spaced, and 
             CHECK(mean == doctest::Approx(level == 0 ? 2 * d : d).epsilon(0.3));
         }
 
-    ink::RenderStyle style;
-    style.supersample = 1;
-    style.drawDots = false;
-    ink::OffscreenRenderer renderer(gpu.ctx, 1024, 1024, style, scene.pointers(), scene.strokes.get());
-    ink::RgbaImage image = renderer.render(camera);
+    // Both ways to the pixels: quads in a graphics pipeline (GPUs) and stamps in compute (what lavapipe is given).
+    for (auto raster : {ink::RenderStyle::LineRaster::Quads, ink::RenderStyle::LineRaster::Stamps}) {
+        const bool stamps = raster == ink::RenderStyle::LineRaster::Stamps;
+        CAPTURE(stamps);
+        ink::RenderStyle style;
+        style.supersample = 1;
+        style.drawDots = false;
+        style.lineRaster = raster;
+        ink::OffscreenRenderer renderer(gpu.ctx, 1024, 1024, style, scene.pointers(), scene.strokes.get());
+        ink::RgbaImage image = renderer.render(camera);
 
-    // Visible pieces: runs of consecutive drawn segments of one stroke.
-    std::vector<uint32_t> strokeOf = ink::segmentStrokes(scene.hatching);
-    std::vector<ink::DrawnSegment> drawn = renderer.drawnSegments(ink::StrokeBuffers::Hatching);
-    REQUIRE(drawn.size() > 1000);
-    std::sort(drawn.begin(), drawn.end(), [](auto& x, auto& y) { return x.segment < y.segment; });
-    std::vector<double> pieces;
-    for (size_t i = 0; i < drawn.size(); ++i) {
-        double length = glm::length(drawn[i].b - drawn[i].a);
-        if (i > 0 && drawn[i].segment == drawn[i - 1].segment + 1 &&
-            strokeOf[drawn[i].segment] == strokeOf[drawn[i - 1].segment])
-            pieces.back() += length;
-        else
-            pieces.push_back(length);
-    }
-    std::nth_element(pieces.begin(), pieces.begin() + pieces.size() / 2, pieces.end());
-    double median = pieces[pieces.size() / 2];
-    MESSAGE(drawn.size() << " hatching segments drawn in " << pieces.size() << " visible pieces, median " << median
-                         << " px");
-    CHECK(median >= 20.0);
+        // Visible pieces: runs of consecutive drawn segments of one stroke.
+        std::vector<uint32_t> strokeOf = ink::segmentStrokes(scene.hatching);
+        std::vector<ink::DrawnSegment> drawn = renderer.drawnSegments(ink::StrokeBuffers::Hatching);
+        REQUIRE(drawn.size() > 1000);
+        std::sort(drawn.begin(), drawn.end(), [](auto& x, auto& y) { return x.segment < y.segment; });
+        std::vector<double> pieces;
+        for (size_t i = 0; i < drawn.size(); ++i) {
+            double length = glm::length(drawn[i].b - drawn[i].a);
+            if (i > 0 && drawn[i].segment == drawn[i - 1].segment + 1 &&
+                strokeOf[drawn[i].segment] == strokeOf[drawn[i - 1].segment])
+                pieces.back() += length;
+            else
+                pieces.push_back(length);
+        }
+        std::nth_element(pieces.begin(), pieces.begin() + pieces.size() / 2, pieces.end());
+        double median = pieces[pieces.size() / 2];
+        MESSAGE(drawn.size() << " hatching segments drawn in " << pieces.size() << " visible pieces, median " << median
+                             << " px");
+        CHECK(median >= 20.0);
 
-    // The halo: around every visible interior contour, the band between its ink and the halo's edge is paper
-    // unless another contour inks it. Without the halo, hatching inks part of that band (the test can fail).
-    std::vector<ink::DrawnSegment> contours = renderer.drawnSegments(ink::StrokeBuffers::Contours);
-    const float pen = 0.5f * style.penWidth, halo = pen + style.haloWidth;
-    auto distance = [](glm::vec2 p, const ink::DrawnSegment& s) {
-        glm::vec2 d = s.b - s.a;
-        float t = std::clamp(glm::dot(p - s.a, d) / std::max(glm::dot(d, d), 1e-12f), 0.0f, 1.0f);
-        return glm::length(p - (s.a + t * d));
-    };
-    std::vector<uint8_t> band(1024 * 1024, 0);  // 1: in a halo band, 2: on some contour's ink
-    size_t interior = 0;
-    for (const ink::DrawnSegment& s : contours) {
-        if (!(s.flags & ink::kSegmentVisible)) continue;
-        bool isInterior = (s.flags & ink::kSegmentInterior) != 0;
-        interior += isInterior;
-        glm::vec2 lo = glm::min(s.a, s.b) - halo - 1.0f, hi = glm::max(s.a, s.b) + halo + 1.0f;
-        for (int y = std::max(0, int(lo.y)); y <= std::min(1023, int(hi.y)); ++y)
-            for (int x = std::max(0, int(lo.x)); x <= std::min(1023, int(hi.x)); ++x) {
-                float dist = distance(glm::vec2(x + 0.5f, y + 0.5f), s);
-                uint8_t& b = band[size_t(y) * 1024 + size_t(x)];
-                if (dist < pen + 1.5f) b = 2;
-                else if (isInterior && dist < halo - 0.75f && b == 0) b = 1;
-            }
+        // The halo: around every visible interior contour, the band between its ink and the halo's edge is paper
+        // unless another contour inks it. Without the halo, hatching inks part of that band (the test can fail).
+        std::vector<ink::DrawnSegment> contours = renderer.drawnSegments(ink::StrokeBuffers::Contours);
+        const float pen = 0.5f * style.penWidth, halo = pen + style.haloWidth;
+        auto distance = [](glm::vec2 p, const ink::DrawnSegment& s) {
+            glm::vec2 d = s.b - s.a;
+            float t = std::clamp(glm::dot(p - s.a, d) / std::max(glm::dot(d, d), 1e-12f), 0.0f, 1.0f);
+            return glm::length(p - (s.a + t * d));
+        };
+        std::vector<uint8_t> band(1024 * 1024, 0);  // 1: in a halo band, 2: on some contour's ink
+        size_t interior = 0;
+        for (const ink::DrawnSegment& s : contours) {
+            if (!(s.flags & ink::kSegmentVisible)) continue;
+            bool isInterior = (s.flags & ink::kSegmentInterior) != 0;
+            interior += isInterior;
+            glm::vec2 lo = glm::min(s.a, s.b) - halo - 1.0f, hi = glm::max(s.a, s.b) + halo + 1.0f;
+            for (int y = std::max(0, int(lo.y)); y <= std::min(1023, int(hi.y)); ++y)
+                for (int x = std::max(0, int(lo.x)); x <= std::min(1023, int(hi.x)); ++x) {
+                    float dist = distance(glm::vec2(x + 0.5f, y + 0.5f), s);
+                    uint8_t& b = band[size_t(y) * 1024 + size_t(x)];
+                    if (dist < pen + 1.5f)
+                        b = 2;
+                    else if (isInterior && dist < halo - 0.75f && b == 0)
+                        b = 1;
+                }
+        }
+        REQUIRE(interior > 20);
+        auto inkedInBand = [&](const ink::RgbaImage& img) {
+            size_t inked = 0, pixels = 0;
+            for (size_t i = 0; i < band.size(); ++i)
+                if (band[i] == 1) {
+                    ++pixels;
+                    inked += img.pixels[4 * i] < 250;
+                }
+            return std::pair{inked, pixels};
+        };
+        auto [inked, bandPixels] = inkedInBand(image);
+        MESSAGE(interior << " interior contour segments, " << bandPixels << " halo pixels, " << inked << " inked");
+        CHECK(bandPixels > 300);
+        CHECK(inked == 0);
+        style.haloWidth = 0;
+        renderer.setStyle(style);
+        auto [inkedWithout, unused] = inkedInBand(renderer.render(camera));
+        CHECK(inkedWithout > 50);
     }
-    REQUIRE(interior > 20);
-    auto inkedInBand = [&](const ink::RgbaImage& img) {
-        size_t inked = 0, pixels = 0;
-        for (size_t i = 0; i < band.size(); ++i)
-            if (band[i] == 1) {
-                ++pixels;
-                inked += img.pixels[4 * i] < 250;
-            }
-        return std::pair{inked, pixels};
-    };
-    auto [inked, bandPixels] = inkedInBand(image);
-    MESSAGE(interior << " interior contour segments, " << bandPixels << " halo pixels, " << inked << " inked");
-    CHECK(bandPixels > 300);
-    CHECK(inked == 0);
-    style.haloWidth = 0;
-    renderer.setStyle(style);
-    auto [inkedWithout, unused] = inkedInBand(renderer.render(camera));
-    CHECK(inkedWithout > 50);
     gpu.requireNoValidationErrors();
 }
 
