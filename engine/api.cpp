@@ -191,9 +191,9 @@ ink::LineOptions toLines(const DrawingOptions& o) {
     return l;
 }
 
-std::vector<Polyline> toPolylines(const std::vector<ink::Stroke>& strokes, const ink::Frame& frame) {
+std::vector<Polyline> toPolylines(const std::vector<ink::PenStroke>& strokes, const ink::Frame& frame) {
     std::vector<Polyline> out;
-    for (const ink::Stroke& s : strokes) {
+    for (const ink::PenStroke& s : strokes) {
         Polyline p;
         p.closed = s.closed;
         p.family = s.family;

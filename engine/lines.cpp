@@ -15,7 +15,7 @@ using Eigen::Matrix3d;
 using Eigen::Vector3d;
 using Eigen::Vector3f;
 
-double Stroke::length() const {
+double PenStroke::length() const {
     double l = 0;
     for (size_t i = 1; i < points.size(); ++i) l += (points[i] - points[i - 1]).norm();
     if (closed && points.size() > 1) l += (points.front() - points.back()).norm();
@@ -124,8 +124,8 @@ bool contourNewton(const Hrbf& hrbf, const Vector3d& eye, Vector3d& x, double ma
 
 bool projectToContour(const Hrbf& hrbf, const Vector3d& eye, Vector3d& x) { return contourNewton(hrbf, eye, x, 0.05); }
 
-std::vector<Stroke> traceContours(const Hrbf& hrbf, const Vector3d& eye, const std::vector<SurfaceSample>& seeds,
-                                  const ContourOptions& options, ContourStats* stats) {
+std::vector<PenStroke> traceContours(const Hrbf& hrbf, const Vector3d& eye, const std::vector<SurfaceSample>& seeds,
+                                     const ContourOptions& options, ContourStats* stats) {
     auto start = std::chrono::steady_clock::now();
     ContourStats s;
     const double step = options.step;
@@ -139,7 +139,7 @@ std::vector<Stroke> traceContours(const Hrbf& hrbf, const Vector3d& eye, const s
     std::sort(order.begin(), order.end());
 
     PointHash traced(4.0 * step), tried(3.0 * step);
-    std::vector<Stroke> pieces;
+    std::vector<PenStroke> pieces;
     uint32_t curveId = 0;
     for (const auto& [nv, index] : order) {
         Vector3d x0 = seeds[index].position;
@@ -229,7 +229,7 @@ std::vector<Stroke> traceContours(const Hrbf& hrbf, const Vector3d& eye, const s
         }
         s.cusps += cusps.size();
         auto piece = [&](size_t from, size_t count, bool isClosed) {
-            Stroke p;
+            PenStroke p;
             p.closed = isClosed;
             p.curve = curveId;
             for (size_t k = 0; k < count; ++k) {
@@ -290,7 +290,7 @@ public:
           hash_(0.9 * o.spacing * double(1u << (std::max(1u, o.levels) - 1))),
           step_(0.5 * o.spacing) {}
 
-    std::vector<Stroke> run() {
+    std::vector<PenStroke> run() {
         for (uint32_t level = 0; level < std::max(1u, o_.levels); ++level) {
             const double dsep = o_.spacing * double(1u << (o_.levels - 1 - level));
             size_t queue = 0;  // Jobard & Lefer: seeds beside the strokes traced so far, oldest first
@@ -365,7 +365,7 @@ private:
         std::vector<Vector3d> fx, fn, bx, bn;
         march(1.0, fx, fn);
         if (!closed) march(-1.0, bx, bn);
-        Stroke s;
+        PenStroke s;
         s.family = family_;
         s.level = level;
         s.closed = closed;
@@ -406,25 +406,25 @@ private:
     uint32_t family_;
     PointHash hash_;
     double step_;
-    std::vector<Stroke> strokes_;
+    std::vector<PenStroke> strokes_;
 };
 
 }  // namespace
 
-std::vector<Stroke> traceHatching(const Hrbf& hrbf, const std::vector<SurfaceSample>& samples,
-                                  const HatchOptions& options, HatchStats* stats) {
+std::vector<PenStroke> traceHatching(const Hrbf& hrbf, const std::vector<SurfaceSample>& samples,
+                                     const HatchOptions& options, HatchStats* stats) {
     auto start = std::chrono::steady_clock::now();
     const uint32_t families = std::clamp(options.families, 1u, 2u);
-    std::vector<std::vector<Stroke>> traced(families);
+    std::vector<std::vector<PenStroke>> traced(families);
     std::vector<std::thread> threads;
     for (uint32_t f = 1; f < families; ++f)
         threads.emplace_back([&, f] { traced[f] = Hatcher(hrbf, samples, options, f).run(); });
     traced[0] = Hatcher(hrbf, samples, options, 0).run();
     for (std::thread& t : threads) t.join();
-    std::vector<Stroke> strokes;
+    std::vector<PenStroke> strokes;
     HatchStats s;
     for (auto& family : traced)
-        for (Stroke& stroke : family) {
+        for (PenStroke& stroke : family) {
             s.vertices += stroke.points.size();
             s.length += stroke.length();
             strokes.push_back(std::move(stroke));

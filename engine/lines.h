@@ -18,7 +18,7 @@ struct SurfaceSample {
 };
 
 // A polyline on the surface, in normalized coordinates.
-struct Stroke {
+struct PenStroke {
     std::vector<Eigen::Vector3f> points;
     std::vector<Eigen::Vector3f> normals;  // unit ∇f at each point
     bool closed = false;                   // the last point joins the first
@@ -48,8 +48,9 @@ struct ContourStats {
 
 // `eye` in normalized coordinates. Pieces come out in tracing order; a closed curve without cusps is one
 // closed stroke.
-std::vector<Stroke> traceContours(const Hrbf& hrbf, const Eigen::Vector3d& eye, const std::vector<SurfaceSample>& seeds,
-                                  const ContourOptions& options = {}, ContourStats* stats = nullptr);
+std::vector<PenStroke> traceContours(const Hrbf& hrbf, const Eigen::Vector3d& eye,
+                                     const std::vector<SurfaceSample>& seeds, const ContourOptions& options = {},
+                                     ContourStats* stats = nullptr);
 
 // Corrects x onto the contour (f = 0, g = 0) by Newton steps; false when it does not converge.
 bool projectToContour(const Hrbf& hrbf, const Eigen::Vector3d& eye, Eigen::Vector3d& x);
@@ -77,7 +78,7 @@ struct HatchStats {
 // samples for what those do not reach; a stroke ends where the field vanishes or turns sharply, where it comes
 // closer than d_test to another stroke of its family (tested against a spatial hash), or where it closes.
 // Families are traced in parallel, each on its own thread.
-std::vector<Stroke> traceHatching(const Hrbf& hrbf, const std::vector<SurfaceSample>& samples,
-                                  const HatchOptions& options = {}, HatchStats* stats = nullptr);
+std::vector<PenStroke> traceHatching(const Hrbf& hrbf, const std::vector<SurfaceSample>& samples,
+                                     const HatchOptions& options = {}, HatchStats* stats = nullptr);
 
 }  // namespace ink

@@ -408,6 +408,29 @@ VectorDrawing PointRenderer::vectorDrawing(uint32_t frame) const {
             layer.dots.insert(layer.dots.end(), hidden.begin(), hidden.end());
         }
     }
+    if (lines_) {
+        // The pen lines as the frame decided them: runs of consecutive drawn segments of a stroke are polylines,
+        // hatching in a layer of its own, contours above it and their hidden parts below everything.
+        auto chains = [&](StrokeBuffers::Kind kind) {
+            std::vector<DrawnSegment> drawn = lines_->drawn(kind, frame);
+            std::sort(drawn.begin(), drawn.end(), [](const auto& a, const auto& b) { return a.segment < b.segment; });
+            std::vector<Stroke> strokes;
+            for (size_t i = 0; i < drawn.size(); ++i) {
+                const DrawnSegment& d = drawn[i];
+                bool joins = i > 0 && d.segment == drawn[i - 1].segment + 1 &&
+                             glm::length(d.a - drawn[i - 1].b) < 1e-3f * float(out.width);
+                if (!joins) strokes.push_back({{d.a}, {}});
+                strokes.back().points.push_back(d.b);
+                strokes.back().visible.push_back((d.flags & kSegmentVisible) != 0);
+            }
+            return strokes;
+        };
+        out.addStrokes("hatching", style_.ink, chains(StrokeBuffers::Hatching));
+        out.addStrokes("contour", style_.ink, chains(StrokeBuffers::Contours),
+                       style_.hiddenLines ? "hidden contour" : "", style_.hiddenInk);
+        // Layers with nothing in them are left out.
+        std::erase_if(out.layers, [](const VectorLayer& l) { return l.dots.empty() && l.lines.empty(); });
+    }
     return out;
 }
 
@@ -458,8 +481,11 @@ VectorDrawing OffscreenRenderer::vectorDrawing() const {
     const float scale = 1.0f / float(factor_);
     d.width /= factor_;
     d.height /= factor_;
-    for (VectorLayer& layer : d.layers)
+    for (VectorLayer& layer : d.layers) {
         for (VectorLayer::Dot& dot : layer.dots) dot.center *= scale, dot.diameter *= scale;
+        for (std::vector<glm::vec2>& line : layer.lines)
+            for (glm::vec2& p : line) p *= scale;
+    }
     return d;
 }
 

@@ -11,8 +11,8 @@
 #include "refine.h"
 #include "render_style.h"
 #include "resources.h"
-#include "vector.h"
 #include "strokes.h"
+#include "vector.h"
 
 #include <glm/glm.hpp>
 #include <memory>

@@ -51,7 +51,7 @@ public:
     LineOptions lines;
     std::unique_ptr<StrokeBuffers> strokes;  // null without pen lines
     std::vector<SurfaceSample> samples;      // the first set's points: seeds of the tracing
-    std::vector<Stroke> hatching, contours;
+    std::vector<PenStroke> hatching, contours;
     HatchStats hatchStats;
     ContourStats contourStats;
     double hatchSeconds = 0;  // tracing and upload

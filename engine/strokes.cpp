@@ -36,9 +36,9 @@ float floatOf(uint32_t u) {
 
 }  // namespace
 
-std::vector<float> segmentTexels(const std::vector<Stroke>& strokes, bool hatching) {
+std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, bool hatching) {
     std::vector<float> out;
-    for (const Stroke& s : strokes) {
+    for (const PenStroke& s : strokes) {
         const size_t m = s.points.size();
         if (m < 2) continue;
         std::vector<float> arc(m, 0.0f);
@@ -62,7 +62,7 @@ std::vector<float> segmentTexels(const std::vector<Stroke>& strokes, bool hatchi
     return out;
 }
 
-std::vector<uint32_t> segmentStrokes(const std::vector<Stroke>& strokes) {
+std::vector<uint32_t> segmentStrokes(const std::vector<PenStroke>& strokes) {
     std::vector<uint32_t> out;
     for (uint32_t k = 0; k < strokes.size(); ++k) {
         const size_t m = strokes[k].points.size();
@@ -90,7 +90,7 @@ void StrokeBuffers::release() {
     }
 }
 
-void StrokeBuffers::set(Kind kind, const std::vector<Stroke>& strokes) {
+void StrokeBuffers::set(Kind kind, const std::vector<PenStroke>& strokes) {
     std::vector<float> texels = segmentTexels(strokes, kind == Hatching);
     const uint32_t count = uint32_t(texels.size() / (4 * kTexelsPerSegment));
     Segments& s = segments_[kind];

@@ -26,7 +26,7 @@ public:
     StrokeBuffers& operator=(const StrokeBuffers&) = delete;
 
     enum Kind { Contours = 0, Hatching = 1 };
-    void set(Kind kind, const std::vector<Stroke>& strokes);
+    void set(Kind kind, const std::vector<PenStroke>& strokes);
 
     struct Segments {
         Buffer buffer;
@@ -112,8 +112,8 @@ private:
 
 // Segments of strokes as the device reads them: three RGBA32F texels each (lines_common.glsl). Hatching
 // strokes taper over their last `taper` (model units) at both ends.
-std::vector<float> segmentTexels(const std::vector<Stroke>& strokes, bool hatching);
+std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, bool hatching);
 // The stroke each segment of segmentTexels belongs to.
-std::vector<uint32_t> segmentStrokes(const std::vector<Stroke>& strokes);
+std::vector<uint32_t> segmentStrokes(const std::vector<PenStroke>& strokes);
 
 }  // namespace ink

@@ -71,10 +71,10 @@ TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of 
         glm::vec3 eyeF = camera.eye();
         const Vector3d eye(eyeF.x, eyeF.y, eyeF.z);
         ink::ContourStats stats;
-        std::vector<ink::Stroke> pieces = ink::traceContours(m.hrbf, eye, torusSamples(m, 96, 32), {}, &stats);
+        std::vector<ink::PenStroke> pieces = ink::traceContours(m.hrbf, eye, torusSamples(m, 96, 32), {}, &stats);
         REQUIRE(!pieces.empty());
         // Every traced point is on both equations.
-        for (const ink::Stroke& s : pieces)
+        for (const ink::PenStroke& s : pieces)
             for (const Eigen::Vector3f& p : s.points) {
                 Vector3d x = p.cast<double>(), g;
                 double f = m.hrbf.eval(x, g);
@@ -84,7 +84,7 @@ TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of 
         // Every traced curve closed, each in at most 4 pieces (cut at cusps), and no curve was traced twice: a torus
         // has at most 2 contour curves seen from outside its hole's axis.
         std::map<uint32_t, int> piecesOfCurve;
-        for (const ink::Stroke& s : pieces) ++piecesOfCurve[s.curve];
+        for (const ink::PenStroke& s : pieces) ++piecesOfCurve[s.curve];
         CHECK(stats.closedCurves == stats.curves);
         CHECK(stats.curves <= 2);
         for (auto [curve, count] : piecesOfCurve) CHECK(count <= 4);
@@ -159,8 +159,8 @@ double segmentDistance(const Vector3d& p, const Vector3d& a, const Vector3d& b) 
 
 // For points along the strokes, the distance to the nearest other stroke of the same family on the same side of
 // the surface: the spacing between neighbouring strokes. Returns the coefficient of variation and the mean.
-std::pair<double, double> spacingVariation(const std::vector<ink::Stroke>& strokes, uint32_t family, uint32_t maxLevel,
-                                           double reach) {
+std::pair<double, double> spacingVariation(const std::vector<ink::PenStroke>& strokes, uint32_t family,
+                                           uint32_t maxLevel, double reach) {
     struct Seg {
         Vector3d a, b, n;
         size_t stroke;
@@ -172,7 +172,7 @@ std::pair<double, double> spacingVariation(const std::vector<ink::Stroke>& strok
                                   int(std::floor(p.z() / reach))};
     };
     for (size_t k = 0; k < strokes.size(); ++k) {
-        const ink::Stroke& s = strokes[k];
+        const ink::PenStroke& s = strokes[k];
         if (s.family != family || s.level > maxLevel) continue;
         for (size_t i = 0; i + 1 < s.points.size(); ++i) {
             Seg g{s.points[i].cast<double>(), s.points[i + 1].cast<double>(), s.normals[i].cast<double>(), k};
@@ -182,7 +182,7 @@ std::pair<double, double> spacingVariation(const std::vector<ink::Stroke>& strok
     }
     std::vector<double> distances;
     for (size_t k = 0; k < strokes.size(); ++k) {
-        const ink::Stroke& s = strokes[k];
+        const ink::PenStroke& s = strokes[k];
         if (s.family != family || s.level > maxLevel) continue;
         for (size_t i = 0; i < s.points.size(); i += 3) {
             Vector3d p = s.points[i].cast<double>(), n = s.normals[i].cast<double>();
@@ -335,7 +335,7 @@ TEST_CASE("contours: each frame decides on the device which contour segments are
     renderer.render(camera);
     std::vector<ink::DrawnSegment> drawn = renderer.drawnSegments(ink::StrokeBuffers::Contours);
     std::vector<Eigen::Vector3f> mids;
-    for (const ink::Stroke& s : scene.contours)
+    for (const ink::PenStroke& s : scene.contours)
         for (size_t i = 0; i + 1 < s.points.size() + (s.closed ? 1 : 0); ++i)
             mids.push_back(0.5f * (s.points[i] + s.points[(i + 1) % s.points.size()]));
     REQUIRE(drawn.size() == mids.size());  // with hidden lines, every segment is drawn one way or the other
@@ -379,4 +379,33 @@ TEST_CASE("contours: each frame decides on the device which contour segments are
     CHECK(double(agree) >= 0.95 * double(drawn.size()));
     CHECK(unexcused <= drawn.size() / 100);
     gpu.requireNoValidationErrors();
+}
+
+#include "run_command.h"
+#include "temp_dir.h"
+
+#include <fstream>
+#include <sstream>
+
+TEST_CASE("lines: render -o out.svg writes the pen lines as polylines in their own layers") {
+    TempDir dir;
+    const std::string svg = dir / "pen.svg";
+    Run r = runInkwell("render " INKWELL_SOURCE_DIR
+                       "/assets/bunny.obj --control-points 150 --levels 3 "
+                       "--style contours+hatching --hidden-lines --size 256 256 -o " +
+                       svg);
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    std::ifstream in(svg);
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string s = text.str();
+    // One pen a layer, bottom first: the hidden contours, the hatching, the contours.
+    for (const char* label :
+         {"inkscape:label=\"1 hidden contour\"", "inkscape:label=\"2 hatching\"", "inkscape:label=\"3 contour\""}) {
+        CAPTURE(label);
+        CHECK(s.find(label) != std::string::npos);
+    }
+    CHECK(s.find("inkscape:label=\"4") == std::string::npos);
+    CHECK(s.find("<circle") == std::string::npos);  // no dots without a dot style
 }
