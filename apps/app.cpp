@@ -296,6 +296,54 @@ void finishOptions(Options& o) {
     }
 }
 
+static std::string hexColour(const glm::vec4& c) {
+    char text[8];
+    auto byte = [](float v) { return int(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+    std::snprintf(text, sizeof text, "#%02x%02x%02x", byte(c.r), byte(c.g), byte(c.b));
+    return text;
+}
+
+static const char* directionName(ink::DirectionField d) {
+    return d == ink::DirectionField::Axis           ? "axis"
+           : d == ink::DirectionField::CurvatureMin ? "curvature-min"
+                                                    : "curvature-max";
+}
+
+Preset presetFrom(const Options& o) {
+    Preset p;
+    p.style = ink::drawStyleName(o.style);
+    p.direction = directionName(o.refine.direction);
+    p.levels = o.refine.levels;
+    if (o.refine.passes > 0) p.passes = o.refine.passes;
+    p.ink = hexColour(o.render.ink);
+    p.paper = hexColour(o.render.paper);
+    p.dotSize = o.render.frontSize;
+    p.silhouetteSize = o.render.silhouetteSize;
+    p.tau = o.render.tau;
+    p.tone = o.render.toneGamma;
+    p.inkDensity = o.render.inkDensity;
+    p.hiddenLines = o.render.hiddenLines;
+    p.light = std::vector<float>{o.render.light.x, o.render.light.y, o.render.light.z};
+    p.up = ink::upAxisName(o.render.up);
+    return p;
+}
+
+void loadPreset(Options& o, const std::string& path) {
+    Options t = o;
+    // The text forms of what the preset may set, from the current values (the viewer's panel edits those).
+    const Preset now = presetFrom(o);
+    t.styleName = *now.style;
+    t.direction = *now.direction;
+    t.ink = *now.ink;
+    t.paper = *now.paper;
+    t.up = *now.up;
+    t.light = *now.light;
+    t.command = nullptr;  // no option counts as given: every key of the file wins
+    t.preset = path;
+    finishOptions(t);
+    o = t;
+}
+
 ink::Camera cameraFrom(const Options& o) {
     ink::Camera c;
     c.up = o.render.up;

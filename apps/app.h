@@ -63,6 +63,14 @@ void addVectorOptions(CLI::App* cmd, Options& o);  // page, orientation, margin,
 void finishOptions(Options& o);
 ink::Camera cameraFrom(const Options& o);
 
+struct Preset;
+// The options' style as a preset (every key docs/usage.md lists but `passes` when it is the default), for the
+// viewer's "save preset".
+Preset presetFrom(const Options& o);
+// Reads a preset file over `o`, every key in the file winning (the viewer's "load preset"), and resolves what
+// it sets as finishOptions does. Throws ink::Error naming the file and the key, leaving `o` unchanged.
+void loadPreset(Options& o, const std::string& path);
+
 // Notes on stderr (none when quiet); progress as one self-overwriting line, only when stderr is a terminal, so
 // piped and scripted runs stay quiet. main() installs it for the whole command.
 ink::Reporter terminalReporter(bool quiet);

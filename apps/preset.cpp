@@ -137,4 +137,30 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
     return p;
 }
 
+std::string presetJson(const Preset& p) {
+    nlohmann::ordered_json j;
+    auto rounded = [](float v) { return std::round(double(v) * 1e4) / 1e4; };
+    auto put = [&](const char* key, const auto& value) {
+        if (value) j[key] = *value;
+    };
+    auto putNumber = [&](const char* key, const std::optional<float>& value) {
+        if (value) j[key] = rounded(*value);
+    };
+    put("style", p.style);
+    put("direction", p.direction);
+    put("levels", p.levels);
+    put("passes", p.passes);
+    put("ink", p.ink);
+    put("paper", p.paper);
+    putNumber("dot_size", p.dotSize);
+    putNumber("silhouette_size", p.silhouetteSize);
+    putNumber("tau", p.tau);
+    putNumber("tone", p.tone);
+    putNumber("ink_density", p.inkDensity);
+    put("hidden_lines", p.hiddenLines);
+    if (p.light) j["light"] = {rounded((*p.light)[0]), rounded((*p.light)[1]), rounded((*p.light)[2])};
+    put("up", p.up);
+    return j.dump(2) + "\n";
+}
+
 }  // namespace app

@@ -27,4 +27,8 @@ constexpr size_t kMaxPresetBytes = size_t(1) << 20;
 // naming `name` and the key. Unknown keys are refused.
 Preset parsePreset(const std::string& bytes, const std::string& name);
 
+// The preset as JSON text that parsePreset reads back to the same values (the keys it has, in a fixed order;
+// numbers to 4 decimals).
+std::string presetJson(const Preset& p);
+
 }  // namespace app

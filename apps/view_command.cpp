@@ -1,16 +1,21 @@
 // view: the interactive viewer. A GLFW window, a FIFO swapchain and two frames in flight; every frame the
 // same PointRenderer as `render` draws straight into the swapchain image (no readback unless a screenshot
-// is asked for). The keys and the mouse only set state; the frame loop applies it between frames.
+// is asked for), and the settings panel (viewer_panel.h) beside it. The keys, the mouse and the panel only set
+// state; the frame loop applies it between frames. New refinements run on a worker thread.
 #include "commands.h"
 #include "files.h"
 #include "image.h"
+#include "preset.h"
 #include "swapchain.h"
+#include "viewer_panel.h"
 
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -18,6 +23,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace app {
@@ -43,6 +49,7 @@ struct ViewOptions {
     uint32_t frames = 0;     // 0: until the window closes
     std::string screenshot;  // saved from the last frame
     std::string vector;      // the last frame's marks (or the V key's) as SVG or PDF
+    bool noPanel = false;    // start with the panel hidden
 };
 
 struct ViewResult {
@@ -51,6 +58,7 @@ struct ViewResult {
     VkExtent2D extent{};
     uint64_t points = 0;
     size_t controlPoints = 0;
+    bool panel = false;  // shown in the last frame
 };
 
 // The first frame also creates pipelines and buffers on some drivers: left out when there are others.
@@ -130,6 +138,29 @@ struct Frame {
     VkFence done = VK_NULL_HANDLE;          // created signalled: the first wait returns at once
     VkSemaphore acquired = VK_NULL_HANDLE;  // the swapchain image is ready to be drawn into
     ink::Buffer capture;                    // only while this frame takes a screenshot
+    VkExtent2D captured{};                  // the drawing's extent in it
+};
+
+// The refinement options a change of which needs a new refinement.
+bool sameRefinement(const ink::RefineOptions& a, const ink::RefineOptions& b) {
+    return a.levels == b.levels && a.passes == b.passes && a.direction == b.direction &&
+           a.distribution == b.distribution;
+}
+
+// A new refinement, made on a worker thread while the window keeps handling events. The frames stop meanwhile:
+// the device runs one queue in order, so a frame submitted after the refinement would wait for it anyway, and
+// the worker has the queue and the engine's command pool to itself (Scene::build).
+struct RefineJob {
+    DrawStyle style;
+    ink::RefineOptions options;
+    std::thread thread;
+    std::atomic<bool> finished{false};
+    std::atomic<uint32_t> permille{0};
+    ink::Scene::Sets sets;  // the rest is written by the worker before `finished`, read after
+    uint64_t points = 0;
+    double seconds = 0;
+    std::string error;
+    std::vector<std::string> notes;
 };
 
 // Moves the camera target in the view plane by a mouse movement in pixels: the point under the cursor
@@ -152,10 +183,13 @@ public:
 
     ViewResult run();
 
-    // GLFW callbacks: they only record what to do, the loop does it (no Vulkan work, nothing that throws).
-    void onKey(int key, int action);
+    // GLFW callbacks: they only record what to do, the loop does it (no Vulkan work, nothing that throws). The
+    // panel gets every event first; what it takes (typing in a field, a click on it) the viewer leaves alone.
+    void onKey(int key, int scancode, int action, int mods);
+    void onChar(unsigned int c);
+    void onMouseButton(int button, int action, int mods);
     void onCursor(double x, double y);
-    void onScroll(double dy);
+    void onScroll(double dx, double dy);
     void onResize() { resized_ = true; }
 
 private:
@@ -164,9 +198,16 @@ private:
     void record(Frame& f, uint32_t image, bool capture);
     void submitAndPresent(Frame& f, uint32_t image, bool suboptimal);
     void saveCapture(Frame& f, const std::string& path);
-    void refine();
+    VkExtent2D drawingExtent() const;
+    bool panelDrawn() const;
+    void buildPanel(double frameMs);
+    void startRefinement();
+    void finishRefinement();
+    void savePng(const std::string& path, uint32_t width, uint32_t height);
+    void say(const std::string& line, bool error);
     void updateTitle(double averageMs);
     std::string nextScreenshotPath();
+    std::string nextDrawingPath() const;
     void saveVector();  // the marks of the frame drawn last, to --vector or the next free inkwell-view-N.svg
     bool quitting() const { return quit_ || glfwWindowShouldClose(window_); }
     void release();
@@ -185,15 +226,21 @@ private:
     std::unique_ptr<ink::PointRenderer> renderer_;
     uint64_t points_ = 0;
 
+    std::unique_ptr<ViewerPanel> panel_;
+    std::unique_ptr<RefineJob> job_;
+    std::string message_;     // the panel's last line: what was saved, loaded or refused
+    std::string pngDefault_;  // the panel's PNG file to begin with
+
     ink::Camera camera_, home_;
     glm::vec3 tracedEye_{NAN}, previousEye_{NAN};  // where the contours were traced from; the last frame's eye
     DrawStyle appliedStyle_;
-    uint32_t appliedLevels_;
+    ink::RefineOptions appliedRefine_;
     float toneGamma_;  // what T restores
     size_t light_ = 0;
     double lastX_ = 0, lastY_ = 0;
     bool resized_ = false, quit_ = false, restyle_ = true, rerefine_ = false, screenshotKey_ = false;
     bool vectorKey_ = false;
+    bool dragging_ = false;  // a drag that began on the drawing (not on the panel) moves the camera
 };
 
 Viewer& viewerOf(GLFWwindow* w) { return *static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
@@ -209,7 +256,7 @@ Viewer::Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene
       camera_(cameraFrom(o)),
       home_(camera_),
       appliedStyle_(o.style),
-      appliedLevels_(o.refine.levels),
+      appliedRefine_(o.refine),
       toneGamma_(o.render.toneGamma > 0 ? o.render.toneGamma : 1.5f) {
     try {
         format_ = ink::chooseSurfaceFormat(ctx, surface);
@@ -232,26 +279,45 @@ Viewer::Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene
         renderer_ = std::make_unique<ink::PointRenderer>(ctx, scene.pointers(), format_.format, kFramesInFlight,
                                                          scene.strokes.get());
         points_ = scene.points();
+        panel_ = std::make_unique<ViewerPanel>(ctx, window, format_.format, kFramesInFlight);
+        if (v.noPanel) panel_->toggle();
     } catch (...) {
         release();
         throw;
     }
     glfwSetWindowUserPointer(window, this);
-    glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) { viewerOf(w).onKey(key, action); });
+    glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
+        viewerOf(w).onKey(key, scancode, action, mods);
+    });
+    glfwSetCharCallback(window, [](GLFWwindow* w, unsigned int c) { viewerOf(w).onChar(c); });
+    glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
+        viewerOf(w).onMouseButton(button, action, mods);
+    });
     glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) { viewerOf(w).onCursor(x, y); });
-    glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) { viewerOf(w).onScroll(dy); });
+    glfwSetScrollCallback(window, [](GLFWwindow* w, double dx, double dy) { viewerOf(w).onScroll(dx, dy); });
     glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int, int) { viewerOf(w).onResize(); });
+    glfwSetCursorEnterCallback(window, ImGui_ImplGlfw_CursorEnterCallback);
+    glfwSetWindowFocusCallback(window, ImGui_ImplGlfw_WindowFocusCallback);
     glfwGetCursorPos(window, &lastX_, &lastY_);
 }
 
 // Reverse order of creation; safe on a partly constructed viewer.
 void Viewer::release() {
+    if (job_) {  // a refinement cannot be stopped on the device: wait for it
+        job_->thread.join();
+        job_.reset();
+    }
     glfwSetKeyCallback(window_, nullptr);
+    glfwSetCharCallback(window_, nullptr);
+    glfwSetMouseButtonCallback(window_, nullptr);
     glfwSetCursorPosCallback(window_, nullptr);
     glfwSetScrollCallback(window_, nullptr);
     glfwSetFramebufferSizeCallback(window_, nullptr);
+    glfwSetCursorEnterCallback(window_, nullptr);
+    glfwSetWindowFocusCallback(window_, nullptr);
     glfwSetWindowUserPointer(window_, nullptr);
     vkDeviceWaitIdle(ctx_.device);
+    panel_.reset();
     renderer_.reset();
     for (Frame& f : frames_) {
         if (f.capture.buffer) ink::destroyBuffer(ctx_, f.capture);
@@ -264,7 +330,11 @@ void Viewer::release() {
     ink::destroySwapchain(ctx_, swapchain_);
 }
 
-void Viewer::onKey(int key, int action) {
+void Viewer::onKey(int key, int scancode, int action, int mods) {
+    if (panel_) {
+        ImGui_ImplGlfw_KeyCallback(window_, key, scancode, action, mods);
+        if (panel_->wantsKeyboard()) return;  // typing into one of its fields
+    }
     bool press = action == GLFW_PRESS, repeat = action == GLFW_REPEAT;
     if (!press && !(repeat && (key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET))) return;
     ink::RenderStyle& s = o_.render;
@@ -340,16 +410,32 @@ void Viewer::onKey(int key, int action) {
         case GLFW_KEY_R:
             camera_ = home_;
             break;
+        case GLFW_KEY_TAB:
+            if (panel_) panel_->toggle();
+            break;
+        case GLFW_KEY_F1:
+            if (panel_) panel_->showHelp();
+            break;
         default:
             break;
     }
-    if (o_.style != appliedStyle_ || o_.refine.levels != appliedLevels_) rerefine_ = true;
+    if (o_.style != appliedStyle_ || !sameRefinement(o_.refine, appliedRefine_)) rerefine_ = true;
+}
+
+void Viewer::onChar(unsigned int c) {
+    if (panel_) ImGui_ImplGlfw_CharCallback(window_, c);
+}
+
+void Viewer::onMouseButton(int button, int action, int mods) {
+    if (panel_) ImGui_ImplGlfw_MouseButtonCallback(window_, button, action, mods);
+    if (action == GLFW_PRESS) dragging_ = !(panel_ && panel_->wantsMouse());
 }
 
 void Viewer::onCursor(double x, double y) {
     double dx = x - lastX_, dy = y - lastY_;
     lastX_ = x;
     lastY_ = y;
+    if (!dragging_) return;
     bool left = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
     bool right = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
     bool shift = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
@@ -359,11 +445,17 @@ void Viewer::onCursor(double x, double y) {
     } else if (left) {
         // Grab-and-turn: dragging right turns the model right, i.e. the camera goes left around it.
         camera_.azimuthDeg = std::fmod(camera_.azimuthDeg - float(dx) * 0.3f, 360.0f);
-        camera_.elevationDeg = std::clamp(camera_.elevationDeg + float(dy) * 0.3f, -89.0f, 89.0f);
+        camera_.elevationDeg += float(dy) * 0.3f;
+        camera_.elevationDeg = camera_.freeOrbit ? std::remainder(camera_.elevationDeg, 360.0f)
+                                                 : std::clamp(camera_.elevationDeg, -89.0f, 89.0f);
     }
 }
 
-void Viewer::onScroll(double dy) {
+void Viewer::onScroll(double dx, double dy) {
+    if (panel_) {
+        ImGui_ImplGlfw_ScrollCallback(window_, dx, dy);
+        if (panel_->wantsMouse()) return;  // scrolls the panel
+    }
     camera_.distance = std::clamp(camera_.distance * float(std::pow(0.9, dy)), 0.1f, 50.0f);
 }
 
@@ -374,33 +466,156 @@ bool Viewer::ensureSwapchain() {
     glfwGetFramebufferSize(window_, &width, &height);
     if (!ink::createSwapchain(ctx_, swapchain_, surface_, format_, {uint32_t(width), uint32_t(height)})) return false;
     resized_ = false;
+    if (panel_) panel_->swapchainChanged();
     if (!v_.screenshot.empty() && !swapchain_.copyable)
         throw ink::Error("this window system's images cannot be copied, so --screenshot cannot work");
     return true;
 }
 
-// Re-refines on the device after a style or level key, then rebuilds the renderer over the new points.
-void Viewer::refine() {
+// Starts a new refinement for the style and refinement options asked for, on a worker thread.
+void Viewer::startRefinement() {
     rerefine_ = false;
+    job_ = std::make_unique<RefineJob>();
+    RefineJob* job = job_.get();
+    job->style = o_.style;
+    job->options = o_.refine;
+    job->thread = std::thread([this, job] {
+        const size_t sets = job->style == DrawStyle::Both ? 2 : 1;
+        size_t setsDone = 0;
+        ink::Reporter reporter;
+        reporter.progress = [&](const char*, size_t done, size_t total) {
+            job->permille =
+                uint32_t(1000 * (double(setsDone) + double(done) / double(std::max<size_t>(total, 1))) / double(sets));
+            if (done >= total) setsDone = std::min(setsDone + 1, sets);
+        };
+        reporter.note = [job](const std::string& line) { job->notes.push_back(line); };
+        ink::ScopedReporter scoped(reporter);
+        try {
+            auto start = Clock::now();
+            job->sets = scene_.build(job->style, job->options);
+            job->seconds = secondsSince(start);
+            for (auto& set : job->sets)
+                for (const ink::LevelStats& l : ink::readLevelStats(ctx_, set->gpu())) job->points += l.kept;
+        } catch (const std::exception& e) {
+            job->sets.clear();  // before the main thread touches the device again
+            job->error = e.what();
+        }
+        job->finished = true;
+        glfwPostEmptyEvent();  // wakes the loop if it waits for events
+    });
+}
+
+// Swaps in the finished refinement (or, if it failed, says why and keeps the drawing as it was).
+void Viewer::finishRefinement() {
+    job_->thread.join();
+    std::unique_ptr<RefineJob> job = std::move(job_);
+    for (const std::string& line : job->notes) ink::note(line);
+    if (!job->error.empty()) {
+        // Too many points for this device, say: keep viewing what was there.
+        say(job->error + "; keeping " + ink::drawStyleName(appliedStyle_) + " at " +
+                std::to_string(appliedRefine_.levels) + " levels",
+            true);
+        o_.style = appliedStyle_;
+        o_.refine = appliedRefine_;
+        return;
+    }
     VK_CHECK(vkDeviceWaitIdle(ctx_.device));
     renderer_.reset();  // it holds descriptors of the old refinement's buffers
-    try {
-        scene_.refine(o_);
-    } catch (const ink::Error& e) {
-        // Too many points for this device, say: keep viewing what was there.
-        ink::note(std::string(e.what()) + "; keeping " + ink::drawStyleName(appliedStyle_) + " at " +
-                  std::to_string(appliedLevels_) + " levels");
-        o_.style = appliedStyle_;
-        o_.refine.levels = appliedLevels_;
-        scene_.refine(o_);
-    }
-    appliedStyle_ = o_.style;
-    appliedLevels_ = o_.refine.levels;
+    scene_.replace(std::move(job->sets), job->seconds, o_.lines);
+    appliedStyle_ = job->style;
+    appliedRefine_ = job->options;
     renderer_ = std::make_unique<ink::PointRenderer>(ctx_, scene_.pointers(), format_.format, kFramesInFlight,
                                                      scene_.strokes.get());
     tracedEye_ = glm::vec3(NAN);
-    points_ = scene_.points();
+    points_ = job->points;
     restyle_ = true;  // the new renderer's style block is empty
+    char line[160];
+    std::snprintf(line, sizeof line, "refined %s at %u levels in %.2f s: %llu points",
+                  ink::drawStyleName(appliedStyle_), appliedRefine_.levels, job->seconds, (unsigned long long)points_);
+    say(line, false);
+    // Changed again while it ran: once more.
+    if (o_.style != appliedStyle_ || !sameRefinement(o_.refine, appliedRefine_)) rerefine_ = true;
+}
+
+// The panel's notes go to its last line and, as the viewer's other notes, to the terminal.
+void Viewer::say(const std::string& line, bool error) {
+    message_ = line;
+    if (error)
+        ink::note(line);
+    else
+        std::printf("view: %s\n", line.c_str());
+    std::fflush(stdout);
+}
+
+VkExtent2D Viewer::drawingExtent() const {
+    VkExtent2D e = swapchain_.extent;
+    if (panel_) e.width = panel_->drawingWidth(e.width);
+    return e;
+}
+
+bool Viewer::panelDrawn() const { return panel_ && drawingExtent().width < swapchain_.extent.width; }
+
+// The panel's widgets for this frame, and what they asked for.
+void Viewer::buildPanel(double frameMs) {
+    PanelInfo info;
+    info.model = std::filesystem::path(o_.model).filename().string();
+    info.controlPoints = scene_.model.fit.controlPoints;
+    info.points = points_;
+    info.frameMs = frameMs;
+    info.refining = rerefine_ || job_;
+    info.refineProgress = job_ ? job_->permille / 1000.0 : 0.0;
+    info.message = message_;
+    info.screenshotPath = v_.screenshot.empty() ? "inkwell-view-N.png (the first free N)" : v_.screenshot;
+    info.drawing = drawingExtent();
+    if (pngDefault_.empty()) pngDefault_ = nextDrawingPath();
+    info.pngPath = pngDefault_;
+    PanelActions a = panel_->build(o_, camera_, info);
+    if (a.restyle) restyle_ = true;
+    if (a.rerefine) rerefine_ = true;
+    if (a.upChanged) camera_.up = home_.up = o_.render.up;
+    if (a.resetCamera) camera_ = home_;
+    if (a.saveScreenshot) screenshotKey_ = true;
+    if (a.savePng && !job_) {
+        try {
+            savePng(a.pngPath, a.pngSize[0], a.pngSize[1]);
+            say("saved " + a.pngPath, false);
+        } catch (const ink::Error& e) {
+            say(std::string("not saved: ") + e.what(), true);
+        }
+    }
+    if (a.savePreset) {
+        try {
+            ink::checkOutputs({a.presetPath}, {o_.model});
+            ink::OutputBatch now;  // at once, even inside the --screenshot batch
+            ink::writeFileAtomically(a.presetPath, presetJson(presetFrom(o_)));
+            now.commit();
+            say("saved preset " + a.presetPath, false);
+        } catch (const ink::Error& e) {
+            say(std::string("preset not saved: ") + e.what(), true);
+        }
+    }
+    if (a.loadPreset) {
+        try {
+            loadPreset(o_, a.presetPath);
+            camera_.up = home_.up = o_.render.up;
+            restyle_ = true;
+            if (o_.style != appliedStyle_ || !sameRefinement(o_.refine, appliedRefine_)) rerefine_ = true;
+            say("loaded preset " + a.presetPath, false);
+        } catch (const ink::Error& e) {
+            say(e.what(), true);
+        }
+    }
+}
+
+// What `inkwell render` draws with the same options and camera at width × height, supersampled as it does.
+void Viewer::savePng(const std::string& path, uint32_t width, uint32_t height) {
+    ink::checkOutputs({path}, {o_.model, o_.preset});
+    ink::checkOffscreenSize(ctx_, width, height, o_.render.supersample);
+    ink::OffscreenRenderer offscreen(ctx_, width, height, o_.render, scene_.pointers());
+    ink::RgbaImage image = offscreen.render(camera_);
+    ink::OutputBatch now;  // at once, even inside the --screenshot batch
+    ink::writePng(path, image);
+    now.commit();
 }
 
 void Viewer::record(Frame& f, uint32_t index, bool capture) {
@@ -420,10 +635,15 @@ void Viewer::record(Frame& f, uint32_t index, bool capture) {
         renderer_->setStyle(cmd, o_.render, 1.0f);
         restyle_ = false;
     }
-    // The acquire semaphore is waited on at colour output: the image's transition comes after that stage.
-    ink::FrameTarget target{swapchain_.images[index], swapchain_.views[index], swapchain_.extent,
-                            VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT};
+    // The acquire semaphore is waited on at colour output: the image's transition comes after that stage. The
+    // drawing takes the window's left part; the panel, drawn after it (and after a screenshot's copy), the rest.
+    const bool panel = panelDrawn();
+    ink::FrameTarget target{
+        swapchain_.images[index], swapchain_.views[index], drawingExtent(),
+        panel ? panel_->layoutBefore(swapchain_, drawingExtent().width) : VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT};
     renderer_->recordFrame(cmd, camera_, target, current_, capture ? &f.capture : nullptr);
+    if (panel) panel_->record(cmd, swapchain_, index, target.extent.width);
     VK_CHECK(vkEndCommandBuffer(cmd));
 }
 
@@ -476,7 +696,8 @@ bool Viewer::drawFrame(const std::string& screenshot) {
 
     bool capture = !screenshot.empty();
     if (capture) {
-        VkDeviceSize bytes = VkDeviceSize(swapchain_.extent.width) * swapchain_.extent.height * 4;
+        f.captured = drawingExtent();
+        VkDeviceSize bytes = VkDeviceSize(f.captured.width) * f.captured.height * 4;
         f.capture = ink::createBuffer(ctx_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, ink::MemoryUse::Readback);
     }
     record(f, index, capture);
@@ -488,8 +709,8 @@ bool Viewer::drawFrame(const std::string& screenshot) {
 
 void Viewer::saveCapture(Frame& f, const std::string& path) {
     VK_CHECK(vkWaitForFences(ctx_.device, 1, &f.done, VK_TRUE, UINT64_MAX));
-    // Captured at the extent the frame was recorded with (a resize only takes effect before the next one).
-    VkExtent2D extent = swapchain_.extent;
+    // The drawing, at the extent the frame was recorded with: never the panel.
+    VkExtent2D extent = f.captured;
     ink::RgbaImage image{extent.width, extent.height, {}};
     const uint8_t* mapped = static_cast<const uint8_t*>(f.capture.mapped);
     image.pixels.assign(mapped, mapped + f.capture.size);
@@ -517,6 +738,13 @@ void Viewer::saveVector() {
     std::printf("view: saved %s\n", path.c_str());
 }
 
+std::string Viewer::nextDrawingPath() const {
+    for (uint32_t n = 1;; ++n) {
+        std::string path = "inkwell-drawing-" + std::to_string(n) + ".png";
+        if (!std::filesystem::exists(path)) return path;
+    }
+}
+
 void Viewer::updateTitle(double averageMs) {
     char title[256];
     std::snprintf(title, sizeof(title), "inkwell view - %s - %s, %u levels - %llu points - %.1f ms",
@@ -528,20 +756,35 @@ void Viewer::updateTitle(double averageMs) {
 ViewResult Viewer::run() {
     ViewResult result;
     auto previous = Clock::now(), titleStart = previous;
-    double titleMs = 0;
+    double titleMs = 0, averageMs = 0;
     uint32_t titleFrames = 0;
     bool savedLast = false, savedVectorLast = false;
-    while (!quitting()) {
-        glfwPollEvents();
-        if (rerefine_) {
-            refine();
+    while (!quitting() || job_) {
+        if (job_) {
+            // A refinement runs: keep handling events (and show its progress in the title) until it is done.
+            if (!job_->finished) {
+                glfwWaitEventsTimeout(0.1);
+                char title[256];
+                std::snprintf(title, sizeof title, "inkwell view - %s - refining %d%%",
+                              std::filesystem::path(o_.model).filename().c_str(), int(job_->permille / 10));
+                glfwSetWindowTitle(window_, title);
+                continue;
+            }
+            finishRefinement();
+            updateTitle(averageMs);
             previous = Clock::now();  // the refinement is not a frame
+            if (quitting()) break;
         }
+        glfwPollEvents();
         if (glfwGetWindowAttrib(window_, GLFW_ICONIFIED) || !ensureSwapchain()) {
             glfwWaitEvents();  // minimized: nothing to draw until the window is back
             previous = Clock::now();
             continue;
         }
+        // The panel first: what it changes shows in this frame. A change that needs a new refinement is drawn
+        // once with the panel saying so, then refined.
+        if (panelDrawn()) buildPanel(averageMs);
+        result.panel = panelDrawn();
         bool last = v_.frames > 0 && result.frames + 1 == v_.frames;
         std::string screenshot;
         if (screenshotKey_ || (last && !v_.screenshot.empty())) screenshot = nextScreenshotPath();
@@ -555,7 +798,10 @@ ViewResult Viewer::run() {
             screenshotKey_ = false;
             continue;
         }
-        if (!drawn) continue;
+        if (!drawn) {
+            if (rerefine_) startRefinement();
+            continue;
+        }
         if (!screenshot.empty()) {
             std::printf("view: saved %s\n", screenshot.c_str());
             screenshotKey_ = false;
@@ -579,12 +825,14 @@ ViewResult Viewer::run() {
         titleMs += ms;
         ++titleFrames;
         if (std::chrono::duration<double>(now - titleStart).count() >= kTitleInterval) {
-            updateTitle(titleMs / titleFrames);
+            averageMs = titleMs / titleFrames;
+            updateTitle(averageMs);
             titleStart = now;
             titleMs = 0;
             titleFrames = 0;
         }
         if (v_.frames > 0 && result.frames >= v_.frames) break;
+        if (rerefine_) startRefinement();
     }
     // Closed or quit before a --screenshot was taken: draw one more frame for it.
     for (int attempt = 0; !v_.screenshot.empty() && !savedLast && attempt < 3; ++attempt)
@@ -633,18 +881,16 @@ int runView(Options& o, const ViewOptions& v) {
     session.checkValidation();
 
     double medianMs = medianFrameMs(result.frameMs);
-    json stats = {{"frames", result.frames},
-                  {"median_frame_ms", medianMs},
-                  {"frame_ms", result.frameMs},
-                  {"width", result.extent.width},
-                  {"height", result.extent.height},
-                  {"points", result.points},
-                  {"control_points", result.controlPoints}};
+    json stats = {{"frames", result.frames},      {"panel", result.panel},
+                  {"median_frame_ms", medianMs},  {"frame_ms", result.frameMs},
+                  {"width", result.extent.width}, {"height", result.extent.height},
+                  {"points", result.points},      {"control_points", result.controlPoints}};
     stats.update(deviceJson(session.ctx));
     writeJson(o.statsPath, stats);
     if (outputs) outputs->commit();
-    std::printf("view: %u frames, median %.2f ms (%ux%u, %llu points)\n", result.frames, medianMs, result.extent.width,
-                result.extent.height, (unsigned long long)result.points);
+    std::printf("view: %u frames, median %.2f ms (%ux%u%s, %llu points)\n", result.frames, medianMs,
+                result.extent.width, result.extent.height, result.panel ? " with the panel" : "",
+                (unsigned long long)result.points);
     return 0;
 }
 
@@ -665,6 +911,7 @@ void addViewCommand(CLI::App& cli, Options& o, Commands& commands) {
     view->add_option("--screenshot", v->screenshot, "Save the last frame (or the S key's) to this PNG");
     view->add_option("--vector", v->vector,
                      "Save the last frame's marks (or the V key's) to this SVG or PDF (page options as render's)");
+    view->add_flag("--no-panel", v->noPanel, "Start with the settings panel hidden (Tab shows it)");
     commands.emplace_back(view, [&o, v] { return runView(o, *v); });
 }
 

@@ -43,7 +43,13 @@ glm::vec3 Camera::eye() const {
     return target + distance * (upBasis(up) * orbit);
 }
 
-glm::mat4 Camera::view() const { return glm::lookAt(eye(), target, upBasis(up)[1]); }
+glm::mat4 Camera::view() const {
+    if (!freeOrbit) return glm::lookAt(eye(), target, upBasis(up)[1]);
+    // The orbit's tangent towards higher elevation: continuous over the poles, where the up axis is not.
+    float az = glm::radians(azimuthDeg), el = glm::radians(elevationDeg);
+    glm::vec3 tangent(-std::sin(el) * std::sin(az), std::cos(el), -std::sin(el) * std::cos(az));
+    return glm::lookAt(eye(), target, upBasis(up) * tangent);
+}
 
 glm::mat4 Camera::projection(float aspect) const {
     glm::mat4 p = glm::perspective(glm::radians(fovyDeg), aspect, 0.01f * distance, 4.0f * distance + 2.0f);

@@ -24,6 +24,9 @@ struct Camera {
     float distance = 1.6f;       // from the origin, in bounding-box diagonals
     float fovyDeg = 40.0f;
     glm::vec3 target{0.0f};
+    // A turntable (false) keeps the up axis up, and its elevation within ±89°; a free orbit (true) tumbles over
+    // the poles: any elevation, the view's up following the orbit.
+    bool freeOrbit = false;
 
     glm::vec3 eye() const;
     glm::mat4 view() const;

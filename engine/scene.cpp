@@ -16,19 +16,31 @@ Scene::Scene(Context& c, Model m, DrawStyle style, const RefineOptions& options,
 
 void Scene::refine(DrawStyle style, const RefineOptions& options, const LineOptions& l) {
     vkDeviceWaitIdle(ctx.device);
-    sets.clear();
-    lines = l;
+    sets.clear();  // before the new ones are made: the device holds one scene's points at a time
+    auto start = std::chrono::steady_clock::now();
+    Sets made = build(style, options);
+    replace(std::move(made), std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), l);
+}
+
+Scene::Sets Scene::build(DrawStyle style, const RefineOptions& options) const {
     std::vector<SampleStyle> styles;
     if (style != DrawStyle::Direction) styles.push_back(SampleStyle::Stipple);
     if (style != DrawStyle::Stipple) styles.push_back(SampleStyle::Direction);
-    auto start = std::chrono::steady_clock::now();
+    Sets made;
     for (SampleStyle sampling : styles) {
         RefineOptions r = options;
         r.style = sampling;
-        sets.push_back(std::make_unique<Refinement>(ctx, model.hrbf, r));
-        runRefinement(ctx, sets.back()->gpu());
+        made.push_back(std::make_unique<Refinement>(ctx, model.hrbf, r));
+        runRefinement(ctx, made.back()->gpu());
     }
-    refineSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return made;
+}
+
+void Scene::replace(Sets newSets, double seconds, const LineOptions& l) {
+    vkDeviceWaitIdle(ctx.device);  // a frame in flight may still read the old sets
+    sets = std::move(newSets);
+    refineSeconds = seconds;
+    lines = l;
 
     samples.clear();
     hatching.clear();
@@ -37,7 +49,7 @@ void Scene::refine(DrawStyle style, const RefineOptions& options, const LineOpti
         strokes.reset();
         return;
     }
-    start = std::chrono::steady_clock::now();
+    auto start = std::chrono::steady_clock::now();
     if (!strokes) strokes = std::make_unique<StrokeBuffers>(ctx);
     for (const PointRecord& p : readDrawnPoints(ctx, sets.front()->gpu()))
         samples.push_back({Eigen::Vector3d(p.position[0], p.position[1], p.position[2]),

@@ -36,6 +36,13 @@ public:
     // Replaces the point sets (new levels, another style); waits for the device to be idle first, since a
     // frame in flight may still read the old ones.
     void refine(DrawStyle style, const RefineOptions& options, const LineOptions& lines = {});
+    // refine() in two halves, for a viewer that stays responsive while new sets are made: build makes and runs
+    // the sets for a style without touching the current ones. It may run on another thread than the frames, if
+    // that thread leaves the queue and ctx.commandPool alone until it returns (Vulkan wants both externally
+    // synchronized). replace waits for the device to be idle, swaps the new sets in and traces the hatching.
+    using Sets = std::vector<std::unique_ptr<Refinement>>;
+    Sets build(DrawStyle style, const RefineOptions& options) const;
+    void replace(Sets newSets, double seconds, const LineOptions& lines = {});
     // Traces the occluding contour seen from `camera` (nothing without LineOptions::contours) and replaces the
     // contour strokes on the device (waits for it to be idle).
     void traceContours(const Camera& camera);

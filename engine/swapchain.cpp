@@ -84,6 +84,7 @@ bool createSwapchain(Context& ctx, Swapchain& sc, VkSurfaceKHR surface, VkSurfac
     uint32_t imageCount = caps.minImageCount + 1;
     if (caps.maxImageCount > 0) imageCount = std::min(imageCount, caps.maxImageCount);
     bool copyable = caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    bool copyTarget = caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT;
 
     VkSwapchainCreateInfoKHR info{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
     info.surface = surface;
@@ -92,7 +93,8 @@ bool createSwapchain(Context& ctx, Swapchain& sc, VkSurfaceKHR surface, VkSurfac
     info.imageColorSpace = format.colorSpace;
     info.imageExtent = extent;
     info.imageArrayLayers = 1;
-    info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | (copyable ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0);
+    info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | (copyable ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0) |
+                      (copyTarget ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : 0);
     info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
     info.preTransform = caps.currentTransform;
     info.compositeAlpha = chooseCompositeAlpha(caps.supportedCompositeAlpha);
@@ -111,6 +113,7 @@ bool createSwapchain(Context& ctx, Swapchain& sc, VkSurfaceKHR surface, VkSurfac
     sc.format = format.format;
     sc.extent = extent;
     sc.copyable = copyable;
+    sc.copyTarget = copyTarget;
     createImageResources(ctx, sc);
     return true;
 }

@@ -13,7 +13,8 @@ struct Swapchain {
     VkSwapchainKHR swapchain = VK_NULL_HANDLE;
     VkFormat format = VK_FORMAT_UNDEFINED;
     VkExtent2D extent{};
-    bool copyable = false;  // the images can be copied from (screenshots)
+    bool copyable = false;    // the images can be copied from (screenshots)
+    bool copyTarget = false;  // and into (the viewer's panel, drawn once and copied in every frame)
     std::vector<VkImage> images;
     std::vector<VkImageView> views;
     // One per image, signalled by the frame's submission and waited on by its presentation: a semaphore

@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools glslang-tools spirv-tools
   libeigen3-dev libglm-dev libglfw3-dev doctest-dev libstb-dev libcli11-dev nlohmann-json3-dev
-  libopenblas-dev libtinygltf-dev libnanoflann-dev xvfb xauth clang-format
+  libopenblas-dev libtinygltf-dev libnanoflann-dev libimgui-dev xvfb xauth xdotool imagemagick clang-format
   librsvg2-bin poppler-utils
 )
 

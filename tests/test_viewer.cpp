@@ -1,8 +1,10 @@
 // `inkwell view` as a user meets it, in a virtual X server (xvfb-run): it draws, saves what it drew, stays
-// clean under validation, and says so in one line when there is no display.
+// clean under validation, takes settings from its panel (driven with xdotool), and says so in one line when there
+// is no display.
 #include "image.h"
 
 #include "run_command.h"
+#include "temp_dir.h"
 
 #include <doctest/doctest.h>
 
@@ -71,11 +73,12 @@ TEST_CASE("viewer: five validated frames of the bunny, the last saved as a frame
     Run r = view(std::string(kBunny) + " --frames 5 --screenshot " + shot + " --validation", 140);
     INFO(r.output);
     REQUIRE(r.status == 0);
-    CHECK(r.output.find("validation error") == std::string::npos);
+    CHECK(r.output.find("validation error") == std::string::npos);  // the panel drawn too
     CHECK(r.output.find("view: 5 frames, median ") != std::string::npos);
+    CHECK(r.output.find("(1024x768 with the panel, ") != std::string::npos);
 
     ink::RgbaImage image = ink::readPng(shot);
-    CHECK(image.width == 1024);  // the default window
+    CHECK(image.width == 1024 - 320);  // the default window, less the panel: the drawing alone is saved
     CHECK(image.height == 768);
     Ink ink = countInk(image);
     size_t pixels = size_t(image.width) * image.height;
@@ -90,7 +93,7 @@ TEST_CASE("viewer: --size sets the window, and the window shows what render draw
     // A coloured ink catches a swapchain in BGRA order saved without swizzling; one sample per pixel in both.
     std::string shot = tempPng("inkwell-viewer-size.png"), offscreen = tempPng("inkwell-viewer-render.png");
     std::string style = std::string(kBunny) + " --size 640 480 --ink '#c03020'";
-    Run r = view(style + " --frames 2 --screenshot " + shot, 160);
+    Run r = view(style + " --frames 2 --no-panel --screenshot " + shot, 160);
     INFO(r.output);
     REQUIRE(r.status == 0);
     Run rendered = shell(INKWELL_BINARY " render " + style + " --supersample 1 -o " + offscreen);
@@ -124,7 +127,7 @@ TEST_CASE("viewer: --vector saves the window's marks as an SVG that draws as its
     // rsvg-convert, the SVG is the screenshot (the same frame) after a 1-pixel blur.
     std::string shot = tempPng("inkwell-viewer-vector.png"), svg = tempPng("inkwell-viewer-vector.svg");
     std::string drawn = tempPng("inkwell-viewer-vector-svg.png");
-    Run r = view(std::string(kBunny) + " --size 400 300 --frames 3 --screenshot " + shot + " --vector " + svg +
+    Run r = view(std::string(kBunny) + " --size 400 300 --no-panel --frames 3 --screenshot " + shot + " --vector " + svg +
                      " --page 200x150mm --margin 0 --pen-width 0.5 --validation",
                  180);
     INFO(r.output);
@@ -158,6 +161,102 @@ TEST_CASE("viewer: --vector saves the window's marks as an SVG that draws as its
     CHECK(countInk(a).dark >= 300);
     CHECK(countInk(b).dark >= countInk(a).dark / 2);
     CHECK(double(differ) / double(la.size()) <= 0.02);
+// Whether every pixel is the paper (white) or the ink colour: nothing of the panel's greys and blues.
+bool onlyPaperAndInk(const ink::RgbaImage& image, std::array<int, 3> inkColour) {
+    for (size_t i = 0; i < image.pixels.size(); i += 4) {
+        const uint8_t* p = &image.pixels[i];
+        bool paper = p[0] == 255 && p[1] == 255 && p[2] == 255;
+        bool inked = std::abs(p[0] - inkColour[0]) <= 2 && std::abs(p[1] - inkColour[1]) <= 2 &&
+                     std::abs(p[2] - inkColour[2]) <= 2;
+        if (!paper && !inked) return false;
+    }
+    return true;
+}
+
+size_t inkedPixels(const ink::RgbaImage& image) {
+    size_t n = 0;
+    for (size_t i = 0; i < image.pixels.size(); i += 4)
+        if (image.pixels[i] < 245 || image.pixels[i + 1] < 245 || image.pixels[i + 2] < 245) ++n;
+    return n;
+}
+
+TEST_CASE("viewer: settings typed into the panel show in its saved PNG and the screenshot, the panel never does") {
+    if (std::system("command -v xdotool > /dev/null 2>&1") != 0)
+        FAIL("xdotool is not installed: the panel test needs it (apt-get install xdotool)");
+    TempDir dir("inkwell-viewer-panel");
+    // The panel's layout in the default 1024 x 768 window (the screenshot in docs/viewer.md): window coordinates
+    // of the dot size slider, the ink's hex field and the "save PNG" button.
+    const char* kDotSize = "800 248";
+    const char* kInk = "780 388";
+    const char* kSavePng = "743 648";
+    // Keys are held for half a second: ImGui 1.86 sees a key that is down when a frame starts.
+    std::string script = std::string("set -u\ncd '") + dir.path.string() + "'\n" +
+                         "timeout 120 " INKWELL_BINARY " view " + kBunny +
+                         " --screenshot shot.png --validation > log.txt 2>&1 &\n"
+                         "pid=$!\n"
+                         "wid=$(timeout 60 xdotool search --sync --onlyvisible --name 'inkwell view')\n"
+                         "timeout 60 xdotool search --sync --onlyvisible --name ' ms$' > /dev/null\n"
+                         "xdotool windowfocus --sync $wid\n"
+                         "hold() { xdotool keydown $1; sleep 0.5; xdotool keyup $1; sleep 0.5; }\n"
+                         "at() { xdotool mousemove --window $wid $1 $2; sleep 0.5; }\n"
+                         "await() { for i in $(seq 200); do grep -q \"$1\" log.txt && return; sleep 0.2; done; }\n"
+                         // dot size 6: ctrl + click on the slider to type a value
+                         "at " +
+                         kDotSize +
+                         "; xdotool keydown ctrl; sleep 0.5; xdotool click 1; sleep 0.5\n"
+                         "xdotool keyup ctrl; sleep 0.5; xdotool type --delay 100 6; hold Return\n"
+                         // ink #c03020: into the hex field, all of it replaced
+                         "at " +
+                         kInk +
+                         "; xdotool click 1; sleep 0.5; hold ctrl+a\n"
+                         "xdotool type --delay 100 C03020; hold Return\n"
+                         "at " +
+                         kSavePng +
+                         "; xdotool click 1; await 'saved inkwell-drawing-1.png'\n"
+                         // + over the drawing: a level more, refined on the worker thread
+                         "at 300 300; hold plus; await 'refined stipple at 3 levels'\n"
+                         "hold q\n"
+                         "wait $pid; echo \"exit $?\" >> log.txt\n";
+    dir.write("drive.sh", script);
+    Run r = shell("xvfb-run -a -n 200 -s \"-screen 0 1280x1024x24\" bash '" + (dir / "drive.sh") + "'");
+    std::string log = runShell("cat '" + (dir / "log.txt") + "'").output;
+    INFO(r.output);
+    INFO(log);
+    REQUIRE(r.status == 0);
+    CHECK(log.find("validation error") == std::string::npos);
+    CHECK(log.find("view: saved inkwell-drawing-1.png\n") != std::string::npos);
+    CHECK(log.find("view: refined stipple at 3 levels in ") != std::string::npos);
+    CHECK(log.find("view: saved shot.png\n") != std::string::npos);
+    CHECK(log.find("exit 0") != std::string::npos);
+
+    // The panel's "save PNG": what `render` draws with the settings typed in, at the drawing's size.
+    const std::string render = INKWELL_BINARY " render " + std::string(kBunny) + " --size 704 768 -o ";
+    REQUIRE(shell(render + dir / "typed.png --ink '#c03020' --dot-size 6").status == 0);
+    REQUIRE(shell(render + dir / "default.png").status == 0);
+    ink::RgbaImage saved = ink::readPng(dir / "inkwell-drawing-1.png");
+    ink::RgbaImage typed = ink::readPng(dir / "typed.png"), plain = ink::readPng(dir / "default.png");
+    REQUIRE(saved.width == 704);
+    REQUIRE(saved.height == 768);
+    size_t inked = inkedPixels(saved), reddish = 0, different = 0;
+    for (size_t i = 0; i < saved.pixels.size(); i += 4) {
+        const uint8_t* p = &saved.pixels[i];
+        if ((p[0] < 245 || p[1] < 245 || p[2] < 245) && p[0] > p[2] + 20) ++reddish;
+        for (int c = 0; c < 3; ++c)
+            if (std::abs(int(p[c]) - int(typed.pixels[i + c])) > 8) {
+                ++different;
+                break;
+            }
+    }
+    CHECK(reddish >= inked * 9 / 10);
+    CHECK(different <= inked / 20);
+    CHECK(inked >= 3 * inkedPixels(plain));  // dots of 6 pixels, not 2
+
+    // The window's screenshot at quit: the drawing (3 levels now) in the typed ink, without the panel.
+    ink::RgbaImage shot = ink::readPng(dir / "shot.png");
+    CHECK(shot.width == 704);
+    CHECK(shot.height == 768);
+    CHECK(onlyPaperAndInk(shot, {0xc0, 0x30, 0x20}));
+    CHECK(inkedPixels(shot) > inked);  // more stipples at 3 levels than at 2, as large
 }
 
 TEST_CASE("viewer: without a display it says so in one line and exits 1") {
