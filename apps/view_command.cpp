@@ -296,8 +296,14 @@ Viewer::Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene
     glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) { viewerOf(w).onCursor(x, y); });
     glfwSetScrollCallback(window, [](GLFWwindow* w, double dx, double dy) { viewerOf(w).onScroll(dx, dy); });
     glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int, int) { viewerOf(w).onResize(); });
-    glfwSetCursorEnterCallback(window, ImGui_ImplGlfw_CursorEnterCallback);
-    glfwSetWindowFocusCallback(window, ImGui_ImplGlfw_WindowFocusCallback);
+    glfwSetCursorEnterCallback(window, [](GLFWwindow* w, int entered) {
+        viewerOf(w).panel_->inputArrived();
+        ImGui_ImplGlfw_CursorEnterCallback(w, entered);
+    });
+    glfwSetWindowFocusCallback(window, [](GLFWwindow* w, int focused) {
+        viewerOf(w).panel_->inputArrived();
+        ImGui_ImplGlfw_WindowFocusCallback(w, focused);
+    });
     glfwGetCursorPos(window, &lastX_, &lastY_);
 }
 
@@ -332,6 +338,7 @@ void Viewer::release() {
 
 void Viewer::onKey(int key, int scancode, int action, int mods) {
     if (panel_) {
+        panel_->inputArrived();
         ImGui_ImplGlfw_KeyCallback(window_, key, scancode, action, mods);
         if (panel_->wantsKeyboard()) return;  // typing into one of its fields
     }
@@ -423,11 +430,17 @@ void Viewer::onKey(int key, int scancode, int action, int mods) {
 }
 
 void Viewer::onChar(unsigned int c) {
-    if (panel_) ImGui_ImplGlfw_CharCallback(window_, c);
+    if (panel_) {
+        panel_->inputArrived();
+        ImGui_ImplGlfw_CharCallback(window_, c);
+    }
 }
 
 void Viewer::onMouseButton(int button, int action, int mods) {
-    if (panel_) ImGui_ImplGlfw_MouseButtonCallback(window_, button, action, mods);
+    if (panel_) {
+        panel_->inputArrived();
+        ImGui_ImplGlfw_MouseButtonCallback(window_, button, action, mods);
+    }
     if (action == GLFW_PRESS) dragging_ = !(panel_ && panel_->wantsMouse());
 }
 
@@ -435,6 +448,7 @@ void Viewer::onCursor(double x, double y) {
     double dx = x - lastX_, dy = y - lastY_;
     lastX_ = x;
     lastY_ = y;
+    if (panel_) panel_->inputArrived();  // hovering changes it
     if (!dragging_) return;
     bool left = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
     bool right = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
@@ -453,6 +467,7 @@ void Viewer::onCursor(double x, double y) {
 
 void Viewer::onScroll(double dx, double dy) {
     if (panel_) {
+        panel_->inputArrived();
         ImGui_ImplGlfw_ScrollCallback(window_, dx, dy);
         if (panel_->wantsMouse()) return;  // scrolls the panel
     }

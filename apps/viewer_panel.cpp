@@ -10,6 +10,8 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include <GLFW/glfw3.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -95,21 +97,24 @@ ViewerPanel::ViewerPanel(ink::Context& ctx, GLFWwindow* window, VkFormat format,
         subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
         subpass.colorAttachmentCount = 1;
         subpass.pColorAttachments = &reference;
-        // After the drawing's writes (the renderer's last barrier makes them available to all commands), and
-        // before presentation, which the submission's semaphore orders.
+        // Two passes below, one into the swapchain image and one into the panel's own image, with the same
+        // dependencies (ImGui's pipeline is made for the first, and drawing in the second needs them compatible):
+        // after the drawing's writes (the renderer's last barrier makes them available to all commands) or the
+        // copies of earlier frames out of the panel's image; before the copy out of it (presentation is ordered by
+        // the submission's semaphore).
         VkSubpassDependency dependencies[2] = {};
         dependencies[0].srcSubpass = VK_SUBPASS_EXTERNAL;
         dependencies[0].dstSubpass = 0;
-        dependencies[0].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+        dependencies[0].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
         dependencies[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
         dependencies[0].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
         dependencies[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
         dependencies[1].srcSubpass = 0;
         dependencies[1].dstSubpass = VK_SUBPASS_EXTERNAL;
         dependencies[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-        dependencies[1].dstStageMask = VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT;
+        dependencies[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
         dependencies[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-        dependencies[1].dstAccessMask = 0;
+        dependencies[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
         VkRenderPassCreateInfo passInfo{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
         passInfo.attachmentCount = 1;
         passInfo.pAttachments = &attachment;
@@ -119,17 +124,10 @@ ViewerPanel::ViewerPanel(ink::Context& ctx, GLFWwindow* window, VkFormat format,
         passInfo.pDependencies = dependencies;
         VK_CHECK(vkCreateRenderPass(ctx.device, &passInfo, nullptr, &renderPass_));
 
-        // The panel's own image: cleared to the panel's background, drawn, left for copying. Compatible with the
-        // pass above (one attachment of the same format), so ImGui's pipeline draws in both.
+        // The panel's own image: cleared to the panel's background, drawn, left for copying.
         attachment.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
         attachment.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
         attachment.finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-        // After the copies of earlier frames read it; before this frame's copy reads it.
-        dependencies[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-        dependencies[0].srcAccessMask = 0;
-        dependencies[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-        dependencies[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-        dependencies[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
         VK_CHECK(vkCreateRenderPass(ctx.device, &passInfo, nullptr, &cachePass_));
 
         // The font texture's one descriptor.
@@ -194,9 +192,10 @@ bool ViewerPanel::direct(const ink::Swapchain& swapchain, uint32_t drawingWidth)
     if (!swapchain.copyTarget) return true;
     const ImDrawData* data = ImGui::GetDrawData();
     if (!data || !data->Valid) return false;
+    // By the triangles, not their clip rectangles (a window's background is clipped to the whole display).
     for (int l = 0; l < data->CmdListsCount; ++l)
-        for (const ImDrawCmd& c : data->CmdLists[l]->CmdBuffer)
-            if (c.ClipRect.x < float(drawingWidth)) return true;
+        for (const ImDrawVert& v : data->CmdLists[l]->VtxBuffer)
+            if (v.pos.x < float(drawingWidth) - 0.5f) return true;
     return false;
 }
 
@@ -251,6 +250,15 @@ bool ViewerPanel::wantsKeyboard() const { return shown_ && built_ && ImGui::GetI
 
 PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo& info) {
     PanelActions a;
+    // ImGui makes every frame's triangles anew; most frames nothing in the panel changed (a cursor blinks in an
+    // edited field, hence its exception; and once a second the panel is made anyway).
+    const double now = glfwGetTime();
+    if (built_ && framesToBuild_ == 0 && info == builtInfo_ && !ImGui::GetIO().WantTextInput && now - builtAt_ < 1.0)
+        return a;
+    framesToBuild_ = std::max(0, framesToBuild_ - 1);
+    builtInfo_ = info;
+    builtAt_ = now;
+    fresh_ = true;
     ImGui_ImplVulkan_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
@@ -441,8 +449,8 @@ void ViewerPanel::record(VkCommandBuffer cmd, const ink::Swapchain& swapchain, u
     if (!direct(swapchain, drawingWidth)) {
         const VkExtent2D extent{swapchain.extent.width - drawingWidth, swapchain.extent.height};
         ensureCache(swapchain.format, extent);
-        if (data && data->Valid) signature(*data, drawn_);
-        if (!cacheValid_ || drawn_ != signature_) {
+        if (fresh_ && data && data->Valid) signature(*data, drawn_);
+        if (!cacheValid_ || (fresh_ && drawn_ != signature_)) {
             const ImVec4 bg = ImGui::GetStyle().Colors[ImGuiCol_WindowBg];
             VkClearValue clear{};
             clear.color = {{bg.x, bg.y, bg.z, 1.0f}};
@@ -466,6 +474,7 @@ void ViewerPanel::record(VkCommandBuffer cmd, const ink::Swapchain& swapchain, u
             signature_.swap(drawn_);
             cacheValid_ = true;
         }
+        fresh_ = false;
         VkImageCopy region{};
         region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         region.dstSubresource = region.srcSubresource;
@@ -479,6 +488,7 @@ void ViewerPanel::record(VkCommandBuffer cmd, const ink::Swapchain& swapchain, u
                           VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_NONE, 0);
         return;
     }
+    cacheValid_ = false;  // drawn again once the popup is gone
     if (framebuffers_.empty())
         for (VkImageView view : swapchain.views) {
             VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};

@@ -25,6 +25,13 @@ struct PanelInfo {
     std::string screenshotPath;  // the S key's next file
     std::string pngPath;         // the PNG file the panel offers first
     VkExtent2D drawing{0, 0};    // the drawing's size in the window
+
+    bool operator==(const PanelInfo& o) const {
+        return model == o.model && controlPoints == o.controlPoints && points == o.points && frameMs == o.frameMs &&
+               refining == o.refining && refineProgress == o.refineProgress && message == o.message &&
+               screenshotPath == o.screenshotPath && pngPath == o.pngPath && drawing.width == o.drawing.width &&
+               drawing.height == o.drawing.height;
+    }
 };
 
 // What the panel was asked to do in one frame; the viewer does it between frames.
@@ -51,11 +58,18 @@ public:
     ViewerPanel& operator=(const ViewerPanel&) = delete;
 
     bool shown() const { return shown_; }
-    void toggle() { shown_ = !shown_; }
+    void toggle() {
+        shown_ = !shown_;
+        inputArrived();
+    }
     void showHelp() {
         shown_ = true;
         help_ = true;
+        inputArrived();
     }
+    // The viewer calls this for every window event, which the panel may have to answer: build() makes the panel
+    // anew for the next few frames. Without events, and with nothing new to show, the last frame's panel stays.
+    void inputArrived() { framesToBuild_ = 3; }
     // The window's width left to the drawing.
     uint32_t drawingWidth(uint32_t windowWidth) const {
         return shown_ && windowWidth > kWidth + 16 ? windowWidth - kWidth : windowWidth;
@@ -65,7 +79,8 @@ public:
     bool wantsMouse() const;
     bool wantsKeyboard() const;
 
-    // Builds the panel's widgets for one frame over `o` and `camera` (edited in place).
+    // Builds the panel's widgets for one frame over `o` and `camera` (edited in place), unless nothing came in or
+    // changed since the last frame's (then it asks for nothing).
     PanelActions build(Options& o, ink::Camera& camera, const PanelInfo& info);
     // The layout the drawing leaves the swapchain image in for record(): TRANSFER_DST_OPTIMAL when the panel is
     // copied in from its own image (the panel alone, on a swapchain that takes copies), else
@@ -96,11 +111,15 @@ private:
     VkFramebuffer cacheFramebuffer_ = VK_NULL_HANDLE;
     std::vector<uint8_t> drawn_, signature_;
     bool cacheValid_ = false;
+    bool fresh_ = false;  // build() made new triangles since the last record()
     bool shown_ = true, help_ = false, built_ = false;
     std::string pngPath_, presetPath_ = "inkwell-preset.json";
     int pngSize_[2] = {0, 0};
     float toneGamma_ = 1.5f;                 // what the tone checkbox restores
     int levelsEdit_ = -1, passesEdit_ = -1;  // while their sliders are held
+    int framesToBuild_ = 3;
+    PanelInfo builtInfo_;
+    double builtAt_ = 0;
 };
 
 }  // namespace app
