@@ -138,7 +138,7 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
 }
 
 std::string presetJson(const Preset& p) {
-    nlohmann::ordered_json j;
+    nlohmann::ordered_json j = nlohmann::ordered_json::object();
     auto rounded = [](float v) { return std::round(double(v) * 1e4) / 1e4; };
     auto put = [&](const char* key, const auto& value) {
         if (value) j[key] = *value;

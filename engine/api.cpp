@@ -28,9 +28,10 @@ ink::Camera toCamera(const Camera& c) {
     ink::Camera camera;
     camera.up = ink::UpAxis(int(c.up));  // the same order
     camera.azimuthDeg = c.azimuthDeg;
-    camera.elevationDeg = std::clamp(c.elevationDeg, -89.0f, 89.0f);
+    camera.elevationDeg = c.freeOrbit ? c.elevationDeg : std::clamp(c.elevationDeg, -89.0f, 89.0f);
     camera.distance = c.distance;
     camera.fovyDeg = c.fovyDeg;
+    camera.freeOrbit = c.freeOrbit;
     return camera;
 }
 

@@ -210,9 +210,12 @@ enum class Up { X, NegX, Y, NegY, Z, NegZ };
 struct Camera {
     Up up = Up::Y;               // the axis it orbits; a light fixed to the model is given about it too
     float azimuthDeg = 30.0f;    // around the up axis
-    float elevationDeg = 15.0f;  // above the horizon, within ±89
+    float elevationDeg = 15.0f;  // above the horizon, within ±89 (any, with freeOrbit)
     float distance = 1.6f;       // from the centre, in bounding-box diagonals
     float fovyDeg = 40.0f;
+    // false: a turntable, the up axis stays up. true: a free orbit that tumbles over the poles, the view's up
+    // following the orbit (the viewer's "free" camera).
+    bool freeOrbit = false;
 };
 
 // How the points become ink.
