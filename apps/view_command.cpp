@@ -7,6 +7,7 @@
 #include "image.h"
 #include "preset.h"
 #include "swapchain.h"
+#include "vector.h"
 #include "viewer_panel.h"
 
 #define GLFW_INCLUDE_VULKAN
@@ -622,14 +623,18 @@ void Viewer::buildPanel(double frameMs) {
     }
 }
 
-// What `inkwell render` draws with the same options and camera at width × height, supersampled as it does.
+// What `inkwell render -o path` draws with the same options and camera at width × height: a PNG supersampled as
+// it does, or (.svg, .pdf) the frame's marks laid out on the page of the --page options.
 void Viewer::savePng(const std::string& path, uint32_t width, uint32_t height) {
     ink::checkOutputs({path}, {o_.model, o_.preset});
     ink::checkOffscreenSize(ctx_, width, height, o_.render.supersample);
     ink::OffscreenRenderer offscreen(ctx_, width, height, o_.render, scene_.pointers());
     ink::RgbaImage image = offscreen.render(camera_);
     ink::OutputBatch now;  // at once, even inside the --screenshot batch
-    ink::writePng(path, image);
+    if (ink::isVectorPath(path))
+        ink::writePlot(path, ink::layoutPlot(offscreen.vectorDrawing(), o_.page));
+    else
+        ink::writePng(path, image);
     now.commit();
 }
 
@@ -917,7 +922,7 @@ void addViewCommand(CLI::App& cli, Options& o, Commands& commands) {
     addModelOptions(view, o);
     addRefineOptions(view, o);
     addRenderOptions(view, o);
-    addVectorOptions(view, o);
+    addVectorOptions(view, o);  // --vector, the V key and the panel's SVG and PDF
     addDeviceOptions(view, o);
     view->get_option("--size")->description("Window width and height in pixels")->default_str("[1024,768]");
     // The window is drawn at its own resolution every frame; supersampling is for `render`.

@@ -13,8 +13,10 @@
 #include <GLFW/glfw3.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 namespace app {
 
@@ -392,16 +394,23 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
             pngSize_[0] = int(info.drawing.width);
             pngSize_[1] = int(info.drawing.height);
         }
-        ImGui::InputText("PNG file", &pngPath_);
+        ImGui::InputText("file", &pngPath_);
         ImGui::InputInt2("size (px)", pngSize_);
         pngSize_[0] = std::clamp(pngSize_[0], 1, 8192);
         pngSize_[1] = std::clamp(pngSize_[1], 1, 8192);
         ImGui::BeginDisabled(info.refining || pngPath_.empty());
-        if (ImGui::Button("save PNG")) {
-            a.savePng = true;
-            a.pngPath = pngPath_;
-            a.pngSize[0] = uint32_t(pngSize_[0]);
-            a.pngSize[1] = uint32_t(pngSize_[1]);
+        // The file's name with the button's extension: a PNG, or the marks on a page (--page, --pen-width, ...).
+        for (const char* type : {"PNG", "SVG", "PDF"}) {
+            if (type[1] != 'N') ImGui::SameLine();
+            if (ImGui::Button(type[1] == 'N' ? "save PNG" : type)) {
+                std::string extension = std::string(".") + type;
+                for (char& c : extension) c = char(std::tolower(c));
+                pngPath_ = std::filesystem::path(pngPath_).replace_extension(extension).string();
+                a.savePng = true;
+                a.pngPath = pngPath_;
+                a.pngSize[0] = uint32_t(pngSize_[0]);
+                a.pngSize[1] = uint32_t(pngSize_[1]);
+            }
         }
         ImGui::EndDisabled();
         ImGui::SameLine();

@@ -40,7 +40,7 @@ struct PanelActions {
     bool rerefine = false;  // style, levels, passes, direction or distribution changed: refine again
     bool resetCamera = false;
     bool upChanged = false;  // the up axis changed (the camera's and the home view's)
-    bool savePng = false;    // pngPath at pngSize, as `inkwell render` draws it
+    bool savePng = false;    // pngPath (.png, .svg or .pdf) at pngSize, as `inkwell render` draws it
     bool saveScreenshot = false;
     bool savePreset = false, loadPreset = false;  // presetPath
     std::string pngPath, presetPath;

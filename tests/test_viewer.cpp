@@ -185,38 +185,37 @@ TEST_CASE("viewer: settings typed into the panel show in its saved PNG and the s
         FAIL("xdotool is not installed: the panel test needs it (apt-get install xdotool)");
     TempDir dir("inkwell-viewer-panel");
     // The panel's layout in the default 1024 x 768 window (the screenshot in docs/viewer.md): window coordinates
-    // of the dot size slider, the ink's hex field and the "save PNG" button.
-    const char* kDotSize = "800 248";
-    const char* kInk = "780 388";
-    const char* kSavePng = "743 648";
-    // Keys are held for half a second: ImGui 1.86 sees a key that is down when a frame starts.
-    std::string script = std::string("set -u\ncd '") + dir.path.string() + "'\n" +
-                         "timeout 120 " INKWELL_BINARY " view " + kBunny +
-                         " --screenshot shot.png --validation > log.txt 2>&1 &\n"
-                         "pid=$!\n"
-                         "wid=$(timeout 60 xdotool search --sync --onlyvisible --name 'inkwell view')\n"
-                         "timeout 60 xdotool search --sync --onlyvisible --name ' ms$' > /dev/null\n"
-                         "xdotool windowfocus --sync $wid\n"
-                         "hold() { xdotool keydown $1; sleep 0.5; xdotool keyup $1; sleep 0.5; }\n"
-                         "at() { xdotool mousemove --window $wid $1 $2; sleep 0.5; }\n"
-                         "await() { for i in $(seq 200); do grep -q \"$1\" log.txt && return; sleep 0.2; done; }\n"
-                         // dot size 6: ctrl + click on the slider to type a value
-                         "at " +
-                         kDotSize +
-                         "; xdotool keydown ctrl; sleep 0.5; xdotool click 1; sleep 0.5\n"
-                         "xdotool keyup ctrl; sleep 0.5; xdotool type --delay 100 6; hold Return\n"
-                         // ink #c03020: into the hex field, all of it replaced
-                         "at " +
-                         kInk +
-                         "; xdotool click 1; sleep 0.5; hold ctrl+a\n"
-                         "xdotool type --delay 100 C03020; hold Return\n"
-                         "at " +
-                         kSavePng +
-                         "; xdotool click 1; await 'saved inkwell-drawing-1.png'\n"
-                         // + over the drawing: a level more, refined on the worker thread
-                         "at 300 300; hold plus; await 'refined stipple at 3 levels'\n"
-                         "hold q\n"
-                         "wait $pid; echo \"exit $?\" >> log.txt\n";
+    // of the dot size slider, the ink's hex field and the "save PNG" and "SVG" buttons. Keys are held for half a
+    // second: ImGui 1.86 sees a key that is down when a frame starts.
+    std::string script = R"(set -u
+cd '{dir}'
+timeout 120 {inkwell} view {bunny} --screenshot shot.png --validation > log.txt 2>&1 &
+pid=$!
+wid=$(timeout 60 xdotool search --sync --onlyvisible --name 'inkwell view')
+timeout 60 xdotool search --sync --onlyvisible --name ' ms$' > /dev/null
+xdotool windowfocus --sync $wid
+hold() { xdotool keydown $1; sleep 0.5; xdotool keyup $1; sleep 0.5; }
+at() { xdotool mousemove --window $wid $1 $2; sleep 0.5; }
+await() { for i in $(seq 200); do grep -q "$1" log.txt && return; sleep 0.2; done; }
+# dot size 6: ctrl + click on the slider to type a value
+at 800 248; xdotool keydown ctrl; sleep 0.5; xdotool click 1; sleep 0.5; xdotool keyup ctrl; sleep 0.5
+xdotool type --delay 100 6; hold Return
+# ink #c03020: into the hex field, all of it replaced
+at 780 388; xdotool click 1; sleep 0.5; hold ctrl+a; xdotool type --delay 100 C03020; hold Return
+# save PNG, then SVG
+at 743 648; xdotool click 1; await 'saved inkwell-drawing-1.png'
+at 798 648; xdotool click 1; await 'saved inkwell-drawing-1.svg'
+# + over the drawing: a level more, refined on the worker thread
+at 300 300; hold plus; await 'refined stipple at 3 levels'
+hold q
+wait $pid; echo "exit $?" >> log.txt
+)";
+    auto replace = [&script](const std::string& token, const std::string& value) {
+        script.replace(script.find(token), token.size(), value);
+    };
+    replace("{dir}", dir.path.string());
+    replace("{inkwell}", INKWELL_BINARY);
+    replace("{bunny}", kBunny);
     dir.write("drive.sh", script);
     Run r = shell("xvfb-run -a -n 200 -s \"-screen 0 1280x1024x24\" bash '" + (dir / "drive.sh") + "'");
     std::string log = runShell("cat '" + (dir / "log.txt") + "'").output;
@@ -225,6 +224,7 @@ TEST_CASE("viewer: settings typed into the panel show in its saved PNG and the s
     REQUIRE(r.status == 0);
     CHECK(log.find("validation error") == std::string::npos);
     CHECK(log.find("view: saved inkwell-drawing-1.png\n") != std::string::npos);
+    CHECK(log.find("view: saved inkwell-drawing-1.svg\n") != std::string::npos);
     CHECK(log.find("view: refined stipple at 3 levels in ") != std::string::npos);
     CHECK(log.find("view: saved shot.png\n") != std::string::npos);
     CHECK(log.find("exit 0") != std::string::npos);
@@ -250,6 +250,14 @@ TEST_CASE("viewer: settings typed into the panel show in its saved PNG and the s
     CHECK(reddish >= inked * 9 / 10);
     CHECK(different <= inked / 20);
     CHECK(inked >= 3 * inkedPixels(plain));  // dots of 6 pixels, not 2
+
+    // The panel's SVG: the same view's marks on a page, one layer in the typed ink.
+    std::string svg = runShell("cat '" + (dir / "inkwell-drawing-1.svg") + "'").output;
+    CHECK(svg.find("<svg") != std::string::npos);
+    CHECK(svg.find("stroke=\"#c03020\"") != std::string::npos);
+    size_t paths = 0;
+    for (size_t at = svg.find("<path d=\"M"); at != std::string::npos; at = svg.find("<path d=\"M", at + 1)) ++paths;
+    CHECK(paths >= 50);  // a path a dot (circles as two arcs)
 
     // The window's screenshot at quit: the drawing (3 levels now) in the typed ink, without the panel.
     ink::RgbaImage shot = ink::readPng(dir / "shot.png");
