@@ -41,6 +41,7 @@ constexpr const char* kHelp[][2] = {
     {"U", "the next up axis"},
     {"L", "the next light direction"},
     {"S", "screenshot of the drawing"},
+    {"V", "the drawing's marks as SVG (--vector)"},
     {"R", "reset the camera"},
     {"Tab", "hide/show this panel"},
     {"F1", "this help"},

@@ -127,8 +127,8 @@ TEST_CASE("viewer: --vector saves the window's marks as an SVG that draws as its
     // rsvg-convert, the SVG is the screenshot (the same frame) after a 1-pixel blur.
     std::string shot = tempPng("inkwell-viewer-vector.png"), svg = tempPng("inkwell-viewer-vector.svg");
     std::string drawn = tempPng("inkwell-viewer-vector-svg.png");
-    Run r = view(std::string(kBunny) + " --size 400 300 --no-panel --frames 3 --screenshot " + shot + " --vector " + svg +
-                     " --page 200x150mm --margin 0 --pen-width 0.5 --validation",
+    Run r = view(std::string(kBunny) + " --size 400 300 --no-panel --frames 3 --screenshot " + shot + " --vector " +
+                     svg + " --page 200x150mm --margin 0 --pen-width 0.5 --validation",
                  180);
     INFO(r.output);
     REQUIRE(r.status == 0);
@@ -161,6 +161,8 @@ TEST_CASE("viewer: --vector saves the window's marks as an SVG that draws as its
     CHECK(countInk(a).dark >= 300);
     CHECK(countInk(b).dark >= countInk(a).dark / 2);
     CHECK(double(differ) / double(la.size()) <= 0.02);
+}
+
 // Whether every pixel is the paper (white) or the ink colour: nothing of the panel's greys and blues.
 bool onlyPaperAndInk(const ink::RgbaImage& image, std::array<int, 3> inkColour) {
     for (size_t i = 0; i < image.pixels.size(); i += 4) {
