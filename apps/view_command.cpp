@@ -628,7 +628,11 @@ void Viewer::buildPanel(double frameMs) {
 void Viewer::savePng(const std::string& path, uint32_t width, uint32_t height) {
     ink::checkOutputs({path}, {o_.model, o_.preset});
     ink::checkOffscreenSize(ctx_, width, height, o_.render.supersample);
-    ink::OffscreenRenderer offscreen(ctx_, width, height, o_.render, scene_.pointers());
+    if (scene_.lines.contours && camera_.eye() != tracedEye_) {  // the pen lines of this view, as render's
+        scene_.traceContours(camera_);
+        tracedEye_ = camera_.eye();
+    }
+    ink::OffscreenRenderer offscreen(ctx_, width, height, o_.render, scene_.pointers(), scene_.strokes.get());
     ink::RgbaImage image = offscreen.render(camera_);
     ink::OutputBatch now;  // at once, even inside the --screenshot batch
     if (ink::isVectorPath(path))
