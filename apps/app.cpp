@@ -14,12 +14,21 @@
 
 namespace app {
 
+ink::ModelOptions modelOptions(const Options& o) {
+    return {o.controlPoints, o.fit == "global" ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity};
+}
+
 void addModelOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("model", o.model, "Mesh, oriented points or fitted model (.obj, .ply, .pts/.xyzn/.txt, .hrbf)")
         ->required();
     cmd->add_option("--control-points", o.controlPoints,
-                    "Control points chosen by farthest-point sampling (default: all, at most 1000)")
+                    "Control points chosen by farthest-point sampling (default: all; at most 1000 for --fit global)")
         ->check(nonNegativeInteger());
+    cmd->add_option("--fit", o.fit,
+                    "pu: local HRBFs blended by a partition of unity (any size, float on the device); global: the "
+                    "report's single dense HRBF (at most 4000 points, needs shaderFloat64)")
+        ->check(CLI::IsMember({"pu", "global"}))
+        ->capture_default_str();
     cmd->add_option("--stats", o.statsPath, "Write statistics as JSON to this file");
 }
 
@@ -210,7 +219,7 @@ const CLI::Validator& nonNegativeInteger() {
 }
 
 void finishOptions(Options& o) {
-    ink::checkModelOptions({o.controlPoints});
+    ink::checkModelOptions(modelOptions(o));
     if (!o.preset.empty()) applyPreset(o);
     // The refinement's numbers, before the model is loaded or fitted (planRefinement checks them again for
     // the library's callers).
@@ -395,13 +404,24 @@ void Session::checkValidation() const {
 }
 
 Scene::Scene(ink::Context& ctx, const Options& o)
-    : ink::Scene(ctx, ink::loadModel(o.model, {o.controlPoints}), o.style, o.refine, o.lines) {}
+    : ink::Scene(ctx, ink::loadModel(o.model, modelOptions(o)), o.style, o.refine, o.lines) {}
 
 json fitJson(const ink::Model& m) {
-    return {{"seconds", m.fit.seconds},
-            {"relative_residual", m.fit.relativeResidual},
-            {"max_distance", m.fit.maxDistance},
-            {"max_normal_angle_deg", m.fit.maxNormalAngleDeg}};
+    json j = {{"method", m.surface.method == ink::FitMethod::Global ? "global" : "pu"},
+              {"seconds", m.fit.seconds},
+              {"relative_residual", m.fit.relativeResidual},
+              {"max_distance", m.fit.maxDistance},
+              {"max_normal_angle_deg", m.fit.maxNormalAngleDeg},
+              {"input_max_distance", m.inputMaxDistance},
+              {"input_mean_distance", m.inputMeanDistance},
+              {"input_max_normal_angle_deg", m.inputMaxAngleDeg}};
+    if (m.surface.method == ink::FitMethod::PartitionOfUnity)
+        j["patches"] = {{"count", m.patches.patches},
+                        {"min_points", m.patches.minPatch},
+                        {"max_points", m.patches.maxPatch},
+                        {"mean_points", m.patches.meanPatch},
+                        {"far_field_points", m.patches.coarsePoints}};
+    return j;
 }
 
 json levelsJson(const std::vector<ink::LevelStats>& levels) {

@@ -24,9 +24,14 @@ inline double secondsSince(Clock::time_point t) { return std::chrono::duration<d
 
 using ink::DrawStyle;
 
+struct Options;
+// --control-points and --fit as the engine takes them.
+ink::ModelOptions modelOptions(const Options& o);
+
 struct Options {
     std::string model;
     size_t controlPoints = 0;
+    std::string fit = "pu";  // --fit: pu (partition of unity) or global
     std::string device;
     bool validation = false;
     std::string statsPath;

@@ -18,11 +18,11 @@
 namespace app {
 
 static int runFit(Options& o, const std::string& output) {
-    ink::checkModelOptions({o.controlPoints});
+    ink::checkModelOptions(modelOptions(o));
     ink::checkOutputs({output, o.statsPath}, {o.model, o.preset});
-    ink::Model model = ink::loadModel(o.model, {o.controlPoints});
+    ink::Model model = ink::loadModel(o.model, modelOptions(o));
     ink::OutputBatch outputs;  // the model and the stats, both or neither
-    ink::saveHrbf(output, model.hrbf);
+    ink::saveHrbf(output, model.surface);
     writeJson(o.statsPath, {{"control_points", model.fit.controlPoints},
                             {"input_points", model.inputPoints},
                             {"merged_duplicates", model.mergedDuplicates},
@@ -70,20 +70,20 @@ static int runSample(Options& o, const std::string& pointsPath) {
     // The device first: without one there is no point in fitting.
     std::unique_ptr<Session> session;
     if (o.backend != "cpu") session = std::make_unique<Session>(o);
-    ink::Model model = ink::loadModel(o.model, {o.controlPoints});
+    ink::Model model = ink::loadModel(o.model, modelOptions(o));
     json stats = {{"control_points", model.fit.controlPoints}, {"fit", fitJson(model)}};
     std::vector<ink::PointRecord> points;
     std::vector<ink::PointRecord> refined;  // every refined point, before any selection: what --fidelity measures
     std::vector<ink::LevelStats> levels;
     if (!session) {
         auto start = Clock::now();
-        ink::RefinePlan plan = ink::planRefinement(model.hrbf, o.refine, ink::kMaxCpuPoints);
-        points = ink::refineOnCpu(model.hrbf, o.refine, plan, &levels);
+        ink::RefinePlan plan = ink::planRefinement(model.surface, o.refine, ink::kMaxCpuPoints);
+        points = ink::refineOnCpu(model.surface, o.refine, plan, &levels);
         stats["refine"]["seconds"] = secondsSince(start);
         if (o.fidelity) refined = points;
         if (o.refine.selects()) {
             start = Clock::now();
-            ink::SelectPlan selectPlan = ink::planSelection(model.hrbf, plan, ink::selectOptions(o.refine));
+            ink::SelectPlan selectPlan = ink::planSelection(model.surface, plan, ink::selectOptions(o.refine));
             std::vector<uint32_t> added;
             size_t candidates = points.size();
             points = ink::selectOnCpu(points, selectPlan, &added);
@@ -93,7 +93,7 @@ static int runSample(Options& o, const std::string& pointsPath) {
         stats["device"] = "cpu";
     } else {
         {
-            ink::Refinement refinement(session->ctx, model.hrbf, o.refine);
+            ink::Refinement refinement(session->ctx, model.surface, o.refine);
             ink::GpuRefinement& r = refinement.gpu();
             auto start = Clock::now();
             ink::runRefinement(session->ctx, r);
@@ -117,7 +117,7 @@ static int runSample(Options& o, const std::string& pointsPath) {
         std::vector<Eigen::Vector3d> at;
         at.reserve(refined.size());
         for (const ink::PointRecord& p : refined)
-            at.push_back(model.hrbf.frame.toInput(Eigen::Vector3d(p.position[0], p.position[1], p.position[2])));
+            at.push_back(model.surface.frame.toInput(Eigen::Vector3d(p.position[0], p.position[1], p.position[2])));
         auto start = Clock::now();
         ink::Fidelity f = ink::measureFidelity(mesh, at);
         stats["fidelity"] = fidelityJson(f);
@@ -130,7 +130,7 @@ static int runSample(Options& o, const std::string& pointsPath) {
             100 * f.accuracyP99, 100 * f.accuracyMax);
     }
     ink::OutputBatch outputs;  // the points and the stats, both or neither
-    ink::writePointsPly(pointsPath, points, model.hrbf.frame);
+    ink::writePointsPly(pointsPath, points, model.surface.frame);
     writeJson(o.statsPath, stats);
     outputs.commit();
     std::printf("%s: %zu control points, %zu points -> %s\n", o.model.c_str(), model.fit.controlPoints, points.size(),

@@ -25,7 +25,7 @@ void checkScene(ink::Context& ctx, const std::string& name, const ink::Model& mo
         options.levels = 3;
         std::string label = name + (style == ink::SampleStyle::Stipple ? " stipple" : " direction");
         {
-            ink::Refinement refinement(ctx, model.hrbf, options);
+            ink::Refinement refinement(ctx, model.surface, options);
             ink::GpuRefinement& r = refinement.gpu();
             ink::runRefinement(ctx, r);
             auto points = ink::readPoints(ctx, r);
@@ -44,7 +44,7 @@ void checkScene(ink::Context& ctx, const std::string& name, const ink::Model& mo
             size_t off = 0;
             for (const auto& p : points) {
                 Eigen::Vector3d x(p.position[0], p.position[1], p.position[2]), g;
-                double f = model.hrbf.eval(x, g);
+                double f = model.surface.eval(x, g);
                 if (!(std::abs(f) / g.norm() < 2.0 * options.eps1)) ++off;
             }
             check.require(off == 0, label + ": " + std::to_string(off) + " points off the surface");

@@ -90,16 +90,24 @@ struct Model::Impl {
     ink::Model model;
 };
 
+namespace {
+
+ink::ModelOptions toInk(const ModelOptions& o) {
+    return {o.controlPoints, o.method == FitMethod::Global ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity};
+}
+
+}  // namespace
+
 Model Model::load(const std::string& path, const ModelOptions& options, const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
-    ink::checkModelOptions({options.controlPoints});
-    return Model(std::make_shared<const Impl>(Impl{ink::loadModel(path, {options.controlPoints})}));
+    ink::checkModelOptions(toInk(options));
+    return Model(std::make_shared<const Impl>(Impl{ink::loadModel(path, toInk(options))}));
 }
 
 Model Model::fit(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals, const ModelOptions& options,
                  const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
-    ink::checkModelOptions({options.controlPoints});
+    ink::checkModelOptions(toInk(options));
     if (positions.size() != normals.size())
         throw Error(std::to_string(positions.size()) + " positions but " + std::to_string(normals.size()) +
                     " normals: give one normal a point");
@@ -111,24 +119,33 @@ Model Model::fit(const std::vector<Vec3>& positions, const std::vector<Vec3>& no
         points.positions.push_back(toEigen(positions[i]));
         points.normals.push_back(n.normalized());
     }
-    return Model(std::make_shared<const Impl>(Impl{ink::fitModel(std::move(points), {options.controlPoints})}));
+    return Model(std::make_shared<const Impl>(Impl{ink::fitModel(std::move(points), toInk(options))}));
 }
 
-void Model::save(const std::string& path) const { ink::saveHrbf(path, impl_->model.hrbf); }
+void Model::save(const std::string& path) const { ink::saveHrbf(path, impl_->model.surface); }
 
 FitReport Model::report() const {
     const ink::Model& m = impl_->model;
-    return {m.inputPoints, m.mergedDuplicates, m.fit.controlPoints,
-            m.fit.seconds, m.fit.maxDistance,  m.fit.maxNormalAngleDeg};
+    FitReport r;
+    r.inputPoints = m.inputPoints;
+    r.mergedDuplicates = m.mergedDuplicates;
+    r.controlPoints = m.fit.controlPoints;
+    r.seconds = m.fit.seconds;
+    r.maxDistance = m.fit.maxDistance;
+    r.maxNormalAngleDeg = m.fit.maxNormalAngleDeg;
+    r.inputMaxDistance = m.inputMaxDistance;
+    r.inputMaxAngleDeg = m.inputMaxAngleDeg;
+    r.patches = m.patches.patches;
+    return r;
 }
 
 double Model::value(const Vec3& x) const {
-    const ink::Hrbf& h = impl_->model.hrbf;
+    const ink::Surface& h = impl_->model.surface;
     return h.f(h.frame.toNormalized(toEigen(x)));
 }
 
 Vec3 Model::gradient(const Vec3& x) const {
-    const ink::Hrbf& h = impl_->model.hrbf;
+    const ink::Surface& h = impl_->model.surface;
     Eigen::Vector3d g;
     h.eval(h.frame.toNormalized(toEigen(x)), g);
     return toVec3(g * h.frame.scale);  // d/dx_input = scale · d/dx_normalized
@@ -247,7 +264,7 @@ size_t Drawing::sets() const { return impl_->scene.sets.size(); }
 std::vector<Point> Drawing::points(size_t set) const {
     ink::Scene& scene = impl_->scene;
     if (set >= scene.sets.size()) throw Error("no point set " + std::to_string(set));
-    const ink::Frame& frame = scene.model.hrbf.frame;
+    const ink::Frame& frame = scene.model.surface.frame;
     std::vector<Point> out;
     for (const ink::PointRecord& p : ink::readDrawnPoints(scene.ctx, scene.sets[set]->gpu())) {
         Eigen::Vector3d x(p.position[0], p.position[1], p.position[2]);
@@ -259,7 +276,7 @@ std::vector<Point> Drawing::points(size_t set) const {
 void Drawing::writePly(const std::string& path, size_t set) const {
     ink::Scene& scene = impl_->scene;
     if (set >= scene.sets.size()) throw Error("no point set " + std::to_string(set));
-    ink::writePointsPly(path, ink::readDrawnPoints(scene.ctx, scene.sets[set]->gpu()), scene.model.hrbf.frame);
+    ink::writePointsPly(path, ink::readDrawnPoints(scene.ctx, scene.sets[set]->gpu()), scene.model.surface.frame);
 }
 
 // ---- Rendering

@@ -215,6 +215,8 @@ static void describeDevice(Context& ctx, bool pickQueueFamily = true) {
     vkGetPhysicalDeviceProperties2(ctx.physicalDevice, &props2);
     ctx.properties = props2.properties;
     ctx.driverInfo = std::string(driver.driverName) + " " + driver.driverInfo;
+    ctx.driverId = driver.driverID;
+    ctx.subgroupSize = subgroup.subgroupSize;
     vkGetPhysicalDeviceMemoryProperties(ctx.physicalDevice, &ctx.memoryProperties);
 
     uint32_t familyCount = 0;
@@ -233,11 +235,6 @@ static void describeDevice(Context& ctx, bool pickQueueFamily = true) {
             (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT))
         throw Error(std::string(ctx.properties.deviceName) + " has no queue for both graphics and compute");
 
-    VkPhysicalDeviceFeatures supported{};
-    vkGetPhysicalDeviceFeatures(ctx.physicalDevice, &supported);
-    if (!supported.shaderFloat64)
-        throw Error(std::string(ctx.properties.deviceName) +
-                    " lacks shaderFloat64, which the HRBF evaluation needs (float cancels to 1e-3 noise)");
     // The refinement shares the HRBF centres across a subgroup (hrbf.glsl); it and the drawing passes compact
     // lists with ballots.
     const VkSubgroupFeatureFlags subgroupOps = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT |
@@ -272,6 +269,11 @@ void createContext(Context& ctx, const ContextOptions& options) {
 
     ctx.physicalDevice = pickDevice(ctx.instance, options.device);
     describeDevice(ctx);
+    VkPhysicalDeviceFeatures supported{};
+    vkGetPhysicalDeviceFeatures(ctx.physicalDevice, &supported);
+    // Double is optional: only the global fit's evaluation (refine_global.comp) uses it, with its dynamically
+    // indexed uniform-block array.
+    ctx.float64 = options.float64 && supported.shaderFloat64 && supported.shaderUniformBufferArrayDynamicIndexing;
     // glslang's vulkan1.3 target assumes maintenance4; the refinement needs sync2 and indirect dispatch.
     VkPhysicalDeviceVulkan13Features v13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
     v13.synchronization2 = VK_TRUE;
@@ -280,7 +282,8 @@ void createContext(Context& ctx, const ContextOptions& options) {
     VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &v13};
     v12.hostQueryReset = VK_TRUE;
     VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
-    features.features.shaderFloat64 = VK_TRUE;
+    features.features.shaderFloat64 = ctx.float64 ? VK_TRUE : VK_FALSE;
+    features.features.shaderUniformBufferArrayDynamicIndexing = ctx.float64 ? VK_TRUE : VK_FALSE;
 
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -317,6 +320,7 @@ void adoptContext(Context& ctx, const AdoptedDevice& adopted) {
     ctx.device = adopted.device;
     ctx.queue = adopted.queue;
     ctx.queueFamily = adopted.queueFamily;
+    ctx.float64 = adopted.shaderFloat64;
     describeDevice(ctx, false);
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;

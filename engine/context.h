@@ -32,6 +32,9 @@ struct ContextOptions {
     std::vector<const char*> instanceExtensions;  // extra ones (e.g. from glfwGetRequiredInstanceExtensions)
     // Called with each validation error (true) or warning (false); the library prints nothing itself.
     std::function<void(bool error, const std::string& message)> validationMessage;
+    // Enable shaderFloat64 where the device has it (only `--fit global` uses double); tests turn it off to run
+    // as on a device without it.
+    bool float64 = true;
 };
 
 // A device the caller made and keeps: the public type (include/inkwell/inkwell.h says what it must have).
@@ -48,6 +51,9 @@ struct Context {
     VkPhysicalDeviceProperties properties{};
     VkPhysicalDeviceMemoryProperties memoryProperties{};
     std::string driverInfo;  // "Mesa 22.3.6 (LLVM 15.0.6)"
+    VkDriverId driverId{};   // picks device-specific code paths (e.g. lavapipe's in pu_hrbf.glsl)
+    uint32_t subgroupSize = 0;
+    bool float64 = false;  // shaderFloat64 enabled: the global fit's double evaluation can run
     bool validation = false;
     bool ownsDevice = true;  // false for an adopted device: destroyContext leaves it to its owner
     std::function<void(bool error, const std::string& message)> validationMessage;

@@ -3,8 +3,8 @@
 //   f(x) = Σ_j [ α_j ψ(x − p_j) − ⟨β_j, ∇ψ(x − p_j)⟩ ] + ⟨a, x⟩ + b          (eq. 6)
 //   ψ(x) = ‖x‖³,  ∇ψ(x) = 3‖x‖x,  Hψ(x) = (3/‖x‖)(‖x‖² I + x xᵀ)              (§6.1.2)
 //
-// The model lives in normalized coordinates (bounding-box centre at the origin, diagonal 1); `frame`
-// maps between them and the input's units. The GLSL twin of eval() is spirv_shaders/hrbf.glsl.
+// The model lives in normalized coordinates (bounding-box centre at the origin, diagonal 1); the Surface's
+// `frame` (surface.h) maps between them and the input's units. The GLSL twin of eval() is spirv_shaders/hrbf.glsl.
 #pragma once
 
 #include <Eigen/Core>
@@ -31,7 +31,6 @@ struct Hrbf {
     std::vector<Eigen::Vector3d> normals;         // n_j, the unit normals the fit interpolates (∇f(p_j) = n_j)
     Eigen::Vector3d a = Eigen::Vector3d::Zero();  // linear term (eq. 6)
     double b = 0.0;
-    Frame frame;
 
     size_t size() const { return centers.size(); }
     double f(const Eigen::Vector3d& x) const;

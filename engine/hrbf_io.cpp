@@ -2,7 +2,7 @@
 
 #include "common.h"
 #include "files.h"
-#include "hrbf.h"
+#include "surface.h"
 
 #include <cerrno>
 #include <charconv>
@@ -17,9 +17,10 @@ namespace ink {
 namespace {
 
 constexpr const char* kMagic = "inkwell-hrbf";
-constexpr int kVersion = 1;
-// A real model is at most ~1 MB (4000 lines of ten numbers); this only stops a wrong file being slurped.
-constexpr size_t kMaxFileBytes = size_t(64) << 20;
+constexpr int kVersion = 2;  // 1: the global fit; 2: the partition of unity. Both are read and written.
+// A global model is at most ~1 MB (4000 lines of ten numbers), a partition of unity of 2·10⁶ points some
+// hundreds; this only stops a wrong file being slurped.
+constexpr size_t kMaxFileBytes = size_t(1) << 30;
 constexpr size_t kCenterFields = 10;  // x y z nx ny nz alpha bx by bz
 // The shortest centre line: ten one-digit numbers, nine separators and a newline. Bounds the count a file
 // of a given size can hold, so that a hostile count is refused before anything is allocated for it.
@@ -103,9 +104,7 @@ private:
 };
 
 std::string readFile(const std::string& path) {
-    return readFileCapped(path, kMaxFileBytes,
-                          "file is larger than 64 MiB, far more than any HRBF model (at most " +
-                              std::to_string(kMaxControlPoints) + " centres)");
+    return readFileCapped(path, kMaxFileBytes, "file is larger than 1 GiB, far more than any HRBF model");
 }
 
 // %.17g, without the C locale's say in the decimal point: 17 significant digits always read back to the
@@ -133,7 +132,7 @@ std::string number(double v) {
 // or grad f, and made-up coefficients do not interpolate the stored normals. A fitted model satisfies
 // f(p_j) = 0 and grad f(p_j) = n_j to about 1e-6 (docs/fitting.md); a file that misses by far more than that
 // was not written by a fit, and every later step (projection, normals, validate) would believe it.
-void checkConsistent(const Hrbf& model, const std::string& name) {
+void checkConsistent(const Surface& model, const std::string& name) {
     const double inverse = 1.0 / model.frame.scale;
     if (!std::isfinite(inverse) || !(model.frame.center.array().abs() + inverse).allFinite())
         fail(name, "the frame's scale " + number(model.frame.scale) +
@@ -175,35 +174,88 @@ void checkConsistent(const Hrbf& model, const std::string& name) {
     }
 }
 
+// A `key N` line: N in [lowest, highest], and no more than `bytes` can hold at `lineBytes` a line.
+uint64_t countLine(Lines& lines, const char* key, const char* noun, uint64_t lowest, uint64_t highest, size_t lineBytes,
+                   size_t bytes) {
+    lines.expectKey(key, 1, (std::string(key) + " N").c_str());
+    uint64_t m = 0;
+    std::string_view count = lines.fields[1];
+    auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), m);
+    if (ec == std::errc::result_out_of_range || (ec == std::errc() && m > highest))
+        lines.fail(quoted(count) + " " + noun + " is more than the maximum of " + std::to_string(highest));
+    if (ec != std::errc() || end != count.data() + count.size())
+        lines.fail(quoted(count) + " is not a count of " + noun);
+    if (m < lowest) lines.fail(std::to_string(m) + " " + noun + ": a model has at least " + std::to_string(lowest));
+    if (m * lineBytes > bytes)
+        lines.fail(std::to_string(m) + " " + noun + " cannot fit in a file of " + std::to_string(bytes) +
+                   " bytes (truncated?)");
+    return m;
+}
+
 }  // namespace
 
-void saveHrbf(const std::string& path, const Hrbf& model) {
+void saveHrbf(const std::string& path, const Surface& model) {
     const size_t m = model.size();
-    if (model.alpha.size() != m || model.beta.size() != m || model.normals.size() != m)
+    const bool global = model.method == FitMethod::Global;
+    if (model.normals.size() != m ||
+        (global && (model.global.size() != m || model.global.alpha.size() != m || model.global.beta.size() != m)))
         throw Error("cannot save '" + path + "': the model is incomplete (" + std::to_string(m) + " centres, " +
-                    std::to_string(model.alpha.size()) + " alpha, " + std::to_string(model.beta.size()) + " beta, " +
                     std::to_string(model.normals.size()) + " normals)");
-    if (m < 2 || m > kMaxControlPoints)
-        throw Error("cannot save '" + path + "': " + std::to_string(m) + " centres (a .hrbf file holds 2 to " +
+    if (m < 2 || (global && m > kMaxControlPoints))
+        throw Error("cannot save '" + path + "': " + std::to_string(m) + " centres (a global .hrbf file holds 2 to " +
                     std::to_string(kMaxControlPoints) + ")");
 
-    std::string text = std::string(kMagic) + " " + std::to_string(kVersion) + "\n";
+    std::string text = std::string(kMagic) + " " + (global ? "1" : "2") + "\n";
     text +=
         "# Inkwell HRBF model (docs/hrbf-format.md); coordinates are normalized: x_normalized = "
         "(x_input - center) * scale\n";
-    text += "centers " + std::to_string(m) + "\n";
-    text += "frame ";
-    put(text, model.frame.center);
-    put(text, model.frame.scale, '\n');
-    text += "linear ";
-    put(text, model.a);
-    put(text, model.b, '\n');
-    text += "# x y z nx ny nz alpha beta_x beta_y beta_z\n";
-    for (size_t j = 0; j < m; ++j) {
-        put(text, model.centers[j]);
-        put(text, model.normals[j]);
-        put(text, model.alpha[j]);
-        put(text, model.beta[j], '\n');
+    auto centreLines = [&](const Hrbf& h, const std::vector<Eigen::Vector3d>& normals) {
+        text += "linear ";
+        put(text, h.a);
+        put(text, h.b, '\n');
+        text += "# x y z nx ny nz alpha beta_x beta_y beta_z\n";
+        for (size_t j = 0; j < h.size(); ++j) {
+            put(text, h.centers[j]);
+            put(text, normals[j]);
+            put(text, h.alpha[j]);
+            put(text, h.beta[j], '\n');
+        }
+    };
+    if (global) {
+        text += "centers " + std::to_string(m) + "\n";
+        text += "frame ";
+        put(text, model.frame.center);
+        put(text, model.frame.scale, '\n');
+        centreLines(model.global, model.normals);
+    } else {
+        const PuHrbf& pu = model.pu;
+        text += "points " + std::to_string(m) + "\n";
+        text += "frame ";
+        put(text, model.frame.center);
+        put(text, model.frame.scale, '\n');
+        text += "tau ";
+        put(text, pu.tau, '\n');
+        text += "coarse " + std::to_string(pu.coarse.size()) + "\n";
+        centreLines(pu.coarse, pu.coarse.normals);
+        text += "patches " + std::to_string(pu.patches.size()) + "\n# cx cy cz radius ax ay az b nodes\n";
+        for (const PuPatch& p : pu.patches) {
+            put(text, p.center);
+            put(text, p.radius);
+            put(text, p.a);
+            put(text, p.b);
+            text += std::to_string(p.count) + "\n";
+        }
+        text += "nodes " + std::to_string(pu.nodes.size()) + "\n# x y z alpha beta_x beta_y beta_z (patch units)\n";
+        for (const PuNode& n : pu.nodes) {
+            put(text, n.p);
+            put(text, n.alpha);
+            put(text, n.beta, '\n');
+        }
+        text += "# the interpolated points: x y z nx ny nz\n";
+        for (size_t j = 0; j < m; ++j) {
+            put(text, model.centers[j]);
+            put(text, model.normals[j], '\n');
+        }
     }
     text += "end\n";
 
@@ -228,71 +280,132 @@ void saveHrbf(const std::string& path, const Hrbf& model) {
     });
 }
 
-Hrbf loadHrbf(const std::string& path) { return parseHrbf(readFile(path), path); }
+Surface loadHrbf(const std::string& path) { return parseHrbf(readFile(path), path); }
 
-Hrbf parseHrbf(const std::string& bytes, const std::string& name) {
+Surface parseHrbf(const std::string& bytes, const std::string& name) {
     Lines lines(bytes, name);
-    const std::string magicLine = std::string(kMagic) + " " + std::to_string(kVersion);
+    const std::string magicLine = std::string(kMagic) + " 1' or '" + kMagic + " 2";
     if (!lines.next()) fail(name, "empty file: not an Inkwell HRBF model (expected '" + magicLine + "' on line 1)");
     if (lines.line() != 1)
         fail(name, "line 1: not an Inkwell HRBF model (expected '" + magicLine + "' as the first line)");
     if (lines.fields[0] != kMagic)
         lines.fail("not an Inkwell HRBF model (expected '" + magicLine + "', found " + quoted(lines.fields[0]) + ")");
-    if (lines.count != 2 || lines.fields[1] != std::to_string(kVersion))
+    if (lines.count != 2 || (lines.fields[1] != "1" && lines.fields[1] != "2"))
         lines.fail("unsupported version " + (lines.count > 1 ? quoted(lines.fields[1]) : "(none)") +
-                   " (this build reads version " + std::to_string(kVersion) + ")");
+                   " (this build reads versions 1 and " + std::to_string(kVersion) + ")");
+    const bool global = lines.fields[1] == "1";
 
     auto need = [&](const char* what) {
         if (!lines.next()) fail(name, std::string("truncated: the file ends before ") + what);
     };
-    need("the 'centers' line");
-    lines.expectKey("centers", 1, "centers N");
+    // `linear` and m centre lines of a global HRBF (the model, or the partition of unity's far field).
+    auto readCentres = [&](Hrbf& h, uint64_t m, const char* what) {
+        need("the 'linear' line");
+        lines.expectKey("linear", 4, "linear ax ay az b");
+        h.a = lines.vector(1);
+        h.b = lines.real(4);
+        for (uint64_t j = 0; j < m; ++j) {
+            if (!lines.next()) fail(name, "truncated: " + std::to_string(j) + " of " + std::to_string(m) + " " + what);
+            if (lines.fields[0] == "end")
+                lines.fail("'end' after " + std::to_string(j) + " of the " + std::to_string(m) + " " + what +
+                           " declared");
+            if (lines.count != kCenterFields)
+                lines.fail("expected 10 numbers (x y z nx ny nz alpha bx by bz), found " + std::to_string(lines.count) +
+                           " fields");
+            h.centers.push_back(lines.vector(0));
+            h.normals.push_back(lines.vector(3));
+            h.alpha.push_back(lines.real(6));
+            h.beta.push_back(lines.vector(7));
+            if (h.normals.back().squaredNorm() == 0) lines.fail("normal is zero");
+        }
+    };
+    auto readFrame = [&](Surface& s) {
+        need("the 'frame' line");
+        lines.expectKey("frame", 4, "frame cx cy cz scale");
+        s.frame.center = lines.vector(1);
+        s.frame.scale = lines.real(4);
+        if (!(s.frame.scale > 0)) lines.fail("the frame's scale must be positive");
+    };
+
+    Surface model;
     uint64_t m = 0;
-    std::string_view count = lines.fields[1];
-    auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), m);
-    if (ec == std::errc::result_out_of_range || (ec == std::errc() && m > kMaxControlPoints))
-        lines.fail(quoted(count) + " centres is more than the maximum of " + std::to_string(kMaxControlPoints));
-    if (ec != std::errc() || end != count.data() + count.size())
-        lines.fail(quoted(count) + " is not a count of centres");
-    if (m < 2) lines.fail(std::to_string(m) + " centres: a model has at least 2");
-    if (m * kMinCenterLineBytes > bytes.size())
-        lines.fail(std::to_string(m) + " centres cannot fit in a file of " + std::to_string(bytes.size()) +
-                   " bytes (truncated?)");
-
-    Hrbf model;
-    need("the 'frame' line");
-    lines.expectKey("frame", 4, "frame cx cy cz scale");
-    model.frame.center = lines.vector(1);
-    model.frame.scale = lines.real(4);
-    if (!(model.frame.scale > 0)) lines.fail("the frame's scale must be positive");
-    need("the 'linear' line");
-    lines.expectKey("linear", 4, "linear ax ay az b");
-    model.a = lines.vector(1);
-    model.b = lines.real(4);
-
-    model.centers.reserve(m);
-    model.normals.reserve(m);
-    model.alpha.reserve(m);
-    model.beta.reserve(m);
-    for (uint64_t j = 0; j < m; ++j) {
-        if (!lines.next())
-            fail(name, "truncated: " + std::to_string(j) + " of " + std::to_string(m) + " centre lines, no 'end'");
-        if (lines.fields[0] == "end")
-            lines.fail("'end' after " + std::to_string(j) + " of the " + std::to_string(m) + " centres declared");
-        if (lines.count != kCenterFields)
-            lines.fail("expected 10 numbers (x y z nx ny nz alpha bx by bz), found " + std::to_string(lines.count) +
-                       " fields");
-        model.centers.push_back(lines.vector(0));
-        model.normals.push_back(lines.vector(3));
-        model.alpha.push_back(lines.real(6));
-        model.beta.push_back(lines.vector(7));
-        if (model.normals.back().squaredNorm() == 0) lines.fail("normal is zero");
+    if (global) {
+        model.method = FitMethod::Global;
+        need("the 'centers' line");
+        m = countLine(lines, "centers", "centres", 2, kMaxControlPoints, kMinCenterLineBytes, bytes.size());
+        readFrame(model);
+        readCentres(model.global, m, "centres");
+        model.centers = model.global.centers;
+        model.normals = model.global.normals;
+    } else {
+        PuHrbf& pu = model.pu;
+        need("the 'points' line");
+        m = countLine(lines, "points", "points", 2, UINT32_MAX, 12, bytes.size());
+        readFrame(model);
+        need("the 'tau' line");
+        lines.expectKey("tau", 1, "tau t");
+        pu.tau = lines.real(1);
+        if (!(pu.tau > 0 && pu.tau < 1)) lines.fail("tau must be in (0, 1)");
+        need("the 'coarse' line");
+        uint64_t coarse =
+            countLine(lines, "coarse", "far-field centres", 2, kMaxControlPoints, kMinCenterLineBytes, bytes.size());
+        readCentres(pu.coarse, coarse, "far-field centres");
+        need("the 'patches' line");
+        uint64_t patches = countLine(lines, "patches", "patches", 1, UINT32_MAX, 18, bytes.size());
+        uint64_t total = 0;
+        for (uint64_t i = 0; i < patches; ++i) {
+            if (!lines.next())
+                fail(name, "truncated: " + std::to_string(i) + " of " + std::to_string(patches) + " patches");
+            if (lines.count != 9)
+                lines.fail("expected 9 fields (cx cy cz radius ax ay az b nodes), found " +
+                           std::to_string(lines.count));
+            PuPatch p;
+            p.center = lines.vector(0);
+            p.radius = lines.real(3);
+            p.a = lines.vector(4);
+            p.b = lines.real(7);
+            uint64_t count = 0;
+            std::string_view c = lines.fields[8];
+            auto [end, ec] = std::from_chars(c.data(), c.data() + c.size(), count);
+            if (ec != std::errc() || end != c.data() + c.size() || count < 1 || count > 100000)
+                lines.fail(quoted(c) + " is not a patch's node count (1 to 100000)");
+            if (!(p.radius > 0 && p.radius <= 4)) lines.fail("a patch's radius must be in (0, 4]");
+            if (!(p.center.cwiseAbs().maxCoeff() <= 4)) lines.fail("the patch's centre lies far outside the model");
+            p.first = uint32_t(total);
+            p.count = uint32_t(count);
+            total += count;
+            if (total > UINT32_MAX) lines.fail("more nodes than a model holds");
+            pu.patches.push_back(p);
+        }
+        need("the 'nodes' line");
+        uint64_t nodes = countLine(lines, "nodes", "nodes", 1, UINT32_MAX, 14, bytes.size());
+        if (nodes != total) lines.fail(std::to_string(nodes) + " nodes, but the patches hold " + std::to_string(total));
+        pu.nodes.resize(nodes);
+        for (PuNode& n : pu.nodes) {
+            if (!lines.next()) fail(name, "truncated: the file ends inside the nodes");
+            if (lines.count != 7)
+                lines.fail("expected 7 numbers (x y z alpha bx by bz), found " + std::to_string(lines.count));
+            n.p = lines.vector(0);
+            n.alpha = lines.real(3);
+            n.beta = lines.vector(4);
+            if (!(n.p.norm() <= 1 + 1e-9)) lines.fail("a node lies outside its patch (patch units beyond 1)");
+        }
+        for (uint64_t j = 0; j < m; ++j) {
+            if (!lines.next()) fail(name, "truncated: " + std::to_string(j) + " of " + std::to_string(m) + " points");
+            if (lines.count != 6)
+                lines.fail("expected 6 numbers (x y z nx ny nz), found " + std::to_string(lines.count));
+            model.centers.push_back(lines.vector(0));
+            model.normals.push_back(lines.vector(3));
+            if (model.normals.back().squaredNorm() == 0) lines.fail("normal is zero");
+        }
+        pu.grid = buildPuGrid(pu.patches);
     }
     if (!lines.next()) fail(name, "truncated: no 'end' line after the " + std::to_string(m) + " centres");
     if (lines.fields[0] != "end" || lines.count != 1)
         lines.fail("expected 'end' after the " + std::to_string(m) + " centres declared, found " +
                    quoted(lines.fields[0]) + " (more centres than the count?)");
     if (lines.next()) lines.fail("unexpected " + quoted(lines.fields[0]) + " after 'end'");
+    chooseSeeds(model);
     checkConsistent(model, name);
     return model;
 }

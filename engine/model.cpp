@@ -3,11 +3,13 @@
 #include "common.h"
 #include "hrbf_io.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 
 namespace ink {
 
@@ -30,17 +32,60 @@ double typicalSpacing(const std::vector<Eigen::Vector3d>& points) {
 }  // namespace
 
 void checkModelOptions(const ModelOptions& options) {
-    if (options.controlPoints > kMaxControlPoints)
+    if (options.method == FitMethod::Global && options.controlPoints > kMaxControlPoints)
         throw Error("--control-points " + std::to_string(options.controlPoints) +
-                    " is more than the dense fit can hold (at most " + std::to_string(kMaxControlPoints) +
-                    ": the system needs (4m+4)² doubles)");
+                    " is more than the global fit can hold (at most " + std::to_string(kMaxControlPoints) +
+                    ": the system needs (4m+4)² doubles); the default --fit pu takes any number");
+    if (options.controlPoints > kMaxPuPoints)
+        throw Error("--control-points " + std::to_string(options.controlPoints) +
+                    " is more than the fit takes (at most " + std::to_string(kMaxPuPoints) + ")");
 }
+
+namespace {
+
+// The error of the fitted surface at the given points (normalized), as the device evaluates it.
+void measureInputs(Model& model, const std::vector<Eigen::Vector3d>& points,
+                   const std::vector<Eigen::Vector3d>& normals) {
+    const Surface& s = model.surface;
+    std::unique_ptr<PuFloat> pu;
+    if (s.method == FitMethod::PartitionOfUnity) pu = std::make_unique<PuFloat>(s.pu);
+    double sum = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+        Eigen::Vector3d g;
+        double f;
+        if (pu) {
+            Eigen::Vector3f gf;
+            f = pu->eval(points[i].cast<float>(), gf);
+            g = gf.cast<double>();
+        } else {
+            f = s.eval(points[i], g);
+        }
+        double gn = g.norm(), distance = gn > 0 ? std::abs(f) / gn : INFINITY;
+        model.inputMaxDistance = std::max(model.inputMaxDistance, distance);
+        sum += distance;
+        double angle = std::atan2(g.cross(normals[i]).norm(), g.dot(normals[i])) * 180.0 / M_PI;
+        model.inputMaxAngleDeg = std::max(model.inputMaxAngleDeg, angle);
+    }
+    model.inputMeanDistance = points.empty() ? 0 : sum / double(points.size());
+}
+
+}  // namespace
 
 Model fitModel(OrientedPoints points, const ModelOptions& options) {
     checkModelOptions(options);
+    auto start = std::chrono::steady_clock::now();
+    const bool global = options.method == FitMethod::Global;
     Model model;
     model.inputPoints = points.positions.size();
+    if (model.inputPoints > kMaxPuPoints && options.controlPoints == 0)
+        throw Error("the input has " + std::to_string(model.inputPoints) + " points, more than the fit takes (" +
+                    std::to_string(kMaxPuPoints) + "): choose fewer with --control-points");
     Frame frame = Frame::unitDiagonal(points.positions);
+    OrientedPoints inputs;  // normalized, for the error at every input point
+    for (size_t i = 0; i < points.positions.size(); ++i) {
+        inputs.positions.push_back(frame.toNormalized(points.positions[i]));
+        inputs.normals.push_back(points.normals[i]);
+    }
 
     // Duplicates make the system singular without a NaN to warn (ALGORITHM.md §2): merge them first.
     model.mergedDuplicates = mergeDuplicates(points, 1e-9 / frame.scale);
@@ -53,23 +98,27 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
 
     size_t wanted = options.controlPoints;
     if (wanted == 0) {
-        wanted = std::min(distinct, kDefaultControlPoints);
+        wanted = global ? std::min(distinct, kDefaultControlPoints) : distinct;
         if (wanted < distinct)
             note("using " + std::to_string(wanted) + " of " + std::to_string(distinct) +
-                 " points as control points (--control-points to change)");
+                 " points as control points of the global fit (--control-points to change, or --fit pu for all)");
     }
     if (wanted > distinct)
         note("asked for " + std::to_string(wanted) + " control points, but the model has " + std::to_string(distinct) +
              " distinct points: using all of them");
     wanted = std::min(wanted, distinct);
 
-    // On a terminal: the stages of the fit (the dense solve, the last, dominates from about 1000 points on).
-    Progress progress("fit", 2);
-    progress.update(0);
+    // Farthest-point sampling in normalized coordinates: in the input's units the squared distances of a model
+    // 1e-300 across underflow to zero, and every point would tie.
+    for (Eigen::Vector3d& x : points.positions) x = frame.toNormalized(x);
     OrientedPoints chosen;
-    for (size_t i : farthestPointSample(points.positions, wanted)) {
-        chosen.positions.push_back(frame.toNormalized(points.positions[i]));
-        chosen.normals.push_back(points.normals[i]);
+    if (wanted < distinct) {
+        for (size_t i : farthestPointSample(points.positions, wanted)) {
+            chosen.positions.push_back(points.positions[i]);
+            chosen.normals.push_back(points.normals[i]);
+        }
+    } else {
+        chosen = std::move(points);
     }
     // Control points within 1% of the typical spacing of another (a crease's split vertices, a seam) leave the
     // system too ill-conditioned to trust: merged, their normals averaged. The spacing is that of the chosen
@@ -85,20 +134,36 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     if (chosen.positions.size() < 2)
         throw Error("too few distinct points to fit a surface: " + std::to_string(chosen.positions.size()) +
                     " (need at least 2)");
-    progress.update(1);
-    try {
-        model.hrbf = fitHrbf(chosen.positions, chosen.normals, &model.fit);
-    } catch (const Error& e) {
-        // The one change that helps: farthest-point sampling keeps fewer points farther apart.
-        const size_t fewer = std::max<size_t>(4, chosen.positions.size() / 2);
-        if (std::string(e.what()).find("ill-conditioned") == std::string::npos &&
-            std::string(e.what()).find("singular") == std::string::npos)
-            throw;
-        throw Error(std::string(e.what()) + "; fit fewer control points (--control-points " + std::to_string(fewer) +
-                    ")");
+
+    Surface& surface = model.surface;
+    surface.method = options.method;
+    surface.frame = frame;
+    if (global) {
+        try {
+            Progress progress("fit", 1);
+            surface.global = fitHrbf(chosen.positions, chosen.normals, &model.fit);
+        } catch (const Error& e) {
+            // The one change that helps: farthest-point sampling keeps fewer points farther apart.
+            const size_t fewer = std::max<size_t>(4, chosen.positions.size() / 2);
+            if (std::string(e.what()).find("ill-conditioned") == std::string::npos &&
+                std::string(e.what()).find("singular") == std::string::npos)
+                throw;
+            throw Error(std::string(e.what()) + "; fit fewer control points (--control-points " +
+                        std::to_string(fewer) + ")");
+        }
+    } else {
+        surface.pu = fitPuHrbf(chosen.positions, chosen.normals, {}, &model.patches);
+        model.fit.relativeResidual = model.patches.maxRelativeResidual;
     }
-    progress.update(2);
-    model.hrbf.frame = frame;
+    surface.centers = std::move(chosen.positions);
+    surface.normals = std::move(chosen.normals);
+    chooseSeeds(surface);
+    FitStats measured = measureFit(surface);
+    model.fit.controlPoints = measured.controlPoints;
+    model.fit.maxDistance = measured.maxDistance;
+    model.fit.maxNormalAngleDeg = measured.maxNormalAngleDeg;
+    measureInputs(model, inputs.positions, inputs.normals);
+    model.fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return model;
 }
 
@@ -117,12 +182,13 @@ Model loadModel(const std::string& path, const ModelOptions& options) {
     auto start = std::chrono::steady_clock::now();
     if (isHrbfFile(path)) {
         Model model;
-        model.hrbf = loadHrbf(path);  // first: a broken file gets one line, not a note and then the error
+        model.surface = loadHrbf(path);  // first: a broken file gets one line, not a note and then the error
         if (options.controlPoints)
             note("--control-points is ignored for '" + path + "': a .hrbf model is already fitted");
-        model.inputPoints = model.hrbf.size();
+        model.inputPoints = model.surface.size();
         model.loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        model.fit = measureFit(model.hrbf);  // relativeResidual and seconds stay 0: nothing was solved
+        model.fit = measureFit(model.surface);  // relativeResidual and seconds stay 0: nothing was solved
+        measureInputs(model, model.surface.centers, model.surface.normals);
         return model;
     }
     OrientedPoints points = loadPoints(path);

@@ -2,28 +2,38 @@
 // farthest-point sampling, fit (ALGORITHM.md §1–2).
 #pragma once
 
-#include "hrbf.h"
 #include "points.h"
+#include "surface.h"
 
 #include <string>
 
 namespace ink {
 
-constexpr size_t kDefaultControlPoints = 1000;  // when the input has more points and none were asked for
+// The global fit's control points when the input has more and none were asked for (the dense solve grows as m³).
+constexpr size_t kDefaultControlPoints = 1000;
+// The most points the partition of unity fits (about 10 s and 1 GiB on two cores at 10⁶).
+constexpr size_t kMaxPuPoints = 2000000;
 
 struct ModelOptions {
-    size_t controlPoints = 0;  // 0 = all input points up to kDefaultControlPoints
+    // 0: every input point for the partition of unity, up to kDefaultControlPoints for the global fit.
+    size_t controlPoints = 0;
+    FitMethod method = FitMethod::PartitionOfUnity;
 };
 
 struct Model {
-    Hrbf hrbf;
-    FitStats fit;
+    Surface surface;
+    FitStats fit;  // at the control points, evaluated as the device evaluates (float for the partition of unity)
+    PuStats patches;
     size_t inputPoints = 0;
     size_t mergedDuplicates = 0;
     double loadSeconds = 0;
+    // The error at every point the fit was given (all input points, not only the control points), normalized
+    // units (fractions of the diagonal), evaluated as the device evaluates.
+    double inputMaxDistance = 0, inputMeanDistance = 0, inputMaxAngleDeg = 0;
 };
 
-// Refuses options no model can satisfy (--control-points above kMaxControlPoints) before any work is done.
+// Refuses options no model can satisfy (--control-points above kMaxControlPoints for the global fit) before any
+// work is done.
 void checkModelOptions(const ModelOptions& options);
 
 // Fits points given in the input's units. Throws ink::Error for too few distinct points or absurd requests.

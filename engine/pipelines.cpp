@@ -81,13 +81,19 @@ VkPipelineLayout createPipelineLayout(Context& ctx, VkDescriptorSetLayout setLay
     return layout;
 }
 
-VkPipeline createComputePipeline(Context& ctx, VkPipelineLayout layout, std::span<const uint32_t> spirv) {
+VkPipeline createComputePipeline(Context& ctx, VkPipelineLayout layout, std::span<const uint32_t> spirv,
+                                 std::span<const uint32_t> constants) {
     VkShaderModule module = createShaderModule(ctx, spirv);
+    std::vector<VkSpecializationMapEntry> entries;
+    for (uint32_t i = 0; i < constants.size(); ++i) entries.push_back({i, 4 * i, 4});
+    VkSpecializationInfo specialization{uint32_t(entries.size()), entries.data(), constants.size_bytes(),
+                                        constants.data()};
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     info.stage.module = module;
     info.stage.pName = "main";
+    info.stage.pSpecializationInfo = constants.empty() ? nullptr : &specialization;
     info.layout = layout;
     VkPipeline pipeline;
     VK_CHECK(vkCreateComputePipelines(ctx.device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));

@@ -33,7 +33,9 @@ void destroyDescriptorSet(Context& ctx, DescriptorSet& set);
 
 VkPipelineLayout createPipelineLayout(Context& ctx, VkDescriptorSetLayout setLayout, uint32_t pushConstantSize,
                                       VkShaderStageFlags pushStages);
-VkPipeline createComputePipeline(Context& ctx, VkPipelineLayout layout, std::span<const uint32_t> spirv);
+// `constants` are the specialization constants constant_id = 0, 1, ... (32-bit each).
+VkPipeline createComputePipeline(Context& ctx, VkPipelineLayout layout, std::span<const uint32_t> spirv,
+                                 std::span<const uint32_t> constants = {});
 
 // A graphics pipeline for dynamic rendering into one colour attachment of `colorFormat`: triangles from the vertex
 // index alone (no vertex input), no culling or depth, alpha blended over the target (occlusion is decided in

@@ -10,6 +10,7 @@
 
 #include "compact.comp.h"
 #include "refine.comp.h"
+#include "refine_global.comp.h"
 #include "scan.comp.h"
 
 namespace ink {
@@ -20,7 +21,7 @@ constexpr uint32_t kHrbfBlockSize = 1024, kHrbfBlocks = 4;
 constexpr VkDeviceSize kHrbfBlockBytes = kHrbfBlockSize * 64;
 static_assert(kHrbfBlockSize * kHrbfBlocks >= kMaxControlPoints, "room for the largest model (hrbf.h)");
 
-static std::vector<double> packHrbfHeader(const Hrbf& h) {
+static std::vector<double> packHrbfHeader(const Hrbf& h) {  // the global fit
     std::vector<double> data(6, 0.0);
     data[0] = h.a.x();
     data[1] = h.a.y();
@@ -45,7 +46,69 @@ static std::vector<double> packHrbfCenters(const Hrbf& h) {
     return data;
 }
 
-void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const RefineOptions& options) {
+// pu_hrbf.glsl's buffers (std140 header, std430 arrays), in float.
+struct PuBuffers {
+    std::vector<float> header, patches, nodes, coarse;
+    std::vector<uint32_t> cells;
+};
+
+static PuBuffers packPu(const PuHrbf& pu) {
+    PuBuffers b;
+    const PuGrid& grid = pu.grid;
+    uint32_t coarse = uint32_t(pu.coarse.size());
+    b.header = {float(grid.origin.x()),
+                float(grid.origin.y()),
+                float(grid.origin.z()),
+                float(1.0 / grid.cell),
+                0,
+                0,
+                0,
+                0,
+                float(pu.coarse.a.x()),
+                float(pu.coarse.a.y()),
+                float(pu.coarse.a.z()),
+                float(pu.coarse.b),
+                float(pu.tau),
+                0,
+                0,
+                0};
+    uint32_t dims[4] = {uint32_t(grid.dims.x()), uint32_t(grid.dims.y()), uint32_t(grid.dims.z()), coarse};
+    std::memcpy(&b.header[4], dims, sizeof dims);
+    for (const PuPatch& p : pu.patches) {
+        uint32_t range[4] = {p.first, p.count, 0, 0};
+        float packed[12] = {float(p.center.x()), float(p.center.y()), float(p.center.z()), float(p.radius),
+                            float(p.a.x()),      float(p.a.y()),      float(p.a.z()),      float(p.b)};
+        std::memcpy(&packed[8], range, sizeof range);
+        b.patches.insert(b.patches.end(), packed, packed + 12);
+    }
+    for (const PuNode& n : pu.nodes)
+        b.nodes.insert(b.nodes.end(), {float(n.p.x()), float(n.p.y()), float(n.p.z()), float(n.alpha),
+                                       float(n.beta.x()), float(n.beta.y()), float(n.beta.z()), 0.0f});
+    for (size_t j = 0; j < coarse; ++j) {
+        const Hrbf& c = pu.coarse;
+        b.coarse.insert(b.coarse.end(),
+                        {float(c.centers[j].x()), float(c.centers[j].y()), float(c.centers[j].z()), float(c.alpha[j]),
+                         float(c.beta[j].x()), float(c.beta[j].y()), float(c.beta[j].z()), 0.0f});
+    }
+    b.cells = grid.cellStart;
+    b.cells.insert(b.cells.end(), grid.cellPatches.begin(), grid.cellPatches.end());
+    return b;
+}
+
+// A device buffer holding `data` (at least 16 bytes: empty arrays still need a buffer to bind).
+template <class T>
+static Buffer deviceArray(Context& ctx, const std::vector<T>& data, VkBufferUsageFlags usage, const char* what) {
+    VkDeviceSize bytes = std::max<VkDeviceSize>(16, data.size() * sizeof(T));
+    if (bytes > ctx.properties.limits.maxStorageBufferRange)
+        throw Error(std::string("the model's ") + what + " take " + std::to_string(bytes >> 20) + " MiB, more than " +
+                    ctx.properties.deviceName + " allows in one buffer (" +
+                    std::to_string(ctx.properties.limits.maxStorageBufferRange >> 20) + " MiB): fit fewer points");
+    Buffer b = createBuffer(ctx, bytes, usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
+    if (!data.empty()) uploadBuffer(ctx, b, data.data(), data.size() * sizeof(T));
+    return b;
+}
+
+void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const RefineOptions& options) {
     const uint64_t range = ctx.properties.limits.maxStorageBufferRange;
     const uint64_t groups = ctx.properties.limits.maxComputeWorkGroupCount[0];
     uint64_t maxPoints = std::min(range / sizeof(PointRecord), groups * kGroupSize);
@@ -56,18 +119,36 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const Re
 
     const VkBufferUsageFlags storage =
         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-    if (hrbf.size() > kHrbfBlockSize * kHrbfBlocks)
-        throw Error("the refinement holds at most " + std::to_string(kHrbfBlockSize * kHrbfBlocks) + " centres");
-    if (ctx.properties.limits.maxUniformBufferRange < kHrbfBlockBytes)
-        throw Error(std::string(ctx.properties.deviceName) + " has uniform buffers under 64 KiB, which the HRBF needs");
-    const VkBufferUsageFlags uniform = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    std::vector<double> header = packHrbfHeader(hrbf), centers = packHrbfCenters(hrbf);
-    r.hrbfHeader = createBuffer(ctx, header.size() * sizeof(double), uniform, MemoryUse::Device);
-    uploadBuffer(ctx, r.hrbfHeader, header.data(), header.size() * sizeof(double));
-    r.hrbf = createBuffer(ctx, centers.size() * sizeof(double), uniform, MemoryUse::Device);
-    uploadBuffer(ctx, r.hrbf, centers.data(), centers.size() * sizeof(double));
-    // Blocks past the last real one point at block 0: they are declared by the shader but never read.
-    const uint32_t realBlocks = uint32_t(centers.size() * sizeof(double) / kHrbfBlockBytes);
+    const bool global = hrbf.method == FitMethod::Global;
+    uint32_t realBlocks = 0;
+    if (global) {
+        if (!ctx.float64)
+            throw Error(std::string(ctx.properties.deviceName) +
+                        " lacks shaderFloat64 (or it is not enabled), which the global fit's evaluation needs; the "
+                        "default --fit pu evaluates in float");
+        const Hrbf& h = hrbf.global;
+        if (h.size() > kHrbfBlockSize * kHrbfBlocks)
+            throw Error("the refinement holds at most " + std::to_string(kHrbfBlockSize * kHrbfBlocks) + " centres");
+        if (ctx.properties.limits.maxUniformBufferRange < kHrbfBlockBytes)
+            throw Error(std::string(ctx.properties.deviceName) +
+                        " has uniform buffers under 64 KiB, which the global HRBF needs");
+        const VkBufferUsageFlags uniform = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+        std::vector<double> header = packHrbfHeader(h), centers = packHrbfCenters(h);
+        r.hrbfHeader = createBuffer(ctx, header.size() * sizeof(double), uniform, MemoryUse::Device);
+        uploadBuffer(ctx, r.hrbfHeader, header.data(), header.size() * sizeof(double));
+        r.hrbf = createBuffer(ctx, centers.size() * sizeof(double), uniform, MemoryUse::Device);
+        uploadBuffer(ctx, r.hrbf, centers.data(), centers.size() * sizeof(double));
+        // Blocks past the last real one point at block 0: they are declared by the shader but never read.
+        realBlocks = uint32_t(centers.size() * sizeof(double) / kHrbfBlockBytes);
+    } else {
+        PuBuffers b = packPu(hrbf.pu);
+        const VkBufferUsageFlags sbo = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+        r.hrbfHeader = deviceArray(ctx, b.header, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "header");
+        r.puPatches = deviceArray(ctx, b.patches, sbo, "patches");
+        r.puNodes = deviceArray(ctx, b.nodes, sbo, "patch nodes");
+        r.puCells = deviceArray(ctx, b.cells, sbo, "patch grid");
+        r.puCoarse = deviceArray(ctx, b.coarse, sbo, "far field");
+    }
     r.points = createBuffer(ctx, plan.maxPoints * sizeof(PointRecord),
                             storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, MemoryUse::Device);
     r.candidates = createBuffer(ctx, maxCandidates * sizeof(PointRecord), storage, MemoryUse::Device);
@@ -81,21 +162,43 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const Re
     r.seeds = createBuffer(ctx, seeds.size() * 16, storage, MemoryUse::Device);
     uploadBuffer(ctx, r.seeds, seeds.data(), seeds.size() * 16);
 
-    const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    r.descriptors = createDescriptorSet(
-        ctx,
-        {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, r.hrbfHeader.buffer},
-         {1, sb, r.points.buffer},
-         {2, sb, r.candidates.buffer},
-         {3, sb, r.flags.buffer},
-         {4, sb, r.blocks.buffer},
-         {5, sb, r.levels.buffer},
-         {6, sb, r.indirect.buffer},
-         {7, sb, r.seeds.buffer},
-         {8, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, r.hrbf.buffer, kHrbfBlocks, kHrbfBlockBytes, realBlocks}},
-        VK_SHADER_STAGE_COMPUTE_BIT);
+    const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, ub = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    if (global)
+        r.descriptors = createDescriptorSet(ctx,
+                                            {{0, ub, r.hrbfHeader.buffer},
+                                             {1, sb, r.points.buffer},
+                                             {2, sb, r.candidates.buffer},
+                                             {3, sb, r.flags.buffer},
+                                             {4, sb, r.blocks.buffer},
+                                             {5, sb, r.levels.buffer},
+                                             {6, sb, r.indirect.buffer},
+                                             {7, sb, r.seeds.buffer},
+                                             {8, ub, r.hrbf.buffer, kHrbfBlocks, kHrbfBlockBytes, realBlocks}},
+                                            VK_SHADER_STAGE_COMPUTE_BIT);
+    else
+        r.descriptors = createDescriptorSet(ctx,
+                                            {{0, ub, r.hrbfHeader.buffer},
+                                             {1, sb, r.points.buffer},
+                                             {2, sb, r.candidates.buffer},
+                                             {3, sb, r.flags.buffer},
+                                             {4, sb, r.blocks.buffer},
+                                             {5, sb, r.levels.buffer},
+                                             {6, sb, r.indirect.buffer},
+                                             {7, sb, r.seeds.buffer},
+                                             {8, sb, r.puPatches.buffer},
+                                             {9, sb, r.puNodes.buffer},
+                                             {10, sb, r.puCells.buffer},
+                                             {11, sb, r.puCoarse.buffer}},
+                                            VK_SHADER_STAGE_COMPUTE_BIT);
     r.layout = createPipelineLayout(ctx, r.descriptors.layout, sizeof(LevelParams), VK_SHADER_STAGE_COMPUTE_BIT);
-    r.refine = createComputePipeline(ctx, r.layout, spv_refine_comp);
+    // Lavapipe (llvmpipe, subgroups of 8) sums the patches with shared loads; every other device per invocation.
+    const bool lavapipe = ctx.driverId == VK_DRIVER_ID_MESA_LLVMPIPE && ctx.subgroupSize == 8;
+    r.sharedKernel =
+        !global && ctx.subgroupSize == 8 &&
+        (options.kernel == SurfaceKernel::SubgroupShared || (options.kernel == SurfaceKernel::Auto && lavapipe));
+    const uint32_t lanes[1] = {r.sharedKernel ? 8u : 0u};
+    r.refine = global ? createComputePipeline(ctx, r.layout, spv_refine_global_comp)
+                      : createComputePipeline(ctx, r.layout, spv_refine_comp, lanes);
     r.scan = createComputePipeline(ctx, r.layout, spv_scan_comp);
     r.compact = createComputePipeline(ctx, r.layout, spv_compact_comp);
 
@@ -110,7 +213,7 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const Re
     }
 }
 
-Refinement::Refinement(Context& ctx, const Hrbf& hrbf, const RefineOptions& options) : ctx_(ctx) {
+Refinement::Refinement(Context& ctx, const Surface& hrbf, const RefineOptions& options) : ctx_(ctx) {
     try {
         createRefinement(ctx, r_, hrbf, options);
     } catch (...) {
@@ -132,8 +235,8 @@ void destroyRefinement(Context& ctx, GpuRefinement& r) {
     for (VkPipeline p : {r.refine, r.scan, r.compact}) vkDestroyPipeline(ctx.device, p, nullptr);
     vkDestroyPipelineLayout(ctx.device, r.layout, nullptr);
     if (r.descriptors.pool) destroyDescriptorSet(ctx, r.descriptors);
-    for (Buffer* b :
-         {&r.hrbfHeader, &r.hrbf, &r.points, &r.candidates, &r.flags, &r.blocks, &r.levels, &r.indirect, &r.seeds})
+    for (Buffer* b : {&r.hrbfHeader, &r.hrbf, &r.points, &r.candidates, &r.flags, &r.blocks, &r.levels, &r.indirect,
+                      &r.seeds, &r.puPatches, &r.puNodes, &r.puCells, &r.puCoarse})
         if (b->buffer) destroyBuffer(ctx, *b);
     r.refine = r.scan = r.compact = VK_NULL_HANDLE;
     r.layout = VK_NULL_HANDLE;

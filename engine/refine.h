@@ -23,6 +23,8 @@ struct GpuRefinement {
     RefinePlan plan;
     RefineOptions options;
     Buffer hrbfHeader, hrbf, points, candidates, flags, blocks, levels, indirect, seeds;
+    Buffer puPatches, puNodes, puCells, puCoarse;  // the partition of unity (hrbfHeader is its header then)
+    bool sharedKernel = false;                     // SurfaceKernel::SubgroupShared in use
     DescriptorSet descriptors;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline refine = VK_NULL_HANDLE, scan = VK_NULL_HANDLE, compact = VK_NULL_HANDLE;
@@ -36,14 +38,14 @@ struct GpuRefinement {
     VkDeviceSize drawOffset() const { return selection ? kSelectedDrawOffset : kDrawOffset; }
 };
 
-void createRefinement(Context& ctx, GpuRefinement& r, const Hrbf& hrbf, const RefineOptions& options);
+void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const RefineOptions& options);
 void destroyRefinement(Context& ctx, GpuRefinement& r);
 
 // Owns one GpuRefinement: created in the constructor (what was made is released when that throws), destroyed
 // with the owner.
 class Refinement {
 public:
-    Refinement(Context& ctx, const Hrbf& hrbf, const RefineOptions& options);
+    Refinement(Context& ctx, const Surface& hrbf, const RefineOptions& options);
     ~Refinement() { destroyRefinement(ctx_, r_); }
     Refinement(const Refinement&) = delete;
     Refinement& operator=(const Refinement&) = delete;

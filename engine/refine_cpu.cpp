@@ -17,6 +17,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <thread>
 
 namespace ink {
@@ -122,36 +123,39 @@ private:
 #endif
 };
 
-// Eq. 11 with the Armijo rule, in double as in refine.comp.
+// Eq. 11 with the Armijo rule, in the arithmetic of refine.comp: float for the partition of unity (PuFloat),
+// double for the global fit (HrbfArrays).
+template <class Eval, class T>
 struct Projector {
-    const HrbfArrays& h;
+    using V = Eigen::Matrix<T, 3, 1>;
+    const Eval& h;
     const LevelParams& pc;
 
-    uint32_t project(Vector3d& p, Vector3d& grad) const {
-        Vector3d g;
-        double f = h.eval(p, g);
+    uint32_t project(V& p, V& grad) const {
+        V g;
+        T f = h.eval(p, g);
         for (uint32_t it = 0;; ++it) {
-            double gg = g.dot(g);
-            if (gg < double(pc.eps2) * double(pc.eps2)) return DropGradient;
-            if (std::abs(f) < double(pc.eps1) * std::sqrt(gg)) {
+            T gg = g.dot(g);
+            if (gg < T(pc.eps2) * T(pc.eps2)) return DropGradient;
+            if (std::abs(f) < T(pc.eps1) * std::sqrt(gg)) {
                 grad = g;
                 return kKept;
             }
             if (it == pc.maxIterations) return DropIterations;
-            Vector3d step = (f / gg) * g;
-            double t = 1.0;
+            V step = (f / gg) * g;
+            T t = 1;
             for (uint32_t i = 0;; ++i) {
-                Vector3d gq;
-                Vector3d q = p - t * step;
-                double fq = h.eval(q, gq);
-                if (fq * fq <= f * f * (1.0 - 2.0 * double(pc.phi) * t)) {
+                V gq;
+                V q = p - t * step;
+                T fq = h.eval(q, gq);
+                if (fq * fq <= f * f * (T(1) - T(2) * T(pc.phi) * t)) {
                     p = q;
                     f = fq;
                     g = gq;
                     break;
                 }
                 if (i == 16) return DropArmijo;
-                t *= double(pc.delta);
+                t *= T(pc.delta);
             }
         }
     }
@@ -174,19 +178,27 @@ void randomFrame(const LevelParams& pc, const Vector3f& n, uint32_t parent, uint
     r = n.cross(u);
 }
 
-Vector3f tangentDirection(const Hrbf& hrbf, const LevelParams& pc, const Vector3f& position, const Vector3f& n,
-                          const Vector3f& fallback) {
+Vector3f tangentDirection(const Surface& hrbf, const PuFloat* pu, const LevelParams& pc, const Vector3f& position,
+                          const Vector3f& n, const Vector3f& fallback) {
     if (pc.direction == 0) {
         Vector3f axis(pc.axis[0], pc.axis[1], pc.axis[2]);
         Vector3f d = axis - axis.dot(n) * n;
         return d.dot(d) > 1e-8f ? d.normalized() : fallback;
     }
     // The same 2×2 shape operator in the same tangent basis as refine.comp, so both pick the same vector.
-    Eigen::Vector3d gd;
-    Eigen::Matrix3d Hd;
-    hrbf.eval(position.cast<double>(), gd, &Hd);
-    Eigen::Matrix3f H = Hd.cast<float>();
-    float gn = float(gd.norm());
+    Eigen::Matrix3f H;
+    float gn;
+    if (pu) {
+        Vector3f g;
+        pu->evalHessian(position, g, H);
+        gn = g.norm();
+    } else {
+        Eigen::Vector3d gd;
+        Eigen::Matrix3d Hd;
+        hrbf.global.eval(position.cast<double>(), gd, &Hd);
+        H = Hd.cast<float>();
+        gn = float(gd.norm());
+    }
     Vector3f t1 = perpendicular(n), t2 = n.cross(t1);
     float a = t1.dot(H * t1) / gn, b = t1.dot(H * t2) / gn, c = t2.dot(H * t2) / gn;
     float mean = 0.5f * (a + c), radius = std::sqrt(0.25f * (a - c) * (a - c) + b * b);
@@ -199,13 +211,19 @@ Vector3f tangentDirection(const Hrbf& hrbf, const LevelParams& pc, const Vector3
 
 }  // namespace
 
-std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& options, const RefinePlan& plan,
+std::vector<PointRecord> refineOnCpu(const Surface& hrbf, const RefineOptions& options, const RefinePlan& plan,
                                      std::vector<LevelStats>* stats, unsigned threads, CpuKernel kernel) {
     if (plan.maxPoints > kMaxCpuPoints)
         throw Error("the refinement asks for up to " + std::to_string(plan.maxPoints) + " points, but at most " +
                     std::to_string(kMaxCpuPoints) + " fit the CPU reference: plan it with kMaxCpuPoints");
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-    const HrbfArrays arrays(hrbf, kernel);
+    const bool global = hrbf.method == FitMethod::Global;
+    std::unique_ptr<HrbfArrays> arrays;
+    std::unique_ptr<PuFloat> pu;
+    if (global)
+        arrays = std::make_unique<HrbfArrays>(hrbf.global, kernel);
+    else
+        pu = std::make_unique<PuFloat>(hrbf.pu);
     std::vector<PointRecord> points;
     points.reserve(plan.maxPoints);
     std::vector<LevelStats> levelStats(plan.levelCount);
@@ -214,7 +232,6 @@ std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& opti
 
     for (uint32_t level = 0; level < plan.levelCount; ++level) {
         LevelParams pc = levelParams(plan, options, level);
-        Projector projector{arrays, pc};
         size_t count = level == 0 ? plan.seeds.size() : parentCount * pc.childCount;
         std::vector<PointRecord> candidates(count);
         std::vector<uint32_t> result(count);
@@ -239,17 +256,27 @@ std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& opti
                         float mi = 0.25f * rnd[0] - 0.125f, mj = 0.25f * rnd[1] - 0.125f;
                         start = origin + (si + mi) * pc.rho * r + (sj + mj) * pc.rho * u;
                     } else {
-                        Vector3f d = tangentDirection(hrbf, pc, origin, n, r);
+                        Vector3f d = tangentDirection(hrbf, pu.get(), pc, origin, n, r);
                         start = origin + (sub == 0 ? -pc.rho : pc.rho) * d;
                         if (pass > 0) start += (2.0f * rnd[1] - 1.0f) * pc.rho * n.cross(d);
                     }
                 }
-                Vector3d p = start.cast<double>(), g = Vector3d::Zero();
-                uint32_t res = projector.project(p, g);
-                if (res == kKept && (p.cast<float>() - origin).norm() > pc.jumpLimit) res = DropJump;
+                Vector3f p, n;
+                uint32_t res;
+                if (pu) {
+                    Vector3f g = Vector3f::Zero();
+                    p = start;
+                    res = Projector<PuFloat, float>{*pu, pc}.project(p, g);
+                    n = g.normalized();
+                } else {
+                    Vector3d pd = start.cast<double>(), g = Vector3d::Zero();
+                    res = Projector<HrbfArrays, double>{*arrays, pc}.project(pd, g);
+                    p = pd.cast<float>();
+                    n = g.normalized().cast<float>();
+                }
+                if (res == kKept && (p - origin).norm() > pc.jumpLimit) res = DropJump;
                 result[i] = res;
                 if (res == kKept) {
-                    Vector3f n = g.normalized().cast<float>();
                     candidates[i] = {{float(p.x()), float(p.y()), float(p.z())},
                                      level,
                                      {n.x(), n.y(), n.z()},

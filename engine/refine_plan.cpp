@@ -31,7 +31,7 @@ static double meanSpacing(const std::vector<Eigen::Vector3d>& p) {
     return sum / double(count);
 }
 
-RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& o, uint64_t maxPoints) {
+RefinePlan planRefinement(const Surface& hrbf, const RefineOptions& o, uint64_t maxPoints) {
     if (o.levels >= kMaxLevels)  // written so that a huge --levels cannot overflow
         throw Error("--levels " + std::to_string(o.levels) + " is too many: at most " + std::to_string(kMaxLevels - 1) +
                     " refinement levels");
@@ -45,9 +45,9 @@ RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& o, uint64_t max
     plan.passes = o.passes > 0 ? o.passes : (o.selects() ? 1 : 2);
     std::vector<Eigen::Vector3d> base;
     if (o.seeds == SeedMode::ControlPoints) {
-        base = hrbf.centers;
+        base = hrbf.seeds;
         plan.seedJumpLimit = 1e-3f;  // control points already lie on f = 0
-        for (const auto& c : hrbf.centers) plan.seeds.push_back(c.cast<float>());
+        for (const auto& c : hrbf.seeds) plan.seeds.push_back(c.cast<float>());
     } else {
         if (o.grid < 2 || o.grid > 512) throw Error("--grid must be between 2 and 512 cells");
         Eigen::Vector3d lo = hrbf.centers[0], hi = hrbf.centers[0];

@@ -2,8 +2,8 @@
 // device (refine.h) and the CPU reference (refineOnCpu). No Vulkan here.
 #pragma once
 
-#include "hrbf.h"
 #include "point_record.h"
+#include "surface.h"
 
 #include <Eigen/Core>
 #include <array>
@@ -18,6 +18,9 @@ enum class SeedMode { ControlPoints, Grid };
 // What a stippling refinement draws: the stipples selected from its points with blue-noise spacing and
 // progressive ranks (select.h), or all its points with the report's random tone values.
 enum class Distribution { BlueNoise, Refinement };
+// How the device sums the partition of unity's patches (pu_hrbf.glsl): Auto picks SubgroupShared on lavapipe
+// (llvmpipe, subgroups of 8), where it is faster, and PerInvocation everywhere else. Tests force each.
+enum class SurfaceKernel { Auto, PerInvocation, SubgroupShared };
 
 struct RefineOptions {
     SampleStyle style = SampleStyle::Stipple;
@@ -44,6 +47,7 @@ struct RefineOptions {
     bool keepAllLevels = true;
     Distribution distribution = Distribution::BlueNoise;  // stippling only; direction sampling draws its points
     float candidatesPerStipple = 4.0f;  // for BlueNoise: the selection keeps about one candidate in this many
+    SurfaceKernel kernel = SurfaceKernel::Auto;
     bool selects() const { return style == SampleStyle::Stipple && distribution == Distribution::BlueNoise; }
 };
 
@@ -83,7 +87,7 @@ struct RefinePlan {
 double nearestSquaredDistance(const std::vector<Eigen::Vector3d>& points, size_t i);
 
 // Throws ink::Error when the request is out of bounds (levels, a point count that cannot fit `maxPoints`).
-RefinePlan planRefinement(const Hrbf& hrbf, const RefineOptions& options, uint64_t maxPoints);
+RefinePlan planRefinement(const Surface& hrbf, const RefineOptions& options, uint64_t maxPoints);
 
 // One level's rules, the same numbers for both backends. The device takes them as they are as push constants
 // (Params in refine_bindings.glsl, hence the fixed layout).
@@ -108,7 +112,7 @@ enum class CpuKernel { Best, Portable };
 constexpr uint64_t kMaxCpuPoints = uint64_t(1) << 22;
 
 // The CPU reference backend: the same plan, rules and random numbers, on all hardware threads.
-std::vector<PointRecord> refineOnCpu(const Hrbf& hrbf, const RefineOptions& options, const RefinePlan& plan,
+std::vector<PointRecord> refineOnCpu(const Surface& hrbf, const RefineOptions& options, const RefinePlan& plan,
                                      std::vector<LevelStats>* stats = nullptr, unsigned threads = 0,
                                      CpuKernel kernel = CpuKernel::Best);
 

@@ -30,7 +30,7 @@ Scene::Sets Scene::build(DrawStyle style, const RefineOptions& options) const {
     for (SampleStyle sampling : styles) {
         RefineOptions r = options;
         r.style = sampling;
-        made.push_back(std::make_unique<Refinement>(ctx, model.hrbf, r));
+        made.push_back(std::make_unique<Refinement>(ctx, model.surface, r));
         runRefinement(ctx, made.back()->gpu());
     }
     return made;

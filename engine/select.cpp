@@ -36,7 +36,7 @@ uint32_t groups(uint64_t n, uint32_t size) { return uint32_t((n + size - 1) / si
 
 }  // namespace
 
-void createSelection(Context& ctx, GpuSelection& s, const Hrbf& hrbf, const RefinePlan& refine,
+void createSelection(Context& ctx, GpuSelection& s, const Surface& hrbf, const RefinePlan& refine,
                      const SelectOptions& options, const Buffer& points, const Buffer& indirect) {
     s.plan = planSelection(hrbf, refine, options);
     const uint64_t candidates = std::max<uint64_t>(1, refine.maxPoints);

@@ -38,7 +38,7 @@ struct GpuSelection {
 
 // `points` and `indirect` are the refinement's (GpuRefinement), read on the device; `maxCandidates` bounds
 // its draw.
-void createSelection(Context& ctx, GpuSelection& s, const Hrbf& hrbf, const RefinePlan& refine,
+void createSelection(Context& ctx, GpuSelection& s, const Surface& hrbf, const RefinePlan& refine,
                      const SelectOptions& options, const Buffer& points, const Buffer& indirect);
 void destroySelection(Context& ctx, GpuSelection& s);
 // Records every stage, synchronization2 barriers between passes, after the refinement's last pass.

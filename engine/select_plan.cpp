@@ -28,9 +28,9 @@ uint32_t bucketsPerPhase(double points) {
 
 }  // namespace
 
-SelectPlan planSelection(const Hrbf& hrbf, const RefinePlan& refine, const SelectOptions& o) {
+SelectPlan planSelection(const Surface& hrbf, const RefinePlan& refine, const SelectOptions& o) {
     SelectPlan plan;
-    plan.areaEstimate = estimateArea(hrbf.centers);
+    plan.areaEstimate = estimateArea(hrbf.seeds);
     // Candidates expected: the worst case, except for grid seeds, where most cells find no surface: about
     // 2A/cell² of them project onto it.
     double candidates = double(refine.maxPoints);

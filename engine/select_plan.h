@@ -48,7 +48,7 @@ inline SelectOptions selectOptions(const RefineOptions& r) {
 }
 
 // The plan for a refinement's candidates: `expectedCandidates` sizes the first hash tables and R₀.
-SelectPlan planSelection(const Hrbf& hrbf, const RefinePlan& refine, const SelectOptions& options);
+SelectPlan planSelection(const Surface& hrbf, const RefinePlan& refine, const SelectOptions& options);
 
 // The selected points in candidate order, with `tone` set to the rank and `level` kept; the points each stage
 // added in `added` when non-null. The reference of select_*.comp: the same decisions, bit for bit.

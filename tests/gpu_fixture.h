@@ -29,7 +29,7 @@ struct GpuFixture {
 struct Refinement {
     ink::Refinement owner;
     ink::GpuRefinement& r;
-    Refinement(ink::Context& ctx, const ink::Hrbf& hrbf, const ink::RefineOptions& options)
+    Refinement(ink::Context& ctx, const ink::Surface& hrbf, const ink::RefineOptions& options)
         : owner(ctx, hrbf, options), r(owner.gpu()) {
         ink::runRefinement(ctx, r);
     }

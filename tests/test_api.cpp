@@ -58,7 +58,12 @@ TEST_CASE("api: a fitted sphere evaluates as the sphere, and bad input is an ink
                          inkwell::Error);
     inkwell::ModelOptions tooMany;
     tooMany.controlPoints = 100000;
+    tooMany.method = inkwell::FitMethod::Global;
     CHECK_THROWS_WITH_AS(inkwell::Model::load(asset("assets/bunny.obj"), tooMany), doctest::Contains("4000"),
+                         inkwell::Error);
+    tooMany.controlPoints = 3000000;
+    tooMany.method = inkwell::FitMethod::PartitionOfUnity;
+    CHECK_THROWS_WITH_AS(inkwell::Model::load(asset("assets/bunny.obj"), tooMany), doctest::Contains("2000000"),
                          inkwell::Error);
 }
 

@@ -274,7 +274,7 @@ ink::RgbaImage renderScene(ink::Context& ctx, const GoldenScene& scene, const Sc
                                         drawing.strokes.get());
         return renderer.render(camera);
     }
-    Refinement refined(ctx, model.hrbf, options);
+    Refinement refined(ctx, model.surface, options);
     ink::OffscreenRenderer renderer(ctx, kGoldenSize, kGoldenSize, style, {&refined.r});
     return renderer.render(camera);
 }

@@ -59,14 +59,14 @@ TEST_CASE("creases: split vertices 1e-7 to 1e-3 apart fit, merged with averaged 
         REQUIRE(notes.lines.size() == 1);
         CHECK(notes.lines[0].find("merged 80 control points") == 0);
         CHECK(model.fit.controlPoints == 40 * 9 + 2 * (1 + 3 * 40) - 80);
-        CHECK(model.fit.maxDistance < 1e-9);
+        CHECK(model.fit.maxDistance < 1e-6);  // evaluated in float, as the device does
         // At a rim, the merged normal is halfway between the side's and the cap's: the edge is rounded.
-        Eigen::Vector3d rim = model.hrbf.frame.toNormalized(Vector3d(0.5, 0, 0.5)), g;
-        model.hrbf.eval(rim, g);
+        Eigen::Vector3d rim = model.surface.frame.toNormalized(Vector3d(0.5, 0, 0.5)), g;
+        model.surface.eval(rim, g);
         g.normalize();
         CHECK(std::abs(g.x() - std::sqrt(0.5)) < 0.02);
         CHECK(std::abs(g.z() - std::sqrt(0.5)) < 0.02);
-        CHECK(std::abs(model.hrbf.f(rim)) < 1e-9);
+        CHECK(std::abs(model.surface.f(rim)) < 1e-9);
     }
 }
 

@@ -59,9 +59,9 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 }  // namespace
 
 TEST_CASE("fit: the bunny with 684 control points interpolates its points and normals") {
-    ink::Model m = ink::loadModel(kBunny, {684});
+    ink::Model m = ink::loadModel(kBunny, {684, ink::FitMethod::Global});
     CHECK(m.fit.controlPoints == 684);
-    CHECK(m.hrbf.normals.size() == 684);
+    CHECK(m.surface.normals.size() == 684);
     CHECK(m.fit.relativeResidual < 1e-9);
     CHECK(m.fit.maxDistance < 1e-6);  // normalized units: a fraction of the diagonal
     CHECK(m.fit.maxNormalAngleDeg < 0.01);
@@ -69,10 +69,11 @@ TEST_CASE("fit: the bunny with 684 control points interpolates its points and no
 
 TEST_CASE("fit: farthest-point sampling through fitModel picks the same centres every time") {
     ink::OrientedPoints points = ink::loadPoints(kBunny);
-    ink::Model a = ink::fitModel(points, {150}), b = ink::fitModel(points, {150});
-    REQUIRE(a.hrbf.size() == 150);
-    REQUIRE(b.hrbf.size() == 150);
-    for (size_t j = 0; j < a.hrbf.size(); ++j) CHECK(sameBits(a.hrbf.centers[j], b.hrbf.centers[j]));
+    ink::Model a = ink::fitModel(points, {150, ink::FitMethod::Global}),
+               b = ink::fitModel(points, {150, ink::FitMethod::Global});
+    REQUIRE(a.surface.size() == 150);
+    REQUIRE(b.surface.size() == 150);
+    for (size_t j = 0; j < a.surface.size(); ++j) CHECK(sameBits(a.surface.centers[j], b.surface.centers[j]));
 }
 
 TEST_CASE("fit: the zero set follows a rigid motion and a uniform scale of the input") {
@@ -89,14 +90,15 @@ TEST_CASE("fit: the zero set follows a rigid motion and a uniform scale of the i
         moved.positions.push_back(move(points.positions[i]));
         moved.normals.push_back(R * points.normals[i]);
     }
-    ink::Model a = ink::fitModel(points, {}), b = ink::fitModel(moved, {});
-    REQUIRE(a.hrbf.size() == 200);
-    REQUIRE(b.hrbf.size() == 200);
+    ink::Model a = ink::fitModel(points, {0, ink::FitMethod::Global}),
+               b = ink::fitModel(moved, {0, ink::FitMethod::Global});
+    REQUIRE(a.surface.size() == 200);
+    REQUIRE(b.surface.size() == 200);
 
     // Probes: each control point pushed off the surface by ±1% of the diagonal along its normal, and the
     // midpoints of pairs of control points (some inside, some outside).
     std::vector<Vector3d> probes;
-    const double offset = 0.01 / a.hrbf.frame.scale;
+    const double offset = 0.01 / a.surface.frame.scale;
     for (size_t i = 0; i < points.positions.size(); ++i) {
         probes.push_back(points.positions[i] + offset * points.normals[i]);
         probes.push_back(points.positions[i] - offset * points.normals[i]);
@@ -106,11 +108,11 @@ TEST_CASE("fit: the zero set follows a rigid motion and a uniform scale of the i
     double worst = 0;
     for (const Vector3d& x : probes) {
         Vector3d ga, gb;
-        double fa = a.hrbf.eval(a.hrbf.frame.toNormalized(x), ga);
-        double fb = b.hrbf.eval(b.hrbf.frame.toNormalized(move(x)), gb);
+        double fa = a.surface.eval(a.surface.frame.toNormalized(x), ga);
+        double fb = b.surface.eval(b.surface.frame.toNormalized(move(x)), gb);
         if ((fa > 0) != (fb > 0)) ++disagreements;
-        double da = std::abs(fa) / ga.norm() / a.hrbf.frame.scale;  // input units of a
-        double db = std::abs(fb) / gb.norm() / b.hrbf.frame.scale;  // input units of b = s × those of a
+        double da = std::abs(fa) / ga.norm() / a.surface.frame.scale;  // input units of a
+        double db = std::abs(fb) / gb.norm() / b.surface.frame.scale;  // input units of b = s × those of a
         worst = std::max(worst, std::abs(db - s * da) / (s * da));
     }
     CHECK(disagreements == 0);
@@ -118,15 +120,18 @@ TEST_CASE("fit: the zero set follows a rigid motion and a uniform scale of the i
 }
 
 TEST_CASE("fit: a .hrbf file round-trips bit for bit and evaluates identically") {
-    ink::Model fitted = ink::fitModel(bunnySubset(120), {});
-    const ink::Hrbf& h = fitted.hrbf;
+    ink::Model fitted = ink::fitModel(bunnySubset(120), {0, ink::FitMethod::Global});
+    const ink::Surface& hs = fitted.surface;
+    const ink::Hrbf& h = hs.global;
     std::string path = tempPath("roundtrip.hrbf");
-    ink::saveHrbf(path, h);
-    ink::Hrbf g = ink::loadHrbf(path);
+    ink::saveHrbf(path, hs);
+    ink::Surface gs = ink::loadHrbf(path);
+    const ink::Hrbf& g = gs.global;
 
+    REQUIRE(gs.method == ink::FitMethod::Global);
     REQUIRE(g.size() == h.size());
-    CHECK(sameBits(g.frame.center, h.frame.center));
-    CHECK(sameBits(g.frame.scale, h.frame.scale));
+    CHECK(sameBits(gs.frame.center, hs.frame.center));
+    CHECK(sameBits(gs.frame.scale, hs.frame.scale));
     CHECK(sameBits(g.a, h.a));
     CHECK(sameBits(g.b, h.b));
     for (size_t j = 0; j < h.size(); ++j) {
@@ -158,11 +163,11 @@ TEST_CASE("fit: a .hrbf file round-trips bit for bit and evaluates identically")
     CHECK(loaded.fit.seconds == 0);
     CHECK(loaded.fit.maxDistance == fitted.fit.maxDistance);
     CHECK(loaded.fit.maxNormalAngleDeg == fitted.fit.maxNormalAngleDeg);
-    CHECK(sameBits(loaded.hrbf.alpha[7], h.alpha[7]));
+    CHECK(sameBits(loaded.surface.global.alpha[7], h.alpha[7]));
 
     // Saving again gives the same bytes.
     std::string again = tempPath("roundtrip2.hrbf");
-    ink::saveHrbf(again, g);
+    ink::saveHrbf(again, gs);
     auto slurp = [](const std::string& p) {
         std::ifstream in(p, std::ios::binary);
         std::stringstream ss;
@@ -194,14 +199,14 @@ TEST_CASE("fit: the .hrbf reader refuses bad files with one-line messages") {
     refused(std::string("\x7f"
                         "ELF\x02\x01\x01\0\0\0",
                         10),  // control bytes are shown as '?'
-            "m.hrbf: line 1: not an Inkwell HRBF model (expected 'inkwell-hrbf 1', found '?ELF" + std::string(6, '?') +
-                "')");
-    refused(spoilt("hrbf 1", "hrbf 2"), "m.hrbf: line 1: unsupported version '2'");
+            "m.hrbf: line 1: not an Inkwell HRBF model (expected 'inkwell-hrbf 1' or 'inkwell-hrbf 2', found '?ELF" +
+                std::string(6, '?') + "')");
+    refused(spoilt("hrbf 1", "hrbf 3"), "m.hrbf: line 1: unsupported version '3'");
     refused(spoilt("hrbf 1", "hrbf"), "m.hrbf: line 1: unsupported version (none)");
 
     // Truncated.
     refused("inkwell-hrbf 1\n", "m.hrbf: truncated: the file ends before the 'centers' line");
-    refused(kGood.substr(0, kGood.find("0 0 1 0 0 1")), "m.hrbf: truncated: 1 of 2 centre lines, no 'end'");
+    refused(kGood.substr(0, kGood.find("0 0 1 0 0 1")), "m.hrbf: truncated: 1 of 2 centres");
     refused(spoilt("end\n", ""), "m.hrbf: truncated: no 'end' line after the 2 centres");
     refused(spoilt("-1 0 0 0\n", "-1 0 0"),
             "m.hrbf: line 6: expected 10 numbers (x y z nx ny nz alpha bx by bz), found 9 fields");

@@ -148,8 +148,8 @@ TEST_CASE("model: fitModel normalizes, reports in normalized units, and refuses 
     }
     ink::Model m = ink::fitModel(pts, {});
     CHECK(m.fit.controlPoints == 100);
-    CHECK(m.fit.maxDistance < 1e-8);
-    CHECK(m.hrbf.frame.toInput(m.hrbf.frame.toNormalized(pts.positions[3])).isApprox(pts.positions[3]));
+    CHECK(m.fit.maxDistance < 1e-6);  // evaluated in float, as the device does
+    CHECK(m.surface.frame.toInput(m.surface.frame.toNormalized(pts.positions[3])).isApprox(pts.positions[3]));
 
     ink::OrientedPoints one;
     one.positions = {Vector3d(1, 2, 3), Vector3d(1, 2, 3)};

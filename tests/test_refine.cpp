@@ -43,14 +43,14 @@ struct Refined {
     ink::RefinePlan plan;
 };
 
-Refined refineOnGpu(GpuFixture& gpu, const ink::Hrbf& hrbf, const ink::RefineOptions& options) {
+Refined refineOnGpu(GpuFixture& gpu, const ink::Surface& hrbf, const ink::RefineOptions& options) {
     Refinement refined(gpu.ctx, hrbf, options);
     return {ink::readPoints(gpu.ctx, refined.r), ink::readLevelStats(gpu.ctx, refined.r), refined.r.plan};
 }
 
 // Refines on the device and with the CPU reference on the same plan; the counts per level must agree. Returns
 // the device's points and the fraction of them within `distance` of the reference's, normals within `cosine`.
-std::pair<Refined, double> compareWithCpu(GpuFixture& gpu, const ink::Hrbf& hrbf, const ink::RefineOptions& options,
+std::pair<Refined, double> compareWithCpu(GpuFixture& gpu, const ink::Surface& hrbf, const ink::RefineOptions& options,
                                           float distance, float cosine = -1.0f) {
     Refined gpuOut = refineOnGpu(gpu, hrbf, options);
     std::vector<ink::LevelStats> cpuLevels;
@@ -80,7 +80,7 @@ TEST_CASE("refine: every kept point of every level is on the surface with a unit
         ink::RefineOptions options;
         options.style = style;
         options.levels = 3;
-        Refined out = refineOnGpu(gpu, model.hrbf, options);
+        Refined out = refineOnGpu(gpu, model.surface, options);
         REQUIRE(out.levels.size() == 4);
         size_t total = 0;
         for (const auto& l : out.levels) {
@@ -93,7 +93,7 @@ TEST_CASE("refine: every kept point of every level is on the surface with a unit
             REQUIRE(p.level < 4);
             perLevel[p.level]++;
             Vector3d x(p.position[0], p.position[1], p.position[2]), g;
-            double f = model.hrbf.eval(x, g);
+            double f = model.surface.eval(x, g);
             CHECK(std::abs(f) / g.norm() < 2e-5);  // ε₁ = 1e-5, plus float storage of the position
             Vector3d n(p.normal[0], p.normal[1], p.normal[2]);
             CHECK(std::abs(n.norm() - 1.0) < 1e-5);
@@ -112,12 +112,12 @@ TEST_CASE("refine: identical runs give identical bytes, and the seed changes the
     ink::RefineOptions options;
     options.levels = 3;
     options.passes = 2;
-    Refined a = refineOnGpu(gpu, model.hrbf, options);
-    Refined b = refineOnGpu(gpu, model.hrbf, options);
+    Refined a = refineOnGpu(gpu, model.surface, options);
+    Refined b = refineOnGpu(gpu, model.surface, options);
     REQUIRE(a.points.size() == b.points.size());
     CHECK(std::memcmp(a.points.data(), b.points.data(), a.points.size() * sizeof(ink::PointRecord)) == 0);
     options.seed = 2;
-    Refined c = refineOnGpu(gpu, model.hrbf, options);
+    Refined c = refineOnGpu(gpu, model.surface, options);
     CHECK(std::memcmp(a.points.data(), c.points.data(), std::min(a.points.size(), c.points.size()) * 32) != 0);
     gpu.requireNoValidationErrors();
 }
@@ -132,7 +132,7 @@ TEST_CASE("refine: counts per level match the CPU reference and points agree") {
         options.style =
             direction == ink::DirectionField::Axis ? ink::SampleStyle::Stipple : ink::SampleStyle::Direction;
         options.direction = direction;
-        CHECK(compareWithCpu(gpu, model.hrbf, options, 1e-3f).second >= 0.99);
+        CHECK(compareWithCpu(gpu, model.surface, options, 1e-3f).second >= 0.99);
     }
     gpu.requireNoValidationErrors();
 }
@@ -145,10 +145,10 @@ TEST_CASE("refine: more than 1024 centres, not a multiple of the subgroup size, 
     ink::ModelOptions fitOptions;
     fitOptions.controlPoints = pts.positions.size();
     ink::Model model = ink::fitModel(pts, fitOptions);
-    REQUIRE(model.hrbf.size() == 1140);
+    REQUIRE(model.surface.size() == 1140);
     ink::RefineOptions options;
     options.levels = 2;
-    auto [gpuOut, agreement] = compareWithCpu(gpu, model.hrbf, options, 1e-5f, 0.99999f);
+    auto [gpuOut, agreement] = compareWithCpu(gpu, model.surface, options, 1e-5f, 0.99999f);
     CHECK(gpuOut.points.size() > 3 * 1140);
     CHECK(agreement >= 0.99);
     gpu.requireNoValidationErrors();
@@ -159,11 +159,11 @@ TEST_CASE("refine: stippling a torus puts points within 1% of its size of the tr
     ink::Model model = ink::fitModel(torus(24, 12), {});
     ink::RefineOptions options;
     options.levels = 3;
-    Refined out = refineOnGpu(gpu, model.hrbf, options);
+    Refined out = refineOnGpu(gpu, model.surface, options);
     REQUIRE(out.points.size() > 5000);
     double worstDistance = 0, worstAngle = 0;
     for (const auto& p : out.points) {
-        Vector3d x = model.hrbf.frame.toInput(Vector3d(p.position[0], p.position[1], p.position[2])), n;
+        Vector3d x = model.surface.frame.toInput(Vector3d(p.position[0], p.position[1], p.position[2])), n;
         worstDistance = std::max(worstDistance, std::abs(torusDistance(x, &n)));
         double c = std::clamp(n.dot(Vector3d(p.normal[0], p.normal[1], p.normal[2])), -1.0, 1.0);
         worstAngle = std::max(worstAngle, std::acos(c) * 180 / M_PI);
@@ -180,11 +180,11 @@ TEST_CASE("refine: grid seeds project onto the surface") {
     options.seeds = ink::SeedMode::Grid;
     options.grid = 16;
     options.levels = 1;
-    Refined out = refineOnGpu(gpu, model.hrbf, options);
+    Refined out = refineOnGpu(gpu, model.surface, options);
     CHECK(out.levels[0].kept > 100);
     CHECK(out.levels[0].kept < out.levels[0].candidates);  // cells far from the surface are dropped
     for (const auto& p : out.points) {
-        Vector3d x = model.hrbf.frame.toInput(Vector3d(p.position[0], p.position[1], p.position[2]));
+        Vector3d x = model.surface.frame.toInput(Vector3d(p.position[0], p.position[1], p.position[2]));
         CHECK(std::abs(torusDistance(x, nullptr)) < 0.008);
     }
     gpu.requireNoValidationErrors();
@@ -194,11 +194,11 @@ TEST_CASE("refine: requests that cannot fit are refused with the numbers") {
     ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {50});
     ink::RefineOptions options;
     options.levels = 16;
-    CHECK_THROWS_WITH_AS(ink::planRefinement(model.hrbf, options, 1u << 22), doctest::Contains("--levels 16"),
+    CHECK_THROWS_WITH_AS(ink::planRefinement(model.surface, options, 1u << 22), doctest::Contains("--levels 16"),
                          ink::Error);
     options.levels = 14;
     CHECK_THROWS_WITH_AS(
-        ink::planRefinement(model.hrbf, options, 1u << 22),
+        ink::planRefinement(model.surface, options, 1u << 22),
         doctest::Contains("asks for up to 17895697050 points (50 seeds, 14 levels of 4 children, 1 pass), "
                           "but at most 4194304 fit"),
         ink::Error);
@@ -208,10 +208,10 @@ TEST_CASE("refine: the portable CPU kernel (what ARM64 runs) gives the AVX2 kern
     ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {150});
     ink::RefineOptions options;
     options.levels = 3;
-    ink::RefinePlan plan = ink::planRefinement(model.hrbf, options, 1u << 22);
+    ink::RefinePlan plan = ink::planRefinement(model.surface, options, 1u << 22);
     std::vector<ink::LevelStats> bestLevels, portableLevels;
-    auto best = ink::refineOnCpu(model.hrbf, options, plan, &bestLevels, 2, ink::CpuKernel::Best);
-    auto portable = ink::refineOnCpu(model.hrbf, options, plan, &portableLevels, 2, ink::CpuKernel::Portable);
+    auto best = ink::refineOnCpu(model.surface, options, plan, &bestLevels, 2, ink::CpuKernel::Best);
+    auto portable = ink::refineOnCpu(model.surface, options, plan, &portableLevels, 2, ink::CpuKernel::Portable);
     REQUIRE(best.size() > 10000);
     REQUIRE(portable.size() == best.size());
     for (size_t l = 0; l < bestLevels.size(); ++l) CHECK(portableLevels[l].kept == bestLevels[l].kept);

@@ -334,9 +334,11 @@ TEST_CASE("robust: absurd sizes, levels and control point counts are refused up 
     for (const char* command : {"render", "capture --frames 1", "sample", "fit"}) {
         std::string c = std::string(command) + " " + missing + " ";
         std::string out = std::string(command) == "sample" ? "--points " + (dir / "out") : "-o " + (dir / "out");
-        cases.push_back({c + "--control-points 100000 " + out,
-                         "inkwell: --control-points 100000 is more than the dense fit can hold (at most 4000: the "
-                         "system needs (4m+4)² doubles)\n"});
+        cases.push_back({c + "--control-points 100000 --fit global " + out,
+                         "inkwell: --control-points 100000 is more than the global fit can hold (at most 4000: the "
+                         "system needs (4m+4)² doubles); the default --fit pu takes any number\n"});
+        cases.push_back({c + "--control-points 3000000 " + out,
+                         "inkwell: --control-points 3000000 is more than the fit takes (at most 2000000)\n"});
         if (std::string(command) == "fit") continue;
         cases.push_back({c + "--levels 16 " + out, "inkwell: --levels 16 is too many: at most 15 refinement levels\n"});
         cases.push_back({c + "--levels 4294967295 " + out,

@@ -25,7 +25,7 @@ struct Selected {
     ink::SelectPlan plan;
 };
 
-Selected selectOnGpu(GpuFixture& gpu, const ink::Hrbf& hrbf, const ink::RefineOptions& options) {
+Selected selectOnGpu(GpuFixture& gpu, const ink::Surface& hrbf, const ink::RefineOptions& options) {
     Refinement refined(gpu.ctx, hrbf, options);
     REQUIRE(refined.r.selection);
     return {ink::readPoints(gpu.ctx, refined.r), ink::readDrawnPoints(gpu.ctx, refined.r),
@@ -35,11 +35,13 @@ Selected selectOnGpu(GpuFixture& gpu, const ink::Hrbf& hrbf, const ink::RefineOp
 // A torus (R = 0.3, r = 0.1 about z) and its area in the model's normalized units.
 constexpr double kR = 0.3, kr = 0.1;
 ink::Model torusModel() { return ink::fitModel(ink::torusPoints(48, 16, kR, kr), {}); }
-double torusArea(const ink::Model& m) { return 4 * M_PI * M_PI * kR * kr * m.hrbf.frame.scale * m.hrbf.frame.scale; }
+double torusArea(const ink::Model& m) {
+    return 4 * M_PI * M_PI * kR * kr * m.surface.frame.scale * m.surface.frame.scale;
+}
 
 // Selects on the device, then on the CPU from the device's own candidates: the same points, in the same order,
 // the same stage counts, ranks within 1e-6.
-void checkAgainstCpu(GpuFixture& gpu, const ink::Hrbf& hrbf) {
+void checkAgainstCpu(GpuFixture& gpu, const ink::Surface& hrbf) {
     ink::RefineOptions options;
     options.levels = 3;
     Selected gpuOut = selectOnGpu(gpu, hrbf, options);
@@ -63,8 +65,8 @@ void checkAgainstCpu(GpuFixture& gpu, const ink::Hrbf& hrbf) {
 
 TEST_CASE("select: the device selects exactly the CPU reference's stipples, in the same order and ranks") {
     GpuFixture gpu;
-    checkAgainstCpu(gpu, ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {300}).hrbf);
-    checkAgainstCpu(gpu, torusModel().hrbf);
+    checkAgainstCpu(gpu, ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {300}).surface);
+    checkAgainstCpu(gpu, torusModel().surface);
     gpu.requireNoValidationErrors();
 }
 
@@ -74,7 +76,7 @@ TEST_CASE("select: on a torus the stipples and every prefix of their ranking are
     const double area = torusArea(torus);
     ink::RefineOptions options;  // the defaults but for the levels: 768 seeds, 3 levels of 4 children
     options.levels = 3;
-    Selected out = selectOnGpu(gpu, torus.hrbf, options);
+    Selected out = selectOnGpu(gpu, torus.surface, options);
     const double n = double(out.stipples.size());
     REQUIRE(n > 10000);
     CHECK(double(out.candidates.size()) / n > 3.0);  // about 4 candidates a stipple, as planned from the area
@@ -103,9 +105,9 @@ TEST_CASE("select: the refinement writes no point twice, with the report's two p
         ink::RefineOptions options;
         options.levels = 2;
         options.distribution = d;
-        ink::RefinePlan plan = ink::planRefinement(torus.hrbf, options, UINT32_MAX);
+        ink::RefinePlan plan = ink::planRefinement(torus.surface, options, UINT32_MAX);
         CHECK(plan.passes == (d == ink::Distribution::BlueNoise ? 1u : 2u));
-        std::vector<ink::PointRecord> points = ink::refineOnCpu(torus.hrbf, options, plan);
+        std::vector<ink::PointRecord> points = ink::refineOnCpu(torus.surface, options, plan);
         REQUIRE(points.size() == 768 * (1 + 4 * plan.passes + 16 * plan.passes));
         ink::SpacingStats s = ink::measureSpacing(points, 1.0, torusArea(torus));
         CHECK(s.minNearest * s.rMax > 1e-6);
@@ -117,11 +119,11 @@ TEST_CASE("select: the same input selects the same stipples, bit for bit") {
     ink::Model bunny = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {200});
     ink::RefineOptions options;
     options.levels = 3;
-    Selected a = selectOnGpu(gpu, bunny.hrbf, options), b = selectOnGpu(gpu, bunny.hrbf, options);
+    Selected a = selectOnGpu(gpu, bunny.surface, options), b = selectOnGpu(gpu, bunny.surface, options);
     REQUIRE(a.stipples.size() == b.stipples.size());
     CHECK(std::memcmp(a.stipples.data(), b.stipples.data(), a.stipples.size() * sizeof(ink::PointRecord)) == 0);
     options.seed = 2;  // another seed, another selection
-    Selected c = selectOnGpu(gpu, bunny.hrbf, options);
+    Selected c = selectOnGpu(gpu, bunny.surface, options);
     CHECK((c.stipples.size() != a.stipples.size() ||
            std::memcmp(a.stipples.data(), c.stipples.data(), a.stipples.size() * sizeof(ink::PointRecord)) != 0));
     gpu.requireNoValidationErrors();
@@ -130,7 +132,7 @@ TEST_CASE("select: the same input selects the same stipples, bit for bit") {
 TEST_CASE("select: the two sides of a thin part do not suppress each other") {
     // Two sheets 1e-4 apart (far below the stipple spacing) facing away from each other, like the two sides of
     // a thin plate, then the same sheets facing the same way.
-    ink::Hrbf hrbf;
+    ink::Surface hrbf;
     std::vector<ink::PointRecord> candidates;
     for (int side = 0; side < 2; ++side)
         for (int i = 0; i < 120; ++i)
@@ -143,7 +145,7 @@ TEST_CASE("select: the two sides of a thin part do not suppress each other") {
                 candidates.push_back(p);
             }
     for (int i = 0; i <= 10; ++i)
-        for (int j = 0; j <= 10; ++j) hrbf.centers.emplace_back(i / 20.0, j / 20.0, 0.0);
+        for (int j = 0; j <= 10; ++j) hrbf.seeds.emplace_back(i / 20.0, j / 20.0, 0.0);
     ink::RefinePlan refine;
     refine.maxPoints = candidates.size();
     ink::SelectPlan plan = ink::planSelection(hrbf, refine, {});
@@ -165,7 +167,7 @@ TEST_CASE("select: the dots of a frame stay on the same points when the camera o
     ink::Model bunny = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {300});
     ink::RefineOptions options;
     options.levels = 3;
-    Refinement refined(gpu.ctx, bunny.hrbf, options);
+    Refinement refined(gpu.ctx, bunny.surface, options);
     ink::OffscreenRenderer renderer(gpu.ctx, 512, 512, ink::RenderStyle{}, {&refined.r});
     ink::Camera camera;
     for (float azimuth : {0.0f, 40.0f, 200.0f}) {
@@ -223,7 +225,7 @@ std::vector<Eigen::Vector2d> findDots(const ink::RgbaImage& image) {
 TEST_CASE("select: drawn dots in an evenly toned region are evenly spaced") {
     GpuFixture gpu;
     ink::Model sphere = ink::fitModel(ink::spherePoints(1000), {});
-    Refinement refined(gpu.ctx, sphere.hrbf, ink::RefineOptions{});
+    Refinement refined(gpu.ctx, sphere.surface, ink::RefineOptions{});
     // Lit from the camera, the middle of the sphere is one tone; ambient light puts about half its dots there.
     ink::RenderStyle style;
     style.light = {0, 0, 1};

@@ -33,8 +33,15 @@ using Color = std::array<float, 4>;  // RGBA, 0..1
 
 // ---- Model --------------------------------------------------------------------------------------------
 
+enum class FitMethod {
+    PartitionOfUnity,  // local HRBFs blended by a partition of unity: any size, float on the device (default)
+    Global,            // the report's single dense HRBF: O(m³), at most 4000 points, double on the device
+};
+
 struct ModelOptions {
-    size_t controlPoints = 0;  // chosen by farthest-point sampling; 0: all points up to 1000 (at most 4000)
+    // Chosen by farthest-point sampling; 0: every point (PartitionOfUnity) or up to 1000 of them (Global).
+    size_t controlPoints = 0;
+    FitMethod method = FitMethod::PartitionOfUnity;
 };
 
 struct FitReport {
@@ -44,6 +51,9 @@ struct FitReport {
     double seconds = 0;            // fitting time (0 for a .hrbf model)
     double maxDistance = 0;        // max |f|/‖∇f‖ at the centres, in bounding-box diagonals
     double maxNormalAngleDeg = 0;  // max angle between ∇f and the given normal at the centres
+    // The error at every input point (not only the control points), evaluated as the device evaluates.
+    double inputMaxDistance = 0, inputMaxAngleDeg = 0;
+    size_t patches = 0;  // PartitionOfUnity: the local HRBFs
 };
 
 // An HRBF implicit surface f = 0, fitted so that f(p_i) = 0 and ∇f(p_i) = n_i at the control points. Cheap to
@@ -51,7 +61,8 @@ struct FitReport {
 class Model {
 public:
     // Reads a mesh (.obj, .ply) or oriented points (.pts/.xyzn/.txt: x y z nx ny nz a line) and fits it, or
-    // reads a fitted .hrbf file. Cost: the dense fit is O(m³) in the control points (0.2 s at 684 on 2 cores).
+    // reads a fitted .hrbf file. Cost: the partition of unity fits 10⁵ points in a few seconds on 2 cores; the
+    // global fit is O(m³) in the control points (0.2 s at 684).
     static Model load(const std::string& path, const ModelOptions& options = {}, const Reporter& reporter = {});
     // Fits oriented points (normals need not be unit; they must not be zero).
     static Model fit(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
@@ -100,15 +111,18 @@ struct DeviceOptions {
 };
 
 // A device the application made and keeps. It must be Vulkan 1.3 with synchronization2, dynamicRendering,
-// maintenance4, hostQueryReset and shaderFloat64 enabled, and subgroup basic/vote/ballot/arithmetic/shuffle
-// operations in compute; the queue's family must do graphics and compute. Inkwell makes only its own command
-// pool, buffers and pipelines on it, and waits for the queue when the Device goes.
+// maintenance4 and hostQueryReset enabled (and shaderFloat64 for FitMethod::Global models), and subgroup
+// basic/vote/ballot/arithmetic/shuffle operations in compute; the queue's family must do graphics and compute. Inkwell
+// makes only its own command pool, buffers and pipelines on it, and waits for the queue when the Device goes.
 struct AdoptedDevice {
     VkInstance instance = VK_NULL_HANDLE;
     VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
     VkDevice device = VK_NULL_HANDLE;
     VkQueue queue = VK_NULL_HANDLE;
     uint32_t queueFamily = 0;
+    // Whether the device was created with shaderFloat64 and shaderUniformBufferArrayDynamicIndexing: only
+    // models fitted with FitMethod::Global need them.
+    bool shaderFloat64 = false;
 };
 
 class Device {

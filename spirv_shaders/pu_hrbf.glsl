@@ -1,0 +1,269 @@
+// The partition-of-unity HRBF on the device, in float (engine/pu_hrbf.h; its CPU twin is PuFloat):
+//   F(x) = (Σ w_i f_i + w_c f_c) / (Σ w_i + w_c)                                  (PU blend, far field)
+//   f_i(x) = R_i h_i(q),  q = (x − c_i)/R_i,  h_i(q) = Σ_j [α_j ψ(q − p_j) − ⟨β_j, ∇ψ(q − p_j)⟩] + ⟨a_i, q⟩ + b_i
+//   w_i = W(‖q‖), W(d) = (1 − d)⁴ (4d + 1);  w_c = τ (1 − S/τ)³ for S = Σ w_i < τ
+// The local coefficients are of order one, so float keeps |f|/‖∇f‖ within ~1e-8 of the diagonal (docs/fitting.md).
+//
+// Two ways to sum the patches, chosen per device by the specialization constant PU_LANES:
+//   0 (GPUs): each invocation walks the patches of its own grid cell and their nodes.
+//   8 (lavapipe, subgroups of 8): llvmpipe loads a buffer element at a loop-counter index as a per-lane gather,
+//     so the subgroup shares the loads: for each grid cell its invocations occupy, invocation c loads nodes
+//     j ≡ c (mod 8) and evaluates them against the 8 invocations' points; subgroupAdd sums them at the end.
+#ifndef PU_HRBF_GLSL
+#define PU_HRBF_GLSL
+
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_shuffle : require
+#extension GL_EXT_control_flow_attributes : require
+
+layout(constant_id = 0) const uint PU_LANES = 0u;
+
+layout(std140, binding = 0) uniform PuHeader {
+    vec4 origin;        // xyz: the grid's corner; w: 1 / cell side
+    uvec4 dims;         // xyz: cells along each axis; w: far-field centres
+    vec4 coarseLinear;  // the far field's a, b
+    vec4 params;        // x: τ
+} pu;
+
+struct PuPatch {
+    vec4 centerRadius;  // c_i, R_i
+    vec4 linear;        // a_i, b_i (patch units)
+    uvec4 range;        // first node, node count
+};
+layout(std430, binding = 8) readonly buffer PuPatches { PuPatch puPatches[]; };
+layout(std430, binding = 9) readonly buffer PuNodes { vec4 puNodes[]; };   // per node: (p_j, α_j), (β_j, 0)
+layout(std430, binding = 10) readonly buffer PuCells { uint puCells[]; };  // cell starts (cells + 1), then patch ids
+layout(std430, binding = 11) readonly buffer PuCoarse { vec4 puCoarse[]; };  // per centre: (p, α), (β, 0)
+
+// The grid cell of x, or −1 outside the grid.
+int puCell(vec3 x) {
+    vec3 u = (x - pu.origin.xyz) * pu.origin.w;
+    if (!(min(u.x, min(u.y, u.z)) >= 0.0) || !all(lessThan(u, vec3(pu.dims.xyz)))) return -1;
+    uvec3 i = uvec3(u);
+    return int(i.x + pu.dims.x * (i.y + pu.dims.y * i.z));
+}
+
+uint puCellCount() { return pu.dims.x * pu.dims.y * pu.dims.z; }
+
+// Node (p, α, β)'s term of eq. 6 at q, added to h and ∇h.
+void puNode(vec3 q, vec4 pa, vec3 beta, inout float f, inout vec3 g) {
+    vec3 d = q - pa.xyz;
+    float r = length(d), db = dot(d, beta);
+    f += pa.w * r * r * r - 3.0 * r * db;
+    float inv = r > 0.0 ? 1.0 / r : 0.0;
+    g += 3.0 * (pa.w * r - db * inv) * d - 3.0 * r * beta;
+}
+
+// The same with the Hessian (for principal directions).
+void puNodeHessian(vec3 q, vec4 pa, vec3 beta, inout float f, inout vec3 g, inout mat3 H) {
+    vec3 d = q - pa.xyz;
+    float r = length(d), db = dot(d, beta);
+    f += pa.w * r * r * r - 3.0 * r * db;
+    if (r == 0.0) return;
+    g += 3.0 * pa.w * r * d - 3.0 * (r * beta + d * (db / r));
+    mat3 ddT = outerProduct(d, d);
+    H += 3.0 * pa.w * (r * mat3(1.0) + ddT / r);
+    H -= (3.0 / r) * (outerProduct(beta, d) + outerProduct(d, beta) + db * mat3(1.0) - ddT * (db / (r * r)));
+}
+
+// The Wendland weight of a patch at q (‖q‖ < 1) and its gradient in x: ∇w = −20 (1 − d)³ q / R.
+float puWeight(vec3 q, float radius, out vec3 dw) {
+    float d = length(q), e = 1.0 - d, e2 = e * e;
+    dw = (-20.0 * e2 * e / radius) * q;
+    return e2 * e2 * (4.0 * d + 1.0);
+}
+
+// The far field f_c, a global HRBF in normalized coordinates (its sum is short and only read off the surface).
+float puFar(vec3 x, out vec3 g) {
+    float f = dot(pu.coarseLinear.xyz, x) + pu.coarseLinear.w;
+    g = pu.coarseLinear.xyz;
+    for (uint j = 0u; j < pu.dims.w; ++j) puNode(x, puCoarse[2u * j], puCoarse[2u * j + 1u].xyz, f, g);
+    return f;
+}
+
+// F = N / S, ∇F = (∇N − F ∇S) / S, with the far field blended in where S < τ.
+float puFinish(vec3 x, float S, vec3 dS, float N, vec3 dN, out vec3 grad) {
+    float tau = pu.params.x;
+    if (S < tau) {
+        float e = 1.0 - S / tau, wc = tau * e * e * e;
+        vec3 dwc = -3.0 * e * e * dS, gc;
+        float fc = puFar(x, gc);
+        S += wc;
+        N += wc * fc;
+        dN += fc * dwc + wc * gc;
+        dS += dwc;
+    }
+    float F = N / S;
+    grad = (dN - F * dS) / S;
+    return F;
+}
+
+// Per invocation: the patches of x's cell, each with its nodes.
+float puEvalEach(vec3 x, out vec3 grad) {
+    float S = 0.0, N = 0.0;
+    vec3 dS = vec3(0.0), dN = vec3(0.0);
+    int cell = puCell(x);
+    if (cell >= 0) {
+        uint base = puCellCount() + 1u, k1 = puCells[cell + 1];
+        for (uint k = puCells[cell]; k < k1; ++k) {
+            PuPatch P = puPatches[puCells[base + k]];
+            float R = P.centerRadius.w;
+            vec3 q = (x - P.centerRadius.xyz) / R;
+            if (!(dot(q, q) < 1.0)) continue;
+            float h = dot(P.linear.xyz, q) + P.linear.w;
+            vec3 g = P.linear.xyz;
+            uint j1 = P.range.x + P.range.y;
+            for (uint j = P.range.x; j < j1; ++j) puNode(q, puNodes[2u * j], puNodes[2u * j + 1u].xyz, h, g);
+            vec3 dw;
+            float w = puWeight(q, R, dw), fi = R * h;
+            S += w;
+            dS += dw;
+            N += w * fi;
+            dN += fi * dw + w * g;
+        }
+    }
+    return puFinish(x, S, dS, N, dN, grad);
+}
+
+// Subgroups of 8 sharing the node loads (see the top). Call only from subgroup-uniform control flow.
+float puEvalShared(vec3 x, out vec3 grad) {
+    const uint L = 8u;
+    uint lane = gl_SubgroupInvocationID;
+    int myCell = puCell(x);
+    vec3 X[L];
+    int C[L];
+    float Nf[L];  // this invocation's nodes' share of N = Σ w_i R_i h_i, for each lane's point
+    vec3 NG[L];   // and of ∇N = Σ (R_i h_i ∇w_i + w_i ∇h_i)
+    [[unroll]] for (uint l = 0u; l < L; ++l) {
+        X[l] = vec3(subgroupShuffle(x.x, l), subgroupShuffle(x.y, l), subgroupShuffle(x.z, l));
+        C[l] = subgroupShuffle(myCell, l);
+        Nf[l] = 0.0;
+        NG[l] = vec3(0.0);
+    }
+    // The weights and the linear terms, each lane for its own point.
+    float S = 0.0, N = 0.0;
+    vec3 dS = vec3(0.0), dN = vec3(0.0);
+    uint base = puCellCount() + 1u;
+    bool done = false;
+    // One pass per distinct cell among the subgroup's points; a point takes the patches of its own cell only.
+    while (true) {
+        uvec4 open = subgroupBallot(!done);
+        if (open == uvec4(0u)) break;
+        int cell = subgroupShuffle(myCell, subgroupBallotFindLSB(open));
+        done = done || myCell == cell;
+        if (cell < 0) continue;
+        uint k1 = puCells[cell + 1];
+        for (uint k = puCells[cell]; k < k1; ++k) {
+            PuPatch P = puPatches[puCells[base + k]];
+            float R = P.centerRadius.w;
+            vec3 c = P.centerRadius.xyz;
+            float W[L];
+            vec3 DW[L];
+            bool any = false;
+            [[unroll]] for (uint l = 0u; l < L; ++l) {
+                vec3 q = (X[l] - c) / R;
+                W[l] = 0.0;
+                DW[l] = vec3(0.0);
+                if (C[l] == cell && dot(q, q) < 1.0) {
+                    W[l] = puWeight(q, R, DW[l]);
+                    any = true;
+                }
+            }
+            if (!any) continue;
+            vec3 q = (x - c) / R;
+            if (myCell == cell && dot(q, q) < 1.0) {
+                vec3 dw;
+                float w = puWeight(q, R, dw), lin = R * (dot(P.linear.xyz, q) + P.linear.w);
+                S += w;
+                dS += dw;
+                N += w * lin;
+                dN += lin * dw + w * P.linear.xyz;
+            }
+            for (uint j0 = 0u; j0 < P.range.y; j0 += L) {
+                uint j = P.range.x + j0 + lane;
+                bool real = j0 + lane < P.range.y;
+                vec4 pa = real ? puNodes[2u * j] : vec4(0.0);
+                vec3 beta = real ? puNodes[2u * j + 1u].xyz : vec3(0.0);
+                [[unroll]] for (uint l = 0u; l < L; ++l) {
+                    if (W[l] == 0.0 && DW[l] == vec3(0.0)) continue;
+                    float h = 0.0;
+                    vec3 g = vec3(0.0);
+                    puNode((X[l] - c) / R, pa, beta, h, g);
+                    Nf[l] += W[l] * R * h;
+                    NG[l] += R * h * DW[l] + W[l] * g;
+                }
+            }
+        }
+    }
+    [[unroll]] for (uint l = 0u; l < L; ++l) {
+        float nl = subgroupAdd(Nf[l]);
+        vec3 gl = vec3(subgroupAdd(NG[l].x), subgroupAdd(NG[l].y), subgroupAdd(NG[l].z));
+        if (lane == l) {
+            N += nl;
+            dN += gl;
+        }
+    }
+    return puFinish(x, S, dS, N, dN, grad);
+}
+
+// F and ∇F. With PU_LANES = 8, call only from subgroup-uniform control flow.
+float puEval(vec3 x, out vec3 grad) {
+    if (PU_LANES == 8u && gl_SubgroupSize == 8u) return puEvalShared(x, grad);
+    return puEvalEach(x, grad);
+}
+
+// F, ∇F and the Hessian HF = (HN − ∇F ∇Sᵀ − ∇S ∇Fᵀ − F HS) / S. Per invocation, callable anywhere.
+float puEvalHessian(vec3 x, out vec3 grad, out mat3 H) {
+    float S = 0.0, N = 0.0;
+    vec3 dS = vec3(0.0), dN = vec3(0.0);
+    mat3 HS = mat3(0.0), HN = mat3(0.0);
+    int cell = puCell(x);
+    if (cell >= 0) {
+        uint base = puCellCount() + 1u, k1 = puCells[cell + 1];
+        for (uint k = puCells[cell]; k < k1; ++k) {
+            PuPatch P = puPatches[puCells[base + k]];
+            float R = P.centerRadius.w;
+            vec3 q = (x - P.centerRadius.xyz) / R;
+            if (!(dot(q, q) < 1.0)) continue;
+            float h = dot(P.linear.xyz, q) + P.linear.w;
+            vec3 g = P.linear.xyz;
+            mat3 Hh = mat3(0.0);
+            uint j1 = P.range.x + P.range.y;
+            for (uint j = P.range.x; j < j1; ++j)
+                puNodeHessian(q, puNodes[2u * j], puNodes[2u * j + 1u].xyz, h, g, Hh);
+            float d = length(q), e = 1.0 - d, e2 = e * e;
+            float w = e2 * e2 * (4.0 * d + 1.0), fi = R * h;
+            vec3 dw = (-20.0 * e2 * e / R) * q;
+            mat3 Hw = mat3(e2 * e);
+            if (d > 0.0) Hw -= (3.0 * e2 / d) * outerProduct(q, q);
+            Hw *= -20.0 / (R * R);
+            S += w;
+            N += w * fi;
+            dS += dw;
+            dN += fi * dw + w * g;
+            HS += Hw;
+            HN += fi * Hw + outerProduct(dw, g) + outerProduct(g, dw) + (w / R) * Hh;
+        }
+    }
+    float tau = pu.params.x;
+    if (S < tau) {
+        float s = S / tau, e = 1.0 - s, wc = tau * e * e * e;
+        vec3 dwc = -3.0 * e * e * dS, gc = pu.coarseLinear.xyz;
+        mat3 Hwc = (6.0 * e / tau) * outerProduct(dS, dS) - 3.0 * e * e * HS, Hc = mat3(0.0);
+        float fc = dot(pu.coarseLinear.xyz, x) + pu.coarseLinear.w;
+        for (uint j = 0u; j < pu.dims.w; ++j) puNodeHessian(x, puCoarse[2u * j], puCoarse[2u * j + 1u].xyz, fc, gc, Hc);
+        S += wc;
+        N += wc * fc;
+        dN += fc * dwc + wc * gc;
+        HN += fc * Hwc + outerProduct(dwc, gc) + outerProduct(gc, dwc) + wc * Hc;
+        HS += Hwc;
+        dS += dwc;
+    }
+    float F = N / S;
+    grad = (dN - F * dS) / S;
+    H = (HN - outerProduct(grad, dS) - outerProduct(dS, grad) - F * HS) / S;
+    return F;
+}
+
+#endif
