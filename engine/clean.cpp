@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <tuple>
 
 namespace ink {
@@ -128,14 +129,33 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance) {
     const double t2 = tolerance * tolerance;
     std::vector<size_t> cluster(n);
     for (size_t i = 0; i < n; ++i) cluster[i] = i;
-    // Each point joins the cluster of the first earlier point within the tolerance (single linkage on the
-    // first match: clusters are as small as the creases that make them).
-    for (size_t i = 0; i < n; ++i)
-        for (size_t j = 0; j < i; ++j)
-            if (cluster[j] == j && (pos[i] - pos[j]).squaredNorm() <= t2) {
-                cluster[i] = j;
-                break;
-            }
+    // Each point joins the cluster of the first earlier point within the tolerance that heads a cluster (single
+    // linkage on the first match: clusters are as small as the creases that make them). The candidates come from
+    // a grid of tolerance-wide cells (the 27 around a point), so 10⁵ points take milliseconds, not minutes.
+    if (!(tolerance > 0) || n < 2) return {};
+    Vector3d lo = pos[0];
+    for (const Vector3d& p : pos) lo = lo.cwiseMin(p);
+    using Key = std::array<int64_t, 3>;
+    auto keyOf = [&](const Vector3d& p) {
+        Key k;
+        for (int a = 0; a < 3; ++a) k[size_t(a)] = int64_t(std::min(std::floor((p[a] - lo[a]) / tolerance), 4.0e18));
+        return k;
+    };
+    std::map<Key, std::vector<size_t>> cells;
+    for (size_t i = 0; i < n; ++i) {
+        Key k = keyOf(pos[i]);
+        size_t best = i;
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    auto it = cells.find({k[0] + dx, k[1] + dy, k[2] + dz});
+                    if (it == cells.end()) continue;
+                    for (size_t j : it->second)
+                        if (j < best && cluster[j] == j && (pos[i] - pos[j]).squaredNorm() <= t2) best = j;
+                }
+        cluster[i] = best;
+        cells[k].push_back(i);
+    }
     std::vector<Vector3d> sum(n, Vector3d::Zero());
     std::vector<size_t> size(n, 0);
     for (size_t i = 0; i < n; ++i) {

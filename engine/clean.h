@@ -17,8 +17,7 @@ size_t mergeDuplicates(OrientedPoints& points, double tolerance);
 // Points closer than `tolerance` but not equal make the fit ill-conditioned: two nearly equal rows of the
 // system with different normal constraints (a mesh's split vertices at a crease, a seam). Each cluster of
 // such points becomes its first point with the cluster's mean normal; a cluster whose normals cancel (the
-// mean shorter than ½: the two sides of a sheet at one place) is dropped. For the control points (a few
-// thousand: it compares every pair).
+// mean shorter than ½: the two sides of a sheet at one place) is dropped. Grid-based: any number of points.
 struct NearMerge {
     size_t merged = 0;   // points folded into another
     size_t dropped = 0;  // points of clusters whose normals cancel

@@ -255,10 +255,10 @@ PuHrbf fitPuHrbf(const std::vector<Vector3d>& points, const std::vector<Vector3d
     struct OneBlasThread {
         int previous = openblas_get_num_threads ? openblas_get_num_threads() : 0;
         OneBlasThread() {
-        if (openblas_set_num_threads) openblas_set_num_threads(1);
+            if (openblas_set_num_threads) openblas_set_num_threads(1);
         }
         ~OneBlasThread() {
-        if (openblas_set_num_threads && previous > 0) openblas_set_num_threads(previous);
+            if (openblas_set_num_threads && previous > 0) openblas_set_num_threads(previous);
         }
     } oneBlasThread;
     for (size_t i = 0; i < n; ++i)
@@ -397,13 +397,14 @@ PuFloat::PuFloat(const PuHrbf& model)
       cellStart_(&model.grid.cellStart),
       cellPatches_(&model.grid.cellPatches) {
     for (const PuPatch& p : model.patches) {
-        Patch q{float(p.center.x()), float(p.center.y()), float(p.center.z()), float(p.radius), float(p.a.x()),
+        Patch q{float(p.center.x()), float(p.center.y()), float(p.center.z()), float(p.radius),      float(p.a.x()),
                 float(p.a.y()),      float(p.a.z()),      float(p.b),          uint32_t(px_.size()), p.count};
         for (uint32_t j = p.first; j < p.first + p.count; ++j) {
             const PuNode& node = model.nodes[j];
             px_.push_back(float(node.p.x())), py_.push_back(float(node.p.y())), pz_.push_back(float(node.p.z()));
             alpha_.push_back(float(node.alpha));
-            bx_.push_back(float(node.beta.x())), by_.push_back(float(node.beta.y())), bz_.push_back(float(node.beta.z()));
+            bx_.push_back(float(node.beta.x())), by_.push_back(float(node.beta.y())),
+                bz_.push_back(float(node.beta.z()));
         }
         while (px_.size() % 4) {  // zero nodes (α = β = 0) add nothing
             for (auto* v : {&px_, &py_, &pz_, &alpha_, &bx_, &by_, &bz_}) v->push_back(0.0f);
@@ -412,9 +413,9 @@ PuFloat::PuFloat(const PuHrbf& model)
     }
     const Hrbf& c = model.coarse;
     for (size_t j = 0; j < c.size(); ++j) {
-        coarse_.insert(coarse_.end(), {float(c.centers[j].x()), float(c.centers[j].y()), float(c.centers[j].z()),
-                                       float(c.alpha[j]), float(c.beta[j].x()), float(c.beta[j].y()),
-                                       float(c.beta[j].z()), 0.0f});
+        coarse_.insert(coarse_.end(),
+                       {float(c.centers[j].x()), float(c.centers[j].y()), float(c.centers[j].z()), float(c.alpha[j]),
+                        float(c.beta[j].x()), float(c.beta[j].y()), float(c.beta[j].z()), 0.0f});
     }
     coarseA_[0] = float(c.a.x()), coarseA_[1] = float(c.a.y()), coarseA_[2] = float(c.a.z()), coarseA_[3] = float(c.b);
 }

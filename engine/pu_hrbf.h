@@ -53,8 +53,8 @@ struct PuHrbf {
     std::vector<PuPatch> patches;
     std::vector<PuNode> nodes;
     PuGrid grid;
-    Hrbf coarse;      // the far field: a global HRBF on a subsample (normalized coordinates)
-    double tau = 0;   // τ of the far-field weight
+    Hrbf coarse;     // the far field: a global HRBF on a subsample (normalized coordinates)
+    double tau = 0;  // τ of the far-field weight
 
     double eval(const Eigen::Vector3d& x, Eigen::Vector3d& gradient, Eigen::Matrix3d* hessian = nullptr) const;
 };
@@ -63,11 +63,11 @@ struct PuOptions {
     // Small patches keep the local coefficients small, and so the float evaluation accurate: on the bunny the
     // worst distance at the points was 2.3e-6 of the diagonal with patches of ~56 points, 2.4e-7 with ~16
     // (docs/fitting.md).
-    size_t leafPoints = 6;     // an octree cell with more points is split
-    double overlap = 1.4;      // R_i = overlap · the cell's half diagonal
-    size_t minPatch = 12;      // a support with fewer points grows until it has this many
-    size_t maxPatch = 40;      // a cell whose support holds more is split (while it can be)
-    size_t coarsePoints = 256; // points of the far-field HRBF
+    size_t leafPoints = 6;      // an octree cell with more points is split
+    double overlap = 1.4;       // R_i = overlap · the cell's half diagonal
+    size_t minPatch = 12;       // a support with fewer points grows until it has this many
+    size_t maxPatch = 40;       // a cell whose support holds more is split (while it can be)
+    size_t coarsePoints = 256;  // points of the far-field HRBF
 };
 
 struct PuStats {

@@ -4,6 +4,7 @@
 #include "common.h"
 #include "hrbf_io.h"
 #include "model.h"
+#include "surface.h"
 
 #include <cmath>
 #include <cstddef>
@@ -23,7 +24,7 @@ namespace {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::string bytes(reinterpret_cast<const char*>(data), size);
-    ink::Hrbf m;
+    ink::Surface m;
     try {
         m = ink::parseHrbf(bytes, "fuzz.hrbf");
     } catch (const ink::Error& e) {
@@ -32,15 +33,32 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         return 0;
     }
     const size_t n = m.size();
-    if (n < 2 || n > ink::kMaxControlPoints) broken("centre count outside 2..kMaxControlPoints");
-    if (m.alpha.size() != n || m.beta.size() != n || m.normals.size() != n) broken("arrays differ in size");
+    if (n < 2) broken("fewer than 2 points");
+    if (m.normals.size() != n) broken("arrays differ in size");
     if (!(m.frame.scale > 0) || !std::isfinite(m.frame.scale) || !m.frame.center.allFinite())
         broken("the frame is not finite with a positive scale");
-    if (!m.a.allFinite() || !std::isfinite(m.b)) broken("the linear term is not finite");
     for (size_t j = 0; j < n; ++j) {
-        if (!m.centers[j].allFinite() || !m.beta[j].allFinite() || !std::isfinite(m.alpha[j]))
-            broken("a coefficient is not finite");
+        if (!m.centers[j].allFinite()) broken("a point is not finite");
         if (!m.normals[j].allFinite() || m.normals[j].squaredNorm() == 0) broken("a normal is zero or not finite");
+    }
+    if (m.method == ink::FitMethod::Global) {
+        const ink::Hrbf& h = m.global;
+        if (h.size() != n || h.size() > ink::kMaxControlPoints) broken("centre count outside 2..kMaxControlPoints");
+        if (h.alpha.size() != n || h.beta.size() != n) broken("arrays differ in size");
+        if (!h.a.allFinite() || !std::isfinite(h.b)) broken("the linear term is not finite");
+        for (size_t j = 0; j < n; ++j)
+            if (!h.beta[j].allFinite() || !std::isfinite(h.alpha[j])) broken("a coefficient is not finite");
+    } else {
+        size_t nodes = 0;
+        for (const ink::PuPatch& p : m.pu.patches) {
+            if (!(p.radius > 0) || !p.center.allFinite()) broken("a patch is not finite with a positive radius");
+            if (p.first != nodes) broken("patches do not tile the nodes");
+            nodes += p.count;
+        }
+        if (nodes != m.pu.nodes.size()) broken("the patches do not hold the nodes");
+        for (const ink::PuNode& node : m.pu.nodes)
+            if (!node.p.allFinite() || !std::isfinite(node.alpha) || !node.beta.allFinite())
+                broken("a node is not finite");
     }
     return 0;
 }
