@@ -25,6 +25,7 @@ static int runFit(Options& o, const std::string& output) {
     ink::saveHrbf(output, model.surface);
     writeJson(o.statsPath, {{"control_points", model.fit.controlPoints},
                             {"input_points", model.inputPoints},
+                            {"face_samples", model.faceSamples},
                             {"merged_duplicates", model.mergedDuplicates},
                             {"load_seconds", model.loadSeconds},
                             {"fit", fitJson(model)}});

@@ -2,6 +2,7 @@
 
 #include "common.h"
 #include "hrbf_io.h"
+#include "surface_sampling.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -85,6 +86,21 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     for (size_t i = 0; i < points.positions.size(); ++i) {
         inputs.positions.push_back(frame.toNormalized(points.positions[i]));
         inputs.normals.push_back(points.normals[i]);
+    }
+
+    // A mesh's faces, sampled besides its vertices: the surface then follows the triangles, not only their
+    // corners (a low-poly model's long thin triangles have no vertex along them).
+    if (!points.triangles.empty()) {
+        size_t count = faceSampleCount(points);
+        OrientedPoints samples = sampleFaces(points, count, 1);
+        model.faceSamples = samples.positions.size();
+        if (model.faceSamples)
+            note("sampled " + std::to_string(model.faceSamples) + " points over the mesh's " +
+                 std::to_string(points.triangles.size()) + " triangles, besides its " +
+                 std::to_string(points.positions.size()) + " vertices");
+        points.positions.insert(points.positions.end(), samples.positions.begin(), samples.positions.end());
+        points.normals.insert(points.normals.end(), samples.normals.begin(), samples.normals.end());
+        points.triangles.clear();
     }
 
     // Duplicates make the system singular without a NaN to warn (ALGORITHM.md §2): merge them first.

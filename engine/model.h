@@ -24,7 +24,8 @@ struct Model {
     Surface surface;
     FitStats fit;  // at the control points, evaluated as the device evaluates (float for the partition of unity)
     PuStats patches;
-    size_t inputPoints = 0;
+    size_t inputPoints = 0;  // read from the file (a mesh's vertices)
+    size_t faceSamples = 0;  // points sampled over a mesh's faces and fitted besides its vertices
     size_t mergedDuplicates = 0;
     double loadSeconds = 0;
     // The error at every point the fit was given (all input points, not only the control points), normalized

@@ -53,10 +53,10 @@ double diagonalOf(const OrientedPoints& mesh) {
 
 // The refined points (every one, before any selection), in the input's units.
 std::vector<Vector3d> refine(GpuFixture& gpu, const ink::Model& model) {
-    Refinement refined(gpu.ctx, model.hrbf, ink::RefineOptions{});
+    Refinement refined(gpu.ctx, model.surface, ink::RefineOptions{});
     std::vector<Vector3d> out;
     for (const ink::PointRecord& p : ink::readPoints(gpu.ctx, refined.r))
-        out.push_back(model.hrbf.frame.toInput(Vector3d(p.position[0], p.position[1], p.position[2])));
+        out.push_back(model.surface.frame.toInput(Vector3d(p.position[0], p.position[1], p.position[2])));
     return out;
 }
 
@@ -264,25 +264,24 @@ TEST_CASE("fidelity: the spider and the separate parts, fitted to their vertices
     }
 }
 
-TEST_CASE("fidelity: the spider with default options keeps its legs whole" * doctest::skip()) {
-    // Enabled when the partition-of-unity fit lands with face sampling in fitModel (issue 15): today's default
-    // fits the vertices only, and the legs become beads (coverage 0.44, a leg gap of 0.27 of the diagonal).
+TEST_CASE("fidelity: the spider with default options keeps its legs whole") {
+    // The partition of unity fitted to the vertices and the face samples. The global fit to the vertices alone
+    // made beads of the legs (coverage 0.44, a leg gap of 0.27 of the diagonal).
     GpuFixture gpu;
     OrientedPoints mesh = ink::loadPoints(kModels + "spider.obj");
     checkDoneWhen("spider.obj", measure(gpu, mesh, ink::loadModel(kModels + "spider.obj", {}), true), true);
 }
 
-TEST_CASE("fidelity: separate parts with default options are followed" * doctest::skip()) {
-    // Enabled when the partition-of-unity fit lands with face sampling in fitModel (issue 15): today's default
-    // fits the vertices only (coverage 0.66).
+TEST_CASE("fidelity: separate parts with default options are followed") {
+    // The global fit to the vertices alone covered 0.66 of the surface.
     GpuFixture gpu;
     OrientedPoints mesh = ink::loadPoints(kModels + "parts.obj");
     checkDoneWhen("parts.obj", measure(gpu, mesh, ink::loadModel(kModels + "parts.obj", {}), false), false);
 }
 
-TEST_CASE("fidelity: an open hemisphere with default options is followed" * doctest::skip()) {
-    // Enabled when the partition-of-unity fit lands (issue 15): today's global fit closes the open surface with a
-    // sheet of its own (accuracy 0.86 on the vertices alone; 0.990 - just under - with face samples).
+TEST_CASE("fidelity: an open hemisphere with default options is followed") {
+    // The global fit closed the open surface with a sheet of its own (accuracy 0.86 on the vertices alone; 0.990,
+    // just under, with face samples); the partition of unity has no patch past the rim.
     GpuFixture gpu;
     OrientedPoints mesh = ink::loadPoints(kModels + "hemisphere.obj");
     checkDoneWhen("hemisphere.obj", measure(gpu, mesh, ink::loadModel(kModels + "hemisphere.obj", {}), false), false);
