@@ -10,9 +10,12 @@
 
 struct GpuFixture {
     ink::Context ctx;
-    GpuFixture() {
+    // float64 false: a device as one without shaderFloat64 (the feature is not enabled, so validation flags any
+    // shader that uses double).
+    explicit GpuFixture(bool float64 = true) {
         ink::ContextOptions options;
         options.validation = true;
+        options.float64 = float64;
         options.validationMessage = [](bool error, const std::string& message) {
             if (error) std::fprintf(stderr, "validation error: %s\n", message.c_str());
         };

@@ -3,6 +3,7 @@
 #include "gpu_fixture.h"
 #include "model.h"
 #include "refine.h"
+#include "renderer.h"
 
 #include <doctest/doctest.h>
 
@@ -222,4 +223,65 @@ TEST_CASE("refine: the portable CPU kernel (what ARM64 runs) gives the AVX2 kern
         same += (a - b).norm() < 1e-6f && best[i].level == portable[i].level;
     }
     CHECK(double(same) / double(best.size()) > 0.999);
+}
+
+TEST_CASE("refine: the patches summed per invocation and shared across a subgroup both match the CPU reference") {
+    // The device picks the subgroup-shared sum on lavapipe and the per-invocation one elsewhere (pu_hrbf.glsl);
+    // each is forced here, on any device (the shared one needs subgroups of 8 and falls back otherwise).
+    GpuFixture gpu;
+    ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {400});
+    REQUIRE(model.surface.method == ink::FitMethod::PartitionOfUnity);
+    for (auto kernel : {ink::SurfaceKernel::PerInvocation, ink::SurfaceKernel::SubgroupShared}) {
+        CAPTURE(int(kernel));
+        for (auto style : {ink::SampleStyle::Stipple, ink::SampleStyle::Direction}) {
+            ink::RefineOptions options;
+            options.kernel = kernel;
+            options.style = style;
+            options.direction = ink::DirectionField::CurvatureMax;  // the Hessian too
+            options.levels = 2;
+            auto [refined, close] = compareWithCpu(gpu, model.surface, options, 1e-4f, 0.999f);
+            CHECK(close > 0.99);
+            // On the surface, as the double-precision model measures it.
+            double worst = 0;
+            for (const auto& p : refined.points) {
+                Eigen::Vector3d x(p.position[0], p.position[1], p.position[2]), g;
+                double f = model.surface.eval(x, g);
+                worst = std::max(worst, std::abs(f) / g.norm());
+            }
+            CHECK(worst < 2e-5);  // ε₁ = 1e-5 of the diagonal, and float rounding of the stored position
+        }
+    }
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("refine: without shaderFloat64 the partition of unity refines and draws; the global fit says what it needs") {
+    GpuFixture gpu(false);
+    REQUIRE_FALSE(gpu.ctx.float64);
+    ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {300});
+    ink::RefineOptions options;
+    options.levels = 3;
+    Refinement refined(gpu.ctx, model.surface, options);
+    CHECK(ink::readPointCount(gpu.ctx, refined.r) > 1000);
+    ink::RenderStyle style;
+    ink::OffscreenRenderer renderer(gpu.ctx, 128, 128, style, {&refined.r});
+    ink::RgbaImage image = renderer.render(ink::Camera{});
+    size_t dark = 0;
+    for (size_t i = 0; i < image.pixels.size(); i += 4) dark += image.pixels[i] < 128;
+    CHECK(dark > 100);
+    gpu.requireNoValidationErrors();
+
+    ink::Model global = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {300, ink::FitMethod::Global});
+    CHECK_THROWS_WITH_AS(ink::Refinement(gpu.ctx, global.surface, options), doctest::Contains("lacks shaderFloat64"),
+                         ink::Error);
+}
+
+TEST_CASE("refine: the report's global fit still refines in double where the device has shaderFloat64") {
+    GpuFixture gpu;
+    if (!gpu.ctx.float64) return;  // nothing to test on such a device (the test above covers the refusal)
+    ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {300, ink::FitMethod::Global});
+    ink::RefineOptions options;
+    options.levels = 2;
+    auto [refined, close] = compareWithCpu(gpu, model.surface, options, 1e-4f, 0.999f);
+    CHECK(close > 0.99);
+    gpu.requireNoValidationErrors();
 }
