@@ -251,12 +251,12 @@ void Drawing::refine(const DrawingOptions& options, const Reporter& reporter) {
 }
 
 std::vector<Polyline> Drawing::hatching() const {
-    return toPolylines(impl_->scene.hatching, impl_->scene.model.hrbf.frame);
+    return toPolylines(impl_->scene.hatching, impl_->scene.model.surface.frame);
 }
 
 std::vector<Polyline> Drawing::contours(const Camera& camera) const {
     impl_->traceFor(toCamera(camera));
-    return toPolylines(impl_->scene.contours, impl_->scene.model.hrbf.frame);
+    return toPolylines(impl_->scene.contours, impl_->scene.model.surface.frame);
 }
 
 size_t Drawing::sets() const { return impl_->scene.sets.size(); }

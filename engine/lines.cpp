@@ -92,7 +92,7 @@ struct ContourEval {
     Vector3d gradF, gradG;
 };
 
-ContourEval evalContour(const Hrbf& hrbf, const Vector3d& eye, const Vector3d& x) {
+ContourEval evalContour(const Surface& hrbf, const Vector3d& eye, const Vector3d& x) {
     Vector3d gradient;
     Matrix3d hessian;
     double f = hrbf.eval(x, gradient, &hessian);
@@ -102,7 +102,7 @@ ContourEval evalContour(const Hrbf& hrbf, const Vector3d& eye, const Vector3d& x
 
 // Newton on (f, g) = 0 with the minimum-norm step of the 2×3 system. `last` gets the evaluation of the last
 // iteration, taken within 1e-9 of the point returned: the next step's tangent.
-bool contourNewton(const Hrbf& hrbf, const Vector3d& eye, Vector3d& x, double maxMove, int iterations = 10,
+bool contourNewton(const Surface& hrbf, const Vector3d& eye, Vector3d& x, double maxMove, int iterations = 10,
                    ContourEval* last = nullptr) {
     const Vector3d start = x;
     for (int i = 0; i < iterations; ++i) {
@@ -122,9 +122,11 @@ bool contourNewton(const Hrbf& hrbf, const Vector3d& eye, Vector3d& x, double ma
 
 }  // namespace
 
-bool projectToContour(const Hrbf& hrbf, const Vector3d& eye, Vector3d& x) { return contourNewton(hrbf, eye, x, 0.05); }
+bool projectToContour(const Surface& hrbf, const Vector3d& eye, Vector3d& x) {
+    return contourNewton(hrbf, eye, x, 0.05);
+}
 
-std::vector<PenStroke> traceContours(const Hrbf& hrbf, const Vector3d& eye, const std::vector<SurfaceSample>& seeds,
+std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, const std::vector<SurfaceSample>& seeds,
                                      const ContourOptions& options, ContourStats* stats) {
     auto start = std::chrono::steady_clock::now();
     ContourStats s;
@@ -267,7 +269,7 @@ std::vector<PenStroke> traceContours(const Hrbf& hrbf, const Vector3d& eye, cons
 namespace {
 
 // Newton steps along ∇f onto f = 0; n is the unit normal there.
-bool projectToSurface(const Hrbf& hrbf, Vector3d& x, Vector3d& n) {
+bool projectToSurface(const Surface& hrbf, Vector3d& x, Vector3d& n) {
     for (int i = 0; i < 8; ++i) {
         Vector3d gradient;
         double f = hrbf.eval(x, gradient);
@@ -282,7 +284,7 @@ bool projectToSurface(const Hrbf& hrbf, Vector3d& x, Vector3d& n) {
 
 class Hatcher {
 public:
-    Hatcher(const Hrbf& hrbf, const std::vector<SurfaceSample>& samples, const HatchOptions& o, uint32_t family)
+    Hatcher(const Surface& hrbf, const std::vector<SurfaceSample>& samples, const HatchOptions& o, uint32_t family)
         : hrbf_(hrbf),
           samples_(samples),
           o_(o),
@@ -400,7 +402,7 @@ private:
         return projectToSurface(hrbf_, y, n);
     }
 
-    const Hrbf& hrbf_;
+    const Surface& hrbf_;
     const std::vector<SurfaceSample>& samples_;
     const HatchOptions& o_;
     uint32_t family_;
@@ -411,7 +413,7 @@ private:
 
 }  // namespace
 
-std::vector<PenStroke> traceHatching(const Hrbf& hrbf, const std::vector<SurfaceSample>& samples,
+std::vector<PenStroke> traceHatching(const Surface& hrbf, const std::vector<SurfaceSample>& samples,
                                      const HatchOptions& options, HatchStats* stats) {
     auto start = std::chrono::steady_clock::now();
     const uint32_t families = std::clamp(options.families, 1u, 2u);

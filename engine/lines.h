@@ -4,7 +4,7 @@
 // No Vulkan here.
 #pragma once
 
-#include "hrbf.h"
+#include "surface.h"
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -48,12 +48,12 @@ struct ContourStats {
 
 // `eye` in normalized coordinates. Pieces come out in tracing order; a closed curve without cusps is one
 // closed stroke.
-std::vector<PenStroke> traceContours(const Hrbf& hrbf, const Eigen::Vector3d& eye,
+std::vector<PenStroke> traceContours(const Surface& hrbf, const Eigen::Vector3d& eye,
                                      const std::vector<SurfaceSample>& seeds, const ContourOptions& options = {},
                                      ContourStats* stats = nullptr);
 
 // Corrects x onto the contour (f = 0, g = 0) by Newton steps; false when it does not converge.
-bool projectToContour(const Hrbf& hrbf, const Eigen::Vector3d& eye, Eigen::Vector3d& x);
+bool projectToContour(const Surface& hrbf, const Eigen::Vector3d& eye, Eigen::Vector3d& x);
 
 // ---- Hatching ------------------------------------------------------------------------------------------------
 // The field is the tangent projection of an axis, d = a − (a·n)n, and for the crossing family n × d: smooth
@@ -78,7 +78,7 @@ struct HatchStats {
 // samples for what those do not reach; a stroke ends where the field vanishes or turns sharply, where it comes
 // closer than d_test to another stroke of its family (tested against a spatial hash), or where it closes.
 // Families are traced in parallel, each on its own thread.
-std::vector<PenStroke> traceHatching(const Hrbf& hrbf, const std::vector<SurfaceSample>& samples,
+std::vector<PenStroke> traceHatching(const Surface& hrbf, const std::vector<SurfaceSample>& samples,
                                      const HatchOptions& options = {}, HatchStats* stats = nullptr);
 
 }  // namespace ink

@@ -54,7 +54,7 @@ void Scene::replace(Sets newSets, double seconds, const LineOptions& l) {
     for (const PointRecord& p : readDrawnPoints(ctx, sets.front()->gpu()))
         samples.push_back({Eigen::Vector3d(p.position[0], p.position[1], p.position[2]),
                            Eigen::Vector3d(p.normal[0], p.normal[1], p.normal[2])});
-    if (lines.hatching) hatching = traceHatching(model.hrbf, samples, lines.hatch, &hatchStats);
+    if (lines.hatching) hatching = traceHatching(model.surface, samples, lines.hatch, &hatchStats);
     strokes->set(StrokeBuffers::Hatching, hatching);
     strokes->set(StrokeBuffers::Contours, {});
     hatchSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -64,7 +64,7 @@ void Scene::traceContours(const Camera& camera) {
     if (!strokes || !lines.contours) return;
     glm::vec3 eye = camera.eye();
     contours =
-        ink::traceContours(model.hrbf, Eigen::Vector3d(eye.x, eye.y, eye.z), samples, lines.contour, &contourStats);
+        ink::traceContours(model.surface, Eigen::Vector3d(eye.x, eye.y, eye.z), samples, lines.contour, &contourStats);
     strokes->set(StrokeBuffers::Contours, contours);
 }
 

@@ -180,7 +180,7 @@ TEST_CASE("fit: a .hrbf file round-trips bit for bit and evaluates identically")
 }
 
 TEST_CASE("fit: the .hrbf reader refuses bad files with one-line messages") {
-    auto parse = [](const std::string& text) { return ink::parseHrbf(text, "m.hrbf"); };
+    auto parse = [](const std::string& text) { return ink::parseHrbf(text, "m.surface"); };
     auto refused = [&](const std::string& text, const std::string& message) {
         INFO("file: " << text);
         CHECK_THROWS_WITH_AS(parse(text), doctest::Contains(message.c_str()), ink::Error);
@@ -193,60 +193,60 @@ TEST_CASE("fit: the .hrbf reader refuses bad files with one-line messages") {
     CHECK(parse(crlf).size() == 2);
 
     // Magic and version.
-    refused("", "m.hrbf: empty file: not an Inkwell HRBF model");
-    refused("ply\nformat ascii 1.0\n", "m.hrbf: line 1: not an Inkwell HRBF model");
-    refused("\n" + kGood, "m.hrbf: line 1: not an Inkwell HRBF model");
+    refused("", "m.surface: empty file: not an Inkwell HRBF model");
+    refused("ply\nformat ascii 1.0\n", "m.surface: line 1: not an Inkwell HRBF model");
+    refused("\n" + kGood, "m.surface: line 1: not an Inkwell HRBF model");
     refused(std::string("\x7f"
                         "ELF\x02\x01\x01\0\0\0",
                         10),  // control bytes are shown as '?'
-            "m.hrbf: line 1: not an Inkwell HRBF model (expected 'inkwell-hrbf 1' or 'inkwell-hrbf 2', found '?ELF" +
+            "m.surface: line 1: not an Inkwell HRBF model (expected 'inkwell-hrbf 1' or 'inkwell-hrbf 2', found '?ELF" +
                 std::string(6, '?') + "')");
-    refused(spoilt("hrbf 1", "hrbf 3"), "m.hrbf: line 1: unsupported version '3'");
-    refused(spoilt("hrbf 1", "hrbf"), "m.hrbf: line 1: unsupported version (none)");
+    refused(spoilt("hrbf 1", "hrbf 3"), "m.surface: line 1: unsupported version '3'");
+    refused(spoilt("hrbf 1", "hrbf"), "m.surface: line 1: unsupported version (none)");
 
     // Truncated.
-    refused("inkwell-hrbf 1\n", "m.hrbf: truncated: the file ends before the 'centers' line");
-    refused(kGood.substr(0, kGood.find("0 0 1 0 0 1")), "m.hrbf: truncated: 1 of 2 centres");
-    refused(spoilt("end\n", ""), "m.hrbf: truncated: no 'end' line after the 2 centres");
+    refused("inkwell-hrbf 1\n", "m.surface: truncated: the file ends before the 'centers' line");
+    refused(kGood.substr(0, kGood.find("0 0 1 0 0 1")), "m.surface: truncated: 1 of 2 centres");
+    refused(spoilt("end\n", ""), "m.surface: truncated: no 'end' line after the 2 centres");
     refused(spoilt("-1 0 0 0\n", "-1 0 0"),
-            "m.hrbf: line 6: expected 10 numbers (x y z nx ny nz alpha bx by bz), found 9 fields");
+            "m.surface: line 6: expected 10 numbers (x y z nx ny nz alpha bx by bz), found 9 fields");
 
     // Numbers.
-    refused(spoilt("-1 0", "-1 abc"), "m.hrbf: line 6: 'abc' is not a number");
-    refused(spoilt("-1 0", "-1 1e"), "m.hrbf: line 6: '1e' is not a number");
-    refused(spoilt("-1 0", "-1 0x10"), "m.hrbf: line 6: '0x10' is not a number");
-    refused(spoilt("linear 0", "linear nan"), "m.hrbf: line 4: 'nan' is not finite");
-    refused(spoilt("-1 0", "-1 -inf"), "m.hrbf: line 6: '-inf' is not finite");
-    refused(spoilt("-1 0", "-1 1e999"), "m.hrbf: line 6: '1e999' is out of range for a double");
-    refused(spoilt("frame 0 0 0 1", "frame 0 0 0 0"), "m.hrbf: line 3: the frame's scale must be positive");
+    refused(spoilt("-1 0", "-1 abc"), "m.surface: line 6: 'abc' is not a number");
+    refused(spoilt("-1 0", "-1 1e"), "m.surface: line 6: '1e' is not a number");
+    refused(spoilt("-1 0", "-1 0x10"), "m.surface: line 6: '0x10' is not a number");
+    refused(spoilt("linear 0", "linear nan"), "m.surface: line 4: 'nan' is not finite");
+    refused(spoilt("-1 0", "-1 -inf"), "m.surface: line 6: '-inf' is not finite");
+    refused(spoilt("-1 0", "-1 1e999"), "m.surface: line 6: '1e999' is out of range for a double");
+    refused(spoilt("frame 0 0 0 1", "frame 0 0 0 0"), "m.surface: line 3: the frame's scale must be positive");
     refused(spoilt("frame 0 0 0 1", "frame 0 0 0"),
-            "m.hrbf: line 3: expected 4 numbers after 'frame' (frame cx cy cz scale), found 3");
-    refused(spoilt("linear", "affine"), "m.hrbf: line 4: expected 'linear ax ay az b', found 'affine'");
-    refused(spoilt("0 0 1 -1", "0 0 0 -1"), "m.hrbf: line 6: normal is zero");
+            "m.surface: line 3: expected 4 numbers after 'frame' (frame cx cy cz scale), found 3");
+    refused(spoilt("linear", "affine"), "m.surface: line 4: expected 'linear ax ay az b', found 'affine'");
+    refused(spoilt("0 0 1 -1", "0 0 0 -1"), "m.surface: line 6: normal is zero");
 
     // Counts.
-    refused(spoilt("centers 2", "centers 3"), "m.hrbf: line 7: 'end' after 2 of the 3 centres declared");
-    refused(spoilt("centers 2", "centers 1"), "m.hrbf: line 2: 1 centres: a model has at least 2");
+    refused(spoilt("centers 2", "centers 3"), "m.surface: line 7: 'end' after 2 of the 3 centres declared");
+    refused(spoilt("centers 2", "centers 1"), "m.surface: line 2: 1 centres: a model has at least 2");
     refused(spoilt("end\n", "0 1 0 0 0 1 0 0 0 0\nend\n"),
-            "m.hrbf: line 7: expected 'end' after the 2 centres declared");
-    refused(spoilt("centers 2", "centers 4000"), "m.hrbf: line 2: 4000 centres cannot fit in a file of");
-    refused(spoilt("centers 2", "centers 4001"), "m.hrbf: line 2: '4001' centres is more than the maximum of 4000");
+            "m.surface: line 7: expected 'end' after the 2 centres declared");
+    refused(spoilt("centers 2", "centers 4000"), "m.surface: line 2: 4000 centres cannot fit in a file of");
+    refused(spoilt("centers 2", "centers 4001"), "m.surface: line 2: '4001' centres is more than the maximum of 4000");
     refused(spoilt("centers 2", "centers 99999999999999999999999999"),
-            "m.hrbf: line 2: '99999999999999999999999999' centres is more than the maximum of 4000");
-    refused(spoilt("centers 2", "centers -2"), "m.hrbf: line 2: '-2' is not a count of centres");
-    refused(kGood + "0\n", "m.hrbf: line 8: unexpected '0' after 'end'");
+            "m.surface: line 2: '99999999999999999999999999' centres is more than the maximum of 4000");
+    refused(spoilt("centers 2", "centers -2"), "m.surface: line 2: '-2' is not a count of centres");
+    refused(kGood + "0\n", "m.surface: line 8: unexpected '0' after 'end'");
 
     // Numbers that are finite one by one but absurd together (issue 13): coefficients whose gradient
     // overflows (|f|/|grad f| would be 0 and pass), a model that misses its centres, normals that disagree.
-    refused(spoilt("1 0 0 0\n", "1e300 1e300 0 0\n"), "m.hrbf: centre 2: f or its gradient overflows there");
+    refused(spoilt("1 0 0 0\n", "1e300 1e300 0 0\n"), "m.surface: centre 2: f or its gradient overflows there");
     refused(spoilt("-1 0 0 0\n", "-1e308 0 0 0\n"),
             "overflows there (coefficients too large; the file is inconsistent)");
     refused(spoilt("linear 0 0 -2 1", "linear 0 0 1 0"),
-            "m.hrbf: the model does not pass through its own centres: |f|/|grad f| reaches 0.5 of the diagonal");
+            "m.surface: the model does not pass through its own centres: |f|/|grad f| reaches 0.5 of the diagonal");
     refused(spoilt("0 0 1 0 0 1 -1", "0 0 1 0 0 -1 -1"),
-            "m.hrbf: the stored normals disagree with grad f at the centres by up to 180 degrees");
-    refused(spoilt("0 0 1 0 0 1 -1", "0 0 1 0 0 3 -1"), "m.hrbf: centre 2: |grad f - n| is 0.667 of |n|");
-    refused(spoilt("0 0 1 0 0 1 -1", "0 0 1e300 0 0 1 -1"), "m.hrbf: centre 2 lies outside the normalized box");
+            "m.surface: the stored normals disagree with grad f at the centres by up to 180 degrees");
+    refused(spoilt("0 0 1 0 0 1 -1", "0 0 1 0 0 3 -1"), "m.surface: centre 2: |grad f - n| is 0.667 of |n|");
+    refused(spoilt("0 0 1 0 0 1 -1", "0 0 1e300 0 0 1 -1"), "m.surface: centre 2 lies outside the normalized box");
     refused(spoilt("frame 0 0 0 1", "frame 0 0 0 1e-320"), "maps the model to a box too large to represent");
 
     // Every message is one line; a missing file names the file and the reason.

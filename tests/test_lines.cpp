@@ -30,7 +30,7 @@ std::vector<ink::SurfaceSample> torusSamples(const ink::Model& m, int nu, int nv
         for (int j = 0; j < nv; ++j) {
             double u = 2 * M_PI * (i + 0.5) / nu, v = 2 * M_PI * (j + 0.25) / nv;
             Vector3d c(std::cos(u), std::sin(u), 0), n = std::cos(v) * c + std::sin(v) * Vector3d::UnitZ();
-            s.push_back({m.hrbf.frame.toNormalized(kR * c + kr * n), n});
+            s.push_back({m.surface.frame.toNormalized(kR * c + kr * n), n});
         }
     return s;
 }
@@ -62,8 +62,8 @@ struct Outline {
 
 TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of the analytic one, in few pieces") {
     const ink::Model& m = torus();
-    const double scale = m.hrbf.frame.scale;
-    const Vector3d centre = m.hrbf.frame.toNormalized(Vector3d::Zero());
+    const double scale = m.surface.frame.scale;
+    const Vector3d centre = m.surface.frame.toNormalized(Vector3d::Zero());
     for (float elevation : {15.0f, 50.0f}) {
         CAPTURE(elevation);
         ink::Camera camera;
@@ -71,13 +71,13 @@ TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of 
         glm::vec3 eyeF = camera.eye();
         const Vector3d eye(eyeF.x, eyeF.y, eyeF.z);
         ink::ContourStats stats;
-        std::vector<ink::PenStroke> pieces = ink::traceContours(m.hrbf, eye, torusSamples(m, 96, 32), {}, &stats);
+        std::vector<ink::PenStroke> pieces = ink::traceContours(m.surface, eye, torusSamples(m, 96, 32), {}, &stats);
         REQUIRE(!pieces.empty());
         // Every traced point is on both equations.
         for (const ink::PenStroke& s : pieces)
             for (const Eigen::Vector3f& p : s.points) {
                 Vector3d x = p.cast<double>(), g;
-                double f = m.hrbf.eval(x, g);
+                double f = m.surface.eval(x, g);
                 CHECK(std::abs(f) / g.norm() < 1e-6);
                 CHECK(std::abs(g.normalized().dot((x - eye).normalized())) < 1e-4);
             }
@@ -322,8 +322,8 @@ TEST_CASE("contours: each frame decides on the device which contour segments are
     options.levels = 3;
     ink::Scene scene(gpu.ctx, torus(), ink::DrawStyle::Stipple, options, lines);
     const ink::Model& m = scene.model;
-    const double scale = m.hrbf.frame.scale;
-    const Vector3d centre = m.hrbf.frame.toNormalized(Vector3d::Zero());
+    const double scale = m.surface.frame.scale;
+    const Vector3d centre = m.surface.frame.toNormalized(Vector3d::Zero());
     ink::Camera camera;
     camera.azimuthDeg = 80.0f;  // nearly edge-on: much of the inner contour is behind the tube
     camera.elevationDeg = 20.0f;

@@ -57,8 +57,8 @@ TEST_CASE("pu: the bunny and a torus interpolate every point in float: under 1e-
     const ink::Frame& frame = torus.surface.frame;
     double worst = 0;
     for (int i = 0; i < 2000; ++i) {
-        double u = 2 * M_PI * (i * 0.618034 - std::floor(i * 0.618034)), v = 2 * M_PI * (i * 0.7548777 -
-                                                                                        std::floor(i * 0.7548777));
+        double u = 2 * M_PI * (i * 0.618034 - std::floor(i * 0.618034)),
+               v = 2 * M_PI * (i * 0.7548777 - std::floor(i * 0.7548777));
         Vector3d onTorus((0.3 + 0.1 * std::cos(v)) * std::cos(u), (0.3 + 0.1 * std::cos(v)) * std::sin(u),
                          0.1 * std::sin(v)),
             g;
@@ -125,9 +125,9 @@ TEST_CASE("pu: a version 2 .hrbf file round-trips bit for bit; version 1 files s
     // A spoilt version 2 file: one line naming the problem.
     std::string bad = text;
     bad.replace(bad.find("patches "), 8, "patches x");
-    CHECK_THROWS_WITH_AS(ink::parseHrbf(bad, "m.hrbf"), doctest::Contains("m.hrbf: line"), ink::Error);
+    CHECK_THROWS_WITH_AS(ink::parseHrbf(bad, "m.surface"), doctest::Contains("m.surface: line"), ink::Error);
     std::string shifted = text;
     size_t nodes = shifted.find("\nnodes ");
     shifted.replace(nodes, 7, "\nnodes 1");  // a node count the patches do not hold
-    CHECK_THROWS_WITH_AS(ink::parseHrbf(shifted, "m.hrbf"), doctest::Contains("but the patches hold"), ink::Error);
+    CHECK_THROWS_WITH_AS(ink::parseHrbf(shifted, "m.surface"), doctest::Contains("but the patches hold"), ink::Error);
 }
