@@ -231,7 +231,7 @@ TEST_CASE("outputs: a full disk is exit 1 with the reason, and leaves no output,
         MESSAGE("skipped: needs root to mount a small tmpfs");
         return;
     }
-    Run r = runInkwell("render " + kBunny + kFit + kSmall + "-o " + full.path + "/out.png");
+    Run r = runInkwell("render -q " + kBunny + kFit + kSmall + "-o " + full.path + "/out.png");
     CHECK(r.status == 1);
     CHECK(lines(r.output) == 1);
     CHECK(r.output.find("No space left on device") != std::string::npos);
