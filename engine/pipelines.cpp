@@ -15,6 +15,11 @@ VkShaderModule createShaderModule(Context& ctx, std::span<const uint32_t> spirv)
 
 DescriptorSet createDescriptorSet(Context& ctx, std::initializer_list<DescriptorBinding> bindings,
                                   VkShaderStageFlags stages) {
+    return createDescriptorSet(ctx, std::vector<DescriptorBinding>(bindings), stages);
+}
+
+DescriptorSet createDescriptorSet(Context& ctx, const std::vector<DescriptorBinding>& bindings,
+                                  VkShaderStageFlags stages) {
     DescriptorSet ds;
     std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
     std::vector<VkDescriptorPoolSize> sizes;

@@ -6,6 +6,7 @@
 
 #include <initializer_list>
 #include <span>
+#include <vector>
 
 namespace ink {
 
@@ -28,6 +29,8 @@ struct DescriptorSet {
     VkDescriptorSet set = VK_NULL_HANDLE;
 };
 DescriptorSet createDescriptorSet(Context& ctx, std::initializer_list<DescriptorBinding> bindings,
+                                  VkShaderStageFlags stages);
+DescriptorSet createDescriptorSet(Context& ctx, const std::vector<DescriptorBinding>& bindings,
                                   VkShaderStageFlags stages);
 void destroyDescriptorSet(Context& ctx, DescriptorSet& set);
 

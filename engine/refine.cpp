@@ -163,33 +163,17 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
     uploadBuffer(ctx, r.seeds, seeds.data(), seeds.size() * 16);
 
     const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, ub = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    std::vector<DescriptorBinding> bindings = {
+        {0, ub, r.hrbfHeader.buffer}, {1, sb, r.points.buffer}, {2, sb, r.candidates.buffer}, {3, sb, r.flags.buffer},
+        {4, sb, r.blocks.buffer},     {5, sb, r.levels.buffer}, {6, sb, r.indirect.buffer},   {7, sb, r.seeds.buffer}};
     if (global)
-        r.descriptors = createDescriptorSet(ctx,
-                                            {{0, ub, r.hrbfHeader.buffer},
-                                             {1, sb, r.points.buffer},
-                                             {2, sb, r.candidates.buffer},
-                                             {3, sb, r.flags.buffer},
-                                             {4, sb, r.blocks.buffer},
-                                             {5, sb, r.levels.buffer},
-                                             {6, sb, r.indirect.buffer},
-                                             {7, sb, r.seeds.buffer},
-                                             {8, ub, r.hrbf.buffer, kHrbfBlocks, kHrbfBlockBytes, realBlocks}},
-                                            VK_SHADER_STAGE_COMPUTE_BIT);
+        bindings.push_back({8, ub, r.hrbf.buffer, kHrbfBlocks, kHrbfBlockBytes, realBlocks});
     else
-        r.descriptors = createDescriptorSet(ctx,
-                                            {{0, ub, r.hrbfHeader.buffer},
-                                             {1, sb, r.points.buffer},
-                                             {2, sb, r.candidates.buffer},
-                                             {3, sb, r.flags.buffer},
-                                             {4, sb, r.blocks.buffer},
-                                             {5, sb, r.levels.buffer},
-                                             {6, sb, r.indirect.buffer},
-                                             {7, sb, r.seeds.buffer},
-                                             {8, sb, r.puPatches.buffer},
-                                             {9, sb, r.puNodes.buffer},
-                                             {10, sb, r.puCells.buffer},
-                                             {11, sb, r.puCoarse.buffer}},
-                                            VK_SHADER_STAGE_COMPUTE_BIT);
+        bindings.insert(bindings.end(), {{8, sb, r.puPatches.buffer},
+                                         {9, sb, r.puNodes.buffer},
+                                         {10, sb, r.puCells.buffer},
+                                         {11, sb, r.puCoarse.buffer}});
+    r.descriptors = createDescriptorSet(ctx, bindings, VK_SHADER_STAGE_COMPUTE_BIT);
     r.layout = createPipelineLayout(ctx, r.descriptors.layout, sizeof(LevelParams), VK_SHADER_STAGE_COMPUTE_BIT);
     // Lavapipe (llvmpipe, subgroups of 8) sums the patches with shared loads; every other device per invocation.
     const bool lavapipe = ctx.driverId == VK_DRIVER_ID_MESA_LLVMPIPE && ctx.subgroupSize == 8;
