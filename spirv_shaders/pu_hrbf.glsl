@@ -232,10 +232,10 @@ float puEvalHessian(vec3 x, out vec3 grad, out mat3 H) {
             uint j1 = P.range.x + P.range.y;
             for (uint j = P.range.x; j < j1; ++j)
                 puNodeHessian(q, puNodes[2u * j], puNodes[2u * j + 1u].xyz, h, g, Hh);
+            vec3 dw;
+            float w = puWeight(q, R, dw), fi = R * h;
             float d = length(q), e = 1.0 - d, e2 = e * e;
-            float w = e2 * e2 * (4.0 * d + 1.0), fi = R * h;
-            vec3 dw = (-20.0 * e2 * e / R) * q;
-            mat3 Hw = mat3(e2 * e);
+            mat3 Hw = mat3(e2 * e);  // Hw = −20/R² [(1 − d)³ I − 3 (1 − d)² q qᵀ / d]
             if (d > 0.0) Hw -= (3.0 * e2 / d) * outerProduct(q, q);
             Hw *= -20.0 / (R * R);
             S += w;
