@@ -309,7 +309,8 @@ TEST_CASE("vector: the layout fits the view in the margins, sizes circles to the
     CHECK(layer.widestDot == doctest::Approx(4 * scale));
     // A pen wider than the dots: the smallest circle.
     o.penWidth = 6;
-    for (const ink::PlotPath& p : ink::layoutPlot(d, o).layers[0].paths)
+    const ink::Plot wide = ink::layoutPlot(d, o);  // named: a range-for over a temporary's member dangles
+    for (const ink::PlotPath& p : wide.layers[0].paths)
         if (p.circle()) CHECK(p.radius == ink::kMinRadius);
     o.margin = 110;
     CHECK_THROWS_WITH_AS(ink::layoutPlot(d, o), "margins of 110 mm leave no room on a 297x210 mm page", ink::Error);
