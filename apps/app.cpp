@@ -318,9 +318,16 @@ static const char* directionName(ink::DirectionField d) {
                                                     : "curvature-max";
 }
 
+std::string styleName(const Options& o) {
+    std::string name = o.render.drawDots ? ink::drawStyleName(o.style) : "";
+    for (auto [on, part] : {std::pair{o.lines.contours, "contours"}, std::pair{o.lines.hatching, "hatching"}})
+        if (on) name += (name.empty() ? "" : "+") + std::string(part);
+    return name.empty() ? "stipple" : name;
+}
+
 Preset presetFrom(const Options& o) {
     Preset p;
-    p.style = ink::drawStyleName(o.style);
+    p.style = styleName(o);
     p.direction = directionName(o.refine.direction);
     p.levels = o.refine.levels;
     if (o.refine.passes > 0) p.passes = o.refine.passes;
@@ -334,6 +341,11 @@ Preset presetFrom(const Options& o) {
     p.hiddenLines = o.render.hiddenLines;
     p.light = std::vector<float>{o.render.light.x, o.render.light.y, o.render.light.z};
     p.up = ink::upAxisName(o.render.up);
+    p.contourWidth = o.render.penWidth;
+    p.hatchWidth = o.render.hatchWidth;
+    p.halo = o.render.haloWidth;
+    p.hatchSpacing = float(o.lines.hatch.spacing);
+    p.hatchFamilies = o.lines.hatch.families;
     return p;
 }
 

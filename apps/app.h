@@ -68,6 +68,10 @@ void addVectorOptions(CLI::App* cmd, Options& o);  // page, orientation, margin,
 void finishOptions(Options& o);
 ink::Camera cameraFrom(const Options& o);
 
+// The style as --style names it: the dots (none when RenderStyle::drawDots is off) and the pen lines joined by
+// '+', e.g. "contours+hatching+stipple" is written "stipple+contours+hatching".
+std::string styleName(const Options& o);
+
 struct Preset;
 // The options' style as a preset (every key docs/usage.md lists but `passes` when it is the default), for the
 // viewer's "save preset".

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 namespace app {
 namespace {
@@ -158,9 +159,138 @@ std::string presetJson(const Preset& p) {
     putNumber("tone", p.tone);
     putNumber("ink_density", p.inkDensity);
     put("hidden_lines", p.hiddenLines);
+    putNumber("contour_width", p.contourWidth);
+    putNumber("hatch_width", p.hatchWidth);
+    putNumber("halo", p.halo);
+    putNumber("hatch_spacing", p.hatchSpacing);
+    put("hatch_families", p.hatchFamilies);
     if (p.light) j["light"] = {rounded((*p.light)[0]), rounded((*p.light)[1]), rounded((*p.light)[2])};
     put("up", p.up);
     return j.dump(2) + "\n";
+}
+
+namespace {
+
+[[noreturn]] void notCamera(const std::string& why) { throw ink::Error("not a camera: " + why); }
+
+double cameraNumber(const json& value, const std::string& key) {
+    if (!value.is_number()) notCamera("\"" + key + "\" must be a number");
+    double v = value.get<double>();
+    if (!(std::abs(v) <= 1e6)) notCamera("\"" + key + "\" must be a finite number");
+    return v;
+}
+
+bool isUpAxis(const std::string& s) {
+    for (const char* a : {"x", "-x", "+x", "y", "-y", "+y", "z", "-z", "+z"})
+        if (s == a) return true;
+    return false;
+}
+
+void checkDistance(double d) {
+    if (!(d >= 0.05 && d <= 100)) notCamera("the distance must be in [0.05, 100] diagonals");
+}
+
+// "--camera AZ EL DIST [--up AXIS]", the options `inkwell render` takes.
+CameraText cameraFromOptions(const std::string& text) {
+    std::istringstream in(text);
+    CameraText c;
+    std::string word;
+    bool camera = false;
+    while (in >> word) {
+        if (word == "--camera") {
+            double v[3];
+            for (double& x : v) {
+                std::string number;
+                if (!(in >> number)) notCamera("--camera needs three numbers: azimuth, elevation, distance");
+                size_t used = 0;
+                try {
+                    x = std::stod(number, &used);
+                } catch (const std::exception&) {
+                    used = 0;
+                }
+                if (used != number.size() || !(std::abs(x) <= 1e6))
+                    notCamera("--camera needs three numbers: azimuth, elevation, distance");
+            }
+            checkDistance(v[2]);
+            c.azimuthDeg = float(v[0]);
+            c.elevationDeg = float(v[1]);
+            c.distance = float(v[2]);
+            camera = true;
+        } else if (word == "--up") {
+            std::string axis;
+            if (!(in >> axis) || !isUpAxis(axis)) notCamera("--up must be x, -x, y, -y, z or -z");
+            c.up = axis;
+        } else {
+            notCamera("expected a JSON object or --camera AZ EL DIST [--up AXIS], not " + ink::quoted(word));
+        }
+    }
+    if (!camera) notCamera("no --camera AZ EL DIST");
+    return c;
+}
+
+}  // namespace
+
+CameraText parseCameraText(const std::string& text) {
+    if (text.size() > 4096) notCamera("the text is longer than 4 KiB");
+    const size_t start = text.find_first_not_of(" \t\r\n");
+    if (start == std::string::npos) notCamera("the text is empty");
+    if (text[start] != '{') return cameraFromOptions(text);
+    json j;
+    try {
+        j = json::parse(text);
+    } catch (const json::exception&) {
+        notCamera("the text is not valid JSON");
+    }
+    if (!j.is_object()) notCamera("the JSON is not an object");
+    CameraText c;
+    bool seen[3] = {false, false, false};
+    for (auto& [key, value] : j.items()) {
+        if (key == "azimuth_deg") {
+            c.azimuthDeg = float(cameraNumber(value, key));
+            seen[0] = true;
+        } else if (key == "elevation_deg") {
+            c.elevationDeg = float(cameraNumber(value, key));
+            seen[1] = true;
+        } else if (key == "distance") {
+            double d = cameraNumber(value, key);
+            checkDistance(d);
+            c.distance = float(d);
+            seen[2] = true;
+        } else if (key == "target") {
+            if (!value.is_array() || value.size() != 3) notCamera("\"target\" must be an array of 3 numbers");
+            std::array<float, 3> t{};
+            for (size_t i = 0; i < 3; ++i) t[i] = float(cameraNumber(value[i], key));
+            c.target = t;
+        } else if (key == "up") {
+            if (!value.is_string() || !isUpAxis(value.get<std::string>()))
+                notCamera("\"up\" must be \"x\", \"-x\", \"y\", \"-y\", \"z\" or \"-z\"");
+            c.up = value.get<std::string>();
+        } else if (key == "fov_deg") {
+            double f = cameraNumber(value, key);
+            if (!(f >= 1 && f <= 170)) notCamera("\"fov_deg\" must be in [1, 170] degrees");
+            c.fovDeg = float(f);
+        } else if (key == "free_orbit") {
+            if (!value.is_boolean()) notCamera("\"free_orbit\" must be true or false");
+            c.freeOrbit = value.get<bool>();
+        } else {
+            notCamera("unknown key " + ink::quoted(key));
+        }
+    }
+    if (!seen[0] || !seen[1] || !seen[2]) notCamera("it needs \"azimuth_deg\", \"elevation_deg\" and \"distance\"");
+    return c;
+}
+
+std::string cameraJson(const CameraText& c) {
+    auto rounded = [](float v) { return std::round(double(v) * 1e4) / 1e4 + 0.0; };  // + 0.0: no "-0.0"
+    const std::array<float, 3> target = c.target.value_or(std::array<float, 3>{0, 0, 0});
+    nlohmann::ordered_json j = {{"azimuth_deg", rounded(c.azimuthDeg)},
+                                {"elevation_deg", rounded(c.elevationDeg)},
+                                {"distance", rounded(c.distance)},
+                                {"target", {rounded(target[0]), rounded(target[1]), rounded(target[2])}},
+                                {"up", c.up.value_or("y")},
+                                {"fov_deg", rounded(c.fovDeg.value_or(40.0f))},
+                                {"free_orbit", c.freeOrbit.value_or(false)}};
+    return j.dump();
 }
 
 }  // namespace app

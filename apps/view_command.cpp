@@ -148,16 +148,30 @@ bool sameRefinement(const ink::RefineOptions& a, const ink::RefineOptions& b) {
            a.distribution == b.distribution;
 }
 
-// A new refinement, made on a worker thread while the window keeps handling events. The frames stop meanwhile:
-// the device runs one queue in order, so a frame submitted after the refinement would wait for it anyway, and
-// the worker has the queue and the engine's command pool to itself (Scene::build).
+// The pen-line options a change of which needs the lines traced again (the hatching, or the seeds of both).
+bool sameHatching(const ink::LineOptions& a, const ink::LineOptions& b) {
+    return a.hatching == b.hatching &&
+           (!a.hatching || (a.hatch.spacing == b.hatch.spacing && a.hatch.families == b.hatch.families &&
+                            a.hatch.axis == b.hatch.axis));
+}
+bool sameLines(const ink::LineOptions& a, const ink::LineOptions& b) {
+    return a.contours == b.contours && sameHatching(a, b);
+}
+
+// A new refinement, or new pen lines over the current one, made on a worker thread while the window keeps
+// handling events. The frames stop meanwhile: the device runs one queue in order, so a frame submitted after the
+// refinement would wait for it anyway, and the worker has the queue and the engine's command pool to itself
+// (Scene::build, Scene::traceLines).
 struct RefineJob {
+    bool refine = true;  // new point sets; else only the pen lines of the current ones
     DrawStyle style;
     ink::RefineOptions options;
+    ink::LineOptions lines;
     std::thread thread;
-    std::atomic<bool> finished{false};
+    std::atomic<bool> finished{false}, tracing{false};
     std::atomic<uint32_t> permille{0};
     ink::Scene::Sets sets;  // the rest is written by the worker before `finished`, read after
+    ink::Scene::TracedLines traced;
     uint64_t points = 0;
     double seconds = 0;
     std::string error;
@@ -202,8 +216,16 @@ private:
     VkExtent2D drawingExtent() const;
     bool panelDrawn() const;
     void buildPanel(double frameMs);
+    // Whether the options ask for other point sets or pen lines than those drawn.
+    bool stale() const {
+        return o_.style != appliedStyle_ || !sameRefinement(o_.refine, appliedRefine_) ||
+               !sameLines(o_.lines, appliedLines_);
+    }
     void startRefinement();
     void finishRefinement();
+    void applyLines(ink::Scene::TracedLines traced);  // new pen lines, and a renderer over them
+    void copyCamera();
+    void pasteCamera();
     void savePng(const std::string& path, uint32_t width, uint32_t height);
     void say(const std::string& line, bool error);
     void updateTitle(double averageMs);
@@ -236,6 +258,7 @@ private:
     glm::vec3 tracedEye_{NAN}, previousEye_{NAN};  // where the contours were traced from; the last frame's eye
     DrawStyle appliedStyle_;
     ink::RefineOptions appliedRefine_;
+    ink::LineOptions appliedLines_;
     float toneGamma_;  // what T restores
     size_t light_ = 0;
     double lastX_ = 0, lastY_ = 0;
@@ -258,6 +281,7 @@ Viewer::Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene
       home_(camera_),
       appliedStyle_(o.style),
       appliedRefine_(o.refine),
+      appliedLines_(o.lines),
       toneGamma_(o.render.toneGamma > 0 ? o.render.toneGamma : 1.5f) {
     try {
         format_ = ink::chooseSurfaceFormat(ctx, surface);
@@ -353,12 +377,18 @@ void Viewer::onKey(int key, int scancode, int action, int mods) {
             break;
         case GLFW_KEY_1:
             o_.style = DrawStyle::Stipple;
+            s.drawDots = true;
+            restyle_ = true;
             break;
         case GLFW_KEY_2:
             o_.style = DrawStyle::Direction;
+            s.drawDots = true;
+            restyle_ = true;
             break;
         case GLFW_KEY_3:
             o_.style = DrawStyle::Both;
+            s.drawDots = true;
+            restyle_ = true;
             break;
         case GLFW_KEY_EQUAL:  // '+' is shift+'=' on most layouts; '=' alone counts too
         case GLFW_KEY_KP_ADD:
@@ -412,8 +442,14 @@ void Viewer::onKey(int key, int scancode, int action, int mods) {
         case GLFW_KEY_S:
             screenshotKey_ = true;
             break;
+        case GLFW_KEY_C:  // ctrl + C, ctrl + V: the camera as text on the clipboard (docs/viewer.md)
+            if (mods & GLFW_MOD_CONTROL) copyCamera();
+            break;
         case GLFW_KEY_V:
-            vectorKey_ = true;
+            if (mods & GLFW_MOD_CONTROL)
+                pasteCamera();
+            else
+                vectorKey_ = true;
             break;
         case GLFW_KEY_R:
             camera_ = home_;
@@ -427,7 +463,7 @@ void Viewer::onKey(int key, int scancode, int action, int mods) {
         default:
             break;
     }
-    if (o_.style != appliedStyle_ || !sameRefinement(o_.refine, appliedRefine_)) rerefine_ = true;
+    if (stale()) rerefine_ = true;
 }
 
 void Viewer::onChar(unsigned int c) {
@@ -488,13 +524,22 @@ bool Viewer::ensureSwapchain() {
     return true;
 }
 
-// Starts a new refinement for the style and refinement options asked for, on a worker thread.
+// Starts a new refinement for the style and refinement options asked for, or new pen lines over the current
+// one, on a worker thread. Contours switched on or off over lines already traced need no tracing: at once.
 void Viewer::startRefinement() {
     rerefine_ = false;
+    const bool refine = o_.style != appliedStyle_ || !sameRefinement(o_.refine, appliedRefine_);
+    if (!refine && sameHatching(o_.lines, appliedLines_) && (appliedLines_.any() || !o_.lines.any())) {
+        applyLines({o_.lines, scene_.samples, scene_.hatching, scene_.hatchStats, scene_.hatchSeconds});
+        say(std::string("contours ") + (o_.lines.contours ? "on" : "off"), false);
+        return;
+    }
     job_ = std::make_unique<RefineJob>();
     RefineJob* job = job_.get();
+    job->refine = refine;
     job->style = o_.style;
     job->options = o_.refine;
+    job->lines = o_.lines;
     job->thread = std::thread([this, job] {
         const size_t sets = job->style == DrawStyle::Both ? 2 : 1;
         size_t setsDone = 0;
@@ -508,10 +553,14 @@ void Viewer::startRefinement() {
         ink::ScopedReporter scoped(reporter);
         try {
             auto start = Clock::now();
-            job->sets = scene_.build(job->style, job->options);
-            job->seconds = secondsSince(start);
-            for (auto& set : job->sets)
-                for (const ink::LevelStats& l : ink::readLevelStats(ctx_, set->gpu())) job->points += l.kept;
+            if (job->refine) {
+                job->sets = scene_.build(job->style, job->options);
+                job->seconds = secondsSince(start);
+                for (auto& set : job->sets)
+                    for (const ink::LevelStats& l : ink::readLevelStats(ctx_, set->gpu())) job->points += l.kept;
+            }
+            job->tracing = true;
+            job->traced = scene_.traceLines(job->refine ? job->sets : scene_.sets, job->lines);
         } catch (const std::exception& e) {
             job->sets.clear();  // before the main thread touches the device again
             job->error = e.what();
@@ -521,36 +570,97 @@ void Viewer::startRefinement() {
     });
 }
 
-// Swaps in the finished refinement (or, if it failed, says why and keeps the drawing as it was).
+// New pen lines: the renderer holds the old strokes' descriptors, so it is made again over the new ones.
+void Viewer::applyLines(ink::Scene::TracedLines traced) {
+    VK_CHECK(vkDeviceWaitIdle(ctx_.device));
+    renderer_.reset();
+    appliedLines_ = traced.options;
+    scene_.setLines(std::move(traced));
+    renderer_ = std::make_unique<ink::PointRenderer>(ctx_, scene_.pointers(), format_.format, kFramesInFlight,
+                                                     scene_.strokes.get());
+    tracedEye_ = glm::vec3(NAN);
+    restyle_ = true;  // the new renderer's style block is empty
+}
+
+// Swaps in the finished refinement or lines (or, if it failed, says why and keeps the drawing as it was).
 void Viewer::finishRefinement() {
     job_->thread.join();
     std::unique_ptr<RefineJob> job = std::move(job_);
     for (const std::string& line : job->notes) ink::note(line);
     if (!job->error.empty()) {
         // Too many points for this device, say: keep viewing what was there.
-        say(job->error + "; keeping " + ink::drawStyleName(appliedStyle_) + " at " +
-                std::to_string(appliedRefine_.levels) + " levels",
-            true);
         o_.style = appliedStyle_;
         o_.refine = appliedRefine_;
+        o_.lines = appliedLines_;
+        say(job->error + "; keeping " + styleName(o_) + " at " + std::to_string(appliedRefine_.levels) + " levels",
+            true);
         return;
     }
-    VK_CHECK(vkDeviceWaitIdle(ctx_.device));
-    renderer_.reset();  // it holds descriptors of the old refinement's buffers
-    scene_.replace(std::move(job->sets), job->seconds, o_.lines);
-    appliedStyle_ = job->style;
-    appliedRefine_ = job->options;
-    renderer_ = std::make_unique<ink::PointRenderer>(ctx_, scene_.pointers(), format_.format, kFramesInFlight,
-                                                     scene_.strokes.get());
-    tracedEye_ = glm::vec3(NAN);
-    points_ = job->points;
-    restyle_ = true;  // the new renderer's style block is empty
-    char line[160];
-    std::snprintf(line, sizeof line, "refined %s at %u levels in %.2f s: %llu points",
-                  ink::drawStyleName(appliedStyle_), appliedRefine_.levels, job->seconds, (unsigned long long)points_);
-    say(line, false);
+    std::string message;
+    if (job->refine) {
+        VK_CHECK(vkDeviceWaitIdle(ctx_.device));
+        renderer_.reset();  // it holds descriptors of the old refinement's buffers
+        scene_.replace(std::move(job->sets), job->seconds, ink::Scene::TracedLines{});
+        appliedStyle_ = job->style;
+        appliedRefine_ = job->options;
+        points_ = job->points;
+        char line[160];
+        std::snprintf(line, sizeof line, "refined %s at %u levels in %.2f s: %llu points",
+                      ink::drawStyleName(appliedStyle_), appliedRefine_.levels, job->seconds,
+                      (unsigned long long)points_);
+        message = line;
+    }
+    if (job->traced.options.hatching) {
+        char line[120];
+        std::snprintf(line, sizeof line, "%shatching traced in %.2f s: %zu strokes", message.empty() ? "" : "; ",
+                      job->traced.seconds, job->traced.hatching.size());
+        message += line;
+    } else if (!job->refine) {
+        message = std::string("pen lines: ") + (job->lines.contours ? "contours" : "none");
+    }
+    applyLines(std::move(job->traced));
+    say(message, false);
     // Changed again while it ran: once more.
-    if (o_.style != appliedStyle_ || !sameRefinement(o_.refine, appliedRefine_)) rerefine_ = true;
+    if (stale()) rerefine_ = true;
+}
+
+// The camera as one line of JSON on the clipboard (parseCameraText reads it, and `--camera` options, back).
+void Viewer::copyCamera() {
+    CameraText c;
+    c.azimuthDeg = camera_.azimuthDeg;
+    c.elevationDeg = camera_.elevationDeg;
+    c.distance = camera_.distance;
+    c.target = std::array<float, 3>{camera_.target.x, camera_.target.y, camera_.target.z};
+    c.up = ink::upAxisName(o_.render.up);
+    c.fovDeg = camera_.fovyDeg;
+    c.freeOrbit = camera_.freeOrbit;
+    const std::string text = cameraJson(c);
+    glfwSetClipboardString(window_, text.c_str());
+    say("copied the camera " + text, false);
+}
+
+// The clipboard's camera, if it holds one; else the panel says why and the camera stays.
+void Viewer::pasteCamera() {
+    const char* clipboard = glfwGetClipboardString(window_);
+    try {
+        if (!clipboard) throw ink::Error("the clipboard holds no text");
+        const CameraText c = parseCameraText(clipboard);
+        if (c.up) {
+            o_.render.up = ink::parseUpAxis(*c.up);
+            home_.up = o_.render.up;
+            restyle_ = true;  // the light is given about the up axis
+        }
+        camera_.up = o_.render.up;
+        if (c.freeOrbit) camera_.freeOrbit = *c.freeOrbit;
+        camera_.azimuthDeg = c.azimuthDeg;
+        camera_.elevationDeg = camera_.freeOrbit ? c.elevationDeg : std::clamp(c.elevationDeg, -89.0f, 89.0f);
+        camera_.distance = std::clamp(c.distance, 0.1f, 50.0f);
+        if (c.target) camera_.target = glm::vec3((*c.target)[0], (*c.target)[1], (*c.target)[2]);
+        if (c.fovDeg) camera_.fovyDeg = std::clamp(*c.fovDeg, 10.0f, 100.0f);
+        say("pasted the camera", false);
+    } catch (const ink::Error& e) {
+        say(std::string("camera not pasted: ") + e.what(), true);
+    }
 }
 
 // The panel's notes go to its last line and, as the viewer's other notes, to the terminal.
@@ -580,6 +690,7 @@ void Viewer::buildPanel(double frameMs) {
     info.frameMs = frameMs;
     info.refining = rerefine_ || job_;
     info.refineProgress = job_ ? job_->permille / 1000.0 : 0.0;
+    info.task = job_ && job_->tracing ? "tracing the lines" : "refining";
     info.message = message_;
     info.screenshotPath = v_.screenshot.empty() ? "inkwell-view-N.png (the first free N)" : v_.screenshot;
     info.drawing = drawingExtent();
@@ -590,6 +701,8 @@ void Viewer::buildPanel(double frameMs) {
     if (a.rerefine) rerefine_ = true;
     if (a.upChanged) camera_.up = home_.up = o_.render.up;
     if (a.resetCamera) camera_ = home_;
+    if (a.copyCamera) copyCamera();
+    if (a.pasteCamera) pasteCamera();
     if (a.saveScreenshot) screenshotKey_ = true;
     if (a.savePng && !job_) {
         try {
@@ -615,7 +728,7 @@ void Viewer::buildPanel(double frameMs) {
             loadPreset(o_, a.presetPath);
             camera_.up = home_.up = o_.render.up;
             restyle_ = true;
-            if (o_.style != appliedStyle_ || !sameRefinement(o_.refine, appliedRefine_)) rerefine_ = true;
+            if (stale()) rerefine_ = true;
             say("loaded preset " + a.presetPath, false);
         } catch (const ink::Error& e) {
             say(e.what(), true);
@@ -760,6 +873,7 @@ void Viewer::saveVector() {
     uint32_t frame = (current_ + kFramesInFlight - 1) % kFramesInFlight;  // drawFrame moved on past it
     writeVectorView(*renderer_, frame, path, o_.page);
     std::printf("view: saved %s\n", path.c_str());
+    std::fflush(stdout);  // scripts wait for it
 }
 
 std::string Viewer::nextDrawingPath() const {
@@ -772,7 +886,7 @@ std::string Viewer::nextDrawingPath() const {
 void Viewer::updateTitle(double averageMs) {
     char title[256];
     std::snprintf(title, sizeof(title), "inkwell view - %s - %s, %u levels - %llu points - %.1f ms",
-                  std::filesystem::path(o_.model).filename().c_str(), ink::drawStyleName(o_.style), o_.refine.levels,
+                  std::filesystem::path(o_.model).filename().c_str(), styleName(o_).c_str(), o_.refine.levels,
                   (unsigned long long)points_, averageMs);
     glfwSetWindowTitle(window_, title);
 }
@@ -789,8 +903,12 @@ ViewResult Viewer::run() {
             if (!job_->finished) {
                 glfwWaitEventsTimeout(0.1);
                 char title[256];
-                std::snprintf(title, sizeof title, "inkwell view - %s - refining %d%%",
-                              std::filesystem::path(o_.model).filename().c_str(), int(job_->permille / 10));
+                if (job_->tracing)
+                    std::snprintf(title, sizeof title, "inkwell view - %s - tracing the lines",
+                                  std::filesystem::path(o_.model).filename().c_str());
+                else
+                    std::snprintf(title, sizeof title, "inkwell view - %s - refining %d%%",
+                                  std::filesystem::path(o_.model).filename().c_str(), int(job_->permille / 10));
                 glfwSetWindowTitle(window_, title);
                 continue;
             }
@@ -828,6 +946,7 @@ ViewResult Viewer::run() {
         }
         if (!screenshot.empty()) {
             std::printf("view: saved %s\n", screenshot.c_str());
+            std::fflush(stdout);  // scripts wait for it
             screenshotKey_ = false;
             savedLast = last;
         }

@@ -42,6 +42,7 @@ constexpr const char* kHelp[][2] = {
     {"L", "the next light direction"},
     {"S", "screenshot of the drawing"},
     {"V", "the drawing's marks as SVG (--vector)"},
+    {"ctrl + C / ctrl + V", "copy / paste the camera"},
     {"R", "reset the camera"},
     {"Tab", "hide/show this panel"},
     {"F1", "this help"},
@@ -62,6 +63,19 @@ bool sliderOnRelease(const char* label, uint32_t& value, int lo, int hi, int& ed
     editing = ImGui::IsItemActive() ? v : -1;
     if (done && uint32_t(v) != value) {
         value = uint32_t(v);
+        return true;
+    }
+    return false;
+}
+
+// The same for a float, on a logarithmic scale.
+bool sliderOnRelease(const char* label, double& value, float lo, float hi, const char* format, float& editing) {
+    float v = editing >= 0 ? editing : float(value);
+    ImGui::SliderFloat(label, &v, lo, hi, format, ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic);
+    bool done = ImGui::IsItemDeactivatedAfterEdit();
+    editing = ImGui::IsItemActive() ? v : -1;
+    if (done && double(v) != value) {
+        value = double(v);
         return true;
     }
     return false;
@@ -282,16 +296,48 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
     ImGui::Text("%.1f ms a frame, drawing %u x %u", info.frameMs, info.drawing.width, info.drawing.height);
     if (info.refining) {
         char text[64];
-        std::snprintf(text, sizeof text, "refining %d%%", int(100 * info.refineProgress));
-        ImGui::ProgressBar(float(info.refineProgress), ImVec2(-1, 0), text);
+        if (std::string(info.task) == "refining") {
+            std::snprintf(text, sizeof text, "refining %d%%", int(100 * info.refineProgress));
+            ImGui::ProgressBar(float(info.refineProgress), ImVec2(-1, 0), text);
+        } else {  // the tracing says nothing of its progress: a bar that runs along
+            ImGui::ProgressBar(float(std::fmod(ImGui::GetTime() / 2.0, 1.0)), ImVec2(-1, 0), info.task);
+        }
     }
 
     ink::RenderStyle& s = o.render;
     if (ImGui::CollapsingHeader("Style", ImGuiTreeNodeFlags_DefaultOpen)) {
-        int style = int(o.style);
-        if (ImGui::Combo("style", &style, "stipple\0direction\0both\0")) {
-            o.style = DrawStyle(style);
-            a.rerefine = true;
+        // The style's parts: the dots (none: the stipple set only gives the lines their depth) and the pen lines.
+        int dots = s.drawDots ? int(o.style) + 1 : 0;
+        if (ImGui::Combo("dots", &dots, "none\0stipple\0direction\0both\0")) {
+            s.drawDots = dots > 0;
+            const DrawStyle style = dots > 0 ? DrawStyle(dots - 1) : DrawStyle::Stipple;
+            a.rerefine = style != o.style;
+            o.style = style;
+            a.restyle = true;
+        }
+        bool contours = o.lines.contours, hatching = o.lines.hatching;
+        a.rerefine |= ImGui::Checkbox("contours", &contours);
+        ImGui::SameLine();
+        a.rerefine |= ImGui::Checkbox("hatching", &hatching);
+        if (contours != o.lines.contours || hatching != o.lines.hatching) {
+            o.lines.contours = contours;
+            o.lines.hatching = hatching;
+            if (!s.drawDots && !o.lines.any()) {  // something is drawn: the stipples back
+                s.drawDots = true;
+                a.restyle = true;
+            }
+        }
+        if (o.lines.hatching) {
+            a.rerefine |= sliderOnRelease("hatch spacing", o.lines.hatch.spacing, 0.002f, 0.05f, "%.4f", spacingEdit_);
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("of the finest hatching, a fraction of the diagonal");
+            int families = int(o.lines.hatch.families);
+            ImGui::RadioButton("one family", &families, 1);
+            ImGui::SameLine();
+            ImGui::RadioButton("crossed", &families, 2);
+            if (uint32_t(families) != o.lines.hatch.families) {
+                o.lines.hatch.families = uint32_t(families);
+                a.rerefine = true;
+            }
         }
         a.rerefine |= sliderOnRelease("levels", o.refine.levels, 0, 8, levelsEdit_);
         if (o.style != DrawStyle::Direction) {
@@ -329,9 +375,27 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
         changed |=
             ImGui::SliderFloat("silhouette (px)", &s.silhouetteSize, 0.5f, 8.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
         changed |= ImGui::SliderFloat("tau (silhouette)", &s.tau, 0.0f, 0.9f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+        if (o.lines.contours) {
+            changed |=
+                ImGui::SliderFloat("contour pen (px)", &s.penWidth, 0.25f, 12.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+            changed |= ImGui::SliderFloat("halo (px)", &s.haloWidth, 0.0f, 16.0f, "%.1f", ImGuiSliderFlags_AlwaysClamp);
+        }
+        if (o.lines.hatching)
+            changed |=
+                ImGui::SliderFloat("hatch pen (px)", &s.hatchWidth, 0.25f, 8.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
         changed |= ImGui::Checkbox("hidden lines", &s.hiddenLines);
         ImGui::SameLine();
         changed |= ImGui::Checkbox("occlusion", &s.occlusion);
+        if (s.hiddenLines) {
+            changed |= ImGui::SliderFloat("hidden dots (px)", &s.hiddenSize, 0.25f, 8.0f, "%.2f",
+                                          ImGuiSliderFlags_AlwaysClamp);
+            if (o.lines.contours)
+                changed |= ImGui::SliderFloat("hidden pen (px)", &s.hiddenPenWidth, 0.25f, 8.0f, "%.2f",
+                                              ImGuiSliderFlags_AlwaysClamp);
+            changed |=
+                ImGui::SliderFloat("hidden ink", &s.hiddenInk.a, 0.05f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("how much of the ink the hidden lines take (opacity)");
+        }
         // The light as two angles: around the view axis from straight ahead, and up from the horizon.
         glm::vec3 l = glm::normalize(s.light);
         float azimuth = glm::degrees(std::atan2(l.x, l.z)), elevation = glm::degrees(std::asin(l.y));
@@ -349,13 +413,15 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
             changed = true;
         }
         changed |= ImGui::ColorEdit3("paper", &s.paper.x, colour);
-        a.restyle = changed;
+        a.restyle |= changed;
     }
     if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
         int mode = camera.freeOrbit ? 1 : 0;
         ImGui::RadioButton("turntable", &mode, 0);
         ImGui::SameLine();
         ImGui::RadioButton("free", &mode, 1);
+        ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 70);
+        if (ImGui::Button("reset (R)")) a.resetCamera = true;
         if ((mode == 1) != camera.freeOrbit) {
             camera.freeOrbit = mode == 1;
             if (!camera.freeOrbit) {  // back onto the turntable: the nearest view with the up axis up
@@ -380,14 +446,19 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
             ImGui::DragFloat("elevation", &camera.elevationDeg, 0.5f, -89.0f, 89.0f, "%.1f deg",
                              ImGuiSliderFlags_AlwaysClamp);
         ImGui::DragFloat("distance", &camera.distance, 0.01f, 0.1f, 50.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
-        if (ImGui::Button("reset (R)")) a.resetCamera = true;
+        if (ImGui::Button("copy camera")) a.copyCamera = true;
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("the camera as JSON on the clipboard (ctrl + C)");
         ImGui::SameLine();
-        if (ImGui::Button("copy as options")) {
+        if (ImGui::Button("paste camera")) a.pasteCamera = true;
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("the clipboard's camera: JSON or --camera options (ctrl + V)");
+        ImGui::SameLine();
+        if (ImGui::Button("as options")) {
             char text[160];
             std::snprintf(text, sizeof text, "--camera %.2f %.2f %.3f --up %s", camera.azimuthDeg, camera.elevationDeg,
                           camera.distance, ink::upAxisName(s.up));
             ImGui::SetClipboardText(text);
         }
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("--camera AZ EL DIST --up AXIS on the clipboard, for render");
     }
     if (ImGui::CollapsingHeader("Save", ImGuiTreeNodeFlags_DefaultOpen)) {
         if (pngPath_.empty() && !ImGui::IsAnyItemActive()) pngPath_ = info.pngPath;

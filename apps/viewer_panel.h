@@ -18,19 +18,20 @@ struct PanelInfo {
     std::string model;
     size_t controlPoints = 0;
     uint64_t points = 0;
-    double frameMs = 0;          // averaged over the last half second
-    bool refining = false;       // a new refinement is being made (the settings that need one wait)
-    double refineProgress = 0;   // 0..1
-    std::string message;         // the last thing done or refused ("saved x.png", an error)
-    std::string screenshotPath;  // the S key's next file
-    std::string pngPath;         // the PNG file the panel offers first
-    VkExtent2D drawing{0, 0};    // the drawing's size in the window
+    double frameMs = 0;             // averaged over the last half second
+    bool refining = false;          // a new refinement is being made (the settings that need one wait)
+    double refineProgress = 0;      // 0..1
+    const char* task = "refining";  // or "tracing the lines" (no progress to show)
+    std::string message;            // the last thing done or refused ("saved x.png", an error)
+    std::string screenshotPath;     // the S key's next file
+    std::string pngPath;            // the PNG file the panel offers first
+    VkExtent2D drawing{0, 0};       // the drawing's size in the window
 
     bool operator==(const PanelInfo& o) const {
         return model == o.model && controlPoints == o.controlPoints && points == o.points && frameMs == o.frameMs &&
-               refining == o.refining && refineProgress == o.refineProgress && message == o.message &&
-               screenshotPath == o.screenshotPath && pngPath == o.pngPath && drawing.width == o.drawing.width &&
-               drawing.height == o.drawing.height;
+               refining == o.refining && refineProgress == o.refineProgress && std::string(task) == o.task &&
+               message == o.message && screenshotPath == o.screenshotPath && pngPath == o.pngPath &&
+               drawing.width == o.drawing.width && drawing.height == o.drawing.height;
     }
 };
 
@@ -39,8 +40,9 @@ struct PanelActions {
     bool restyle = false;   // a drawing setting changed: upload the style
     bool rerefine = false;  // style, levels, passes, direction or distribution changed: refine again
     bool resetCamera = false;
-    bool upChanged = false;  // the up axis changed (the camera's and the home view's)
-    bool savePng = false;    // pngPath (.png, .svg or .pdf) at pngSize, as `inkwell render` draws it
+    bool copyCamera = false, pasteCamera = false;  // the camera as text on the clipboard, or from it
+    bool upChanged = false;                        // the up axis changed (the camera's and the home view's)
+    bool savePng = false;  // pngPath (.png, .svg or .pdf) at pngSize, as `inkwell render` draws it
     bool saveScreenshot = false;
     bool savePreset = false, loadPreset = false;  // presetPath
     std::string pngPath, presetPath;
@@ -117,6 +119,7 @@ private:
     int pngSize_[2] = {0, 0};
     float toneGamma_ = 1.5f;                 // what the tone checkbox restores
     int levelsEdit_ = -1, passesEdit_ = -1;  // while their sliders are held
+    float spacingEdit_ = -1;
     int framesToBuild_ = 3;
     PanelInfo builtInfo_;
     double builtAt_ = 0;

@@ -40,24 +40,46 @@ void Scene::replace(Sets newSets, double seconds, const LineOptions& l) {
     vkDeviceWaitIdle(ctx.device);  // a frame in flight may still read the old sets
     sets = std::move(newSets);
     refineSeconds = seconds;
-    lines = l;
+    setLines(traceLines(sets, l));
+}
 
-    samples.clear();
-    hatching.clear();
+void Scene::replace(Sets newSets, double seconds, TracedLines traced) {
+    vkDeviceWaitIdle(ctx.device);
+    sets = std::move(newSets);
+    refineSeconds = seconds;
+    setLines(std::move(traced));
+}
+
+Scene::TracedLines Scene::traceLines(const Sets& from, const LineOptions& l) const {
+    TracedLines t;
+    t.options = l;
+    if (!l.any() || from.empty()) return t;
+    auto start = std::chrono::steady_clock::now();
+    for (const PointRecord& p : readDrawnPoints(ctx, from.front()->gpu()))
+        t.samples.push_back({Eigen::Vector3d(p.position[0], p.position[1], p.position[2]),
+                             Eigen::Vector3d(p.normal[0], p.normal[1], p.normal[2])});
+    if (l.hatching) t.hatching = traceHatching(model.surface, t.samples, l.hatch, &t.hatchStats);
+    t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return t;
+}
+
+void Scene::setLines(TracedLines traced) {
+    vkDeviceWaitIdle(ctx.device);  // a frame in flight may still read the old strokes
+    lines = traced.options;
+    samples = std::move(traced.samples);
+    hatching = std::move(traced.hatching);
+    hatchStats = traced.hatchStats;
     contours.clear();
     if (!lines.any()) {
         strokes.reset();
+        hatchSeconds = 0;
         return;
     }
     auto start = std::chrono::steady_clock::now();
     if (!strokes) strokes = std::make_unique<StrokeBuffers>(ctx);
-    for (const PointRecord& p : readDrawnPoints(ctx, sets.front()->gpu()))
-        samples.push_back({Eigen::Vector3d(p.position[0], p.position[1], p.position[2]),
-                           Eigen::Vector3d(p.normal[0], p.normal[1], p.normal[2])});
-    if (lines.hatching) hatching = traceHatching(model.surface, samples, lines.hatch, &hatchStats);
     strokes->set(StrokeBuffers::Hatching, hatching);
     strokes->set(StrokeBuffers::Contours, {});
-    hatchSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    hatchSeconds = traced.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void Scene::traceContours(const Camera& camera) {

@@ -43,6 +43,22 @@ public:
     using Sets = std::vector<std::unique_ptr<Refinement>>;
     Sets build(DrawStyle style, const RefineOptions& options) const;
     void replace(Sets newSets, double seconds, const LineOptions& lines = {});
+
+    // The pen lines in two halves too. traceLines does the CPU work for `from` (the current sets or new ones from
+    // build): the seeds read back from its first set, and the hatching traced; it may run on the same worker
+    // thread as build, under the same rules. setLines puts what it traced in place (waits for the device to be
+    // idle; the contour is traced again by the next traceContours). replace(sets, seconds, lines) is
+    // replace(sets, seconds, traceLines(sets, lines)).
+    struct TracedLines {
+        LineOptions options;
+        std::vector<SurfaceSample> samples;
+        std::vector<PenStroke> hatching;
+        HatchStats hatchStats;
+        double seconds = 0;  // wall clock
+    };
+    TracedLines traceLines(const Sets& from, const LineOptions& lines) const;
+    void replace(Sets newSets, double seconds, TracedLines traced);
+    void setLines(TracedLines traced);
     // Traces the occluding contour seen from `camera` (nothing without LineOptions::contours) and replaces the
     // contour strokes on the device (waits for it to be idle).
     void traceContours(const Camera& camera);

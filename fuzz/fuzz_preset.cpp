@@ -1,4 +1,5 @@
-// libFuzzer target: app::parsePreset, the style preset reader (apps/preset.cpp). See docs/robustness.md.
+// libFuzzer target: app::parsePreset, the style preset reader, and app::parseCameraText, the viewer's pasted
+// camera (apps/preset.cpp). See docs/robustness.md.
 // ink::Error is the answer to a bad preset; anything else (a JSON exception escaping, a crash, a sanitizer
 // report, a value outside what the command line accepts) is a finding.
 #include "common.h"
@@ -22,8 +23,25 @@ bool inRange(const std::optional<float>& v, float lo, float hi) { return !v || (
 
 }  // namespace
 
+// A camera read from the clipboard: refused with ink::Error, or finite with a distance in (0.05, 100), and written
+// back as text that reads back to the same text.
+static void camera(const std::string& bytes) {
+    app::CameraText c;
+    try {
+        c = app::parseCameraText(bytes);
+    } catch (const ink::Error& e) {
+        if (std::string(e.what()).empty()) broken("an empty error message");
+        return;
+    }
+    if (!std::isfinite(c.azimuthDeg) || !std::isfinite(c.elevationDeg)) broken("camera angles not finite");
+    if (!(c.distance >= 0.05f && c.distance <= 100)) broken("camera distance outside [0.05, 100]");
+    const std::string text = app::cameraJson(c);
+    if (app::cameraJson(app::parseCameraText(text)) != text) broken("camera text does not read back to itself");
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::string bytes(reinterpret_cast<const char*>(data), size);
+    camera(bytes);
     app::Preset p;
     try {
         p = app::parsePreset(bytes, "fuzz.json");

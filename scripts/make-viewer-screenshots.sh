@@ -39,15 +39,27 @@ quit
 # The engraving preset loaded from the panel: typed into its preset field, then "load preset".
 cp "$OLDPWD/assets/presets/engraving.json" .
 start "$OLDPWD/assets/bunny.obj" --control-points 684
-xdotool mousemove --window "$wid" 780 668 click 1
+xdotool mousemove --window "$wid" 780 688 click 1
 sleep 0.5
 hold ctrl+a
 xdotool type --delay 50 engraving.json
 hold Return
-xdotool mousemove --window "$wid" 754 688 click 1
+xdotool mousemove --window "$wid" 754 708 click 1
 timeout 120 bash -c 'until grep -q "refined both" log.txt; do sleep 0.2; done'
 xdotool mousemove --window "$wid" 300 700
 sleep 2
 import -window "$wid" "$out/viewer-engraving.png"
 quit
-echo "make-viewer-screenshots: docs/images/viewer-panel.png, viewer-help.png, viewer-engraving.png"
+# Pen lines ticked in the panel: contours, then hatching (traced on the worker thread), with hidden lines.
+start "$OLDPWD/assets/bunny.obj" --control-points 684
+xdotool mousemove --window "$wid" 722 108 click 1
+timeout 120 bash -c 'until grep -q "pen lines: contours" log.txt; do sleep 0.2; done'
+xdotool mousemove --window "$wid" 805 108 click 1
+timeout 120 bash -c 'until grep -q "hatching traced" log.txt; do sleep 0.2; done'
+xdotool mousemove --window "$wid" 300 700
+sleep 1
+hold h
+sleep 2
+import -window "$wid" "$out/viewer-lines.png"
+quit
+echo "make-viewer-screenshots: docs/images/viewer-panel.png, viewer-help.png, viewer-engraving.png, viewer-lines.png"

@@ -200,13 +200,13 @@ hold() { xdotool keydown $1; sleep 0.5; xdotool keyup $1; sleep 0.5; }
 at() { xdotool mousemove --window $wid $1 $2; sleep 0.5; }
 await() { for i in $(seq 200); do grep -q "$1" log.txt && return; sleep 0.2; done; }
 # dot size 6: ctrl + click on the slider to type a value
-at 800 248; xdotool keydown ctrl; sleep 0.5; xdotool click 1; sleep 0.5; xdotool keyup ctrl; sleep 0.5
+at 800 268; xdotool keydown ctrl; sleep 0.5; xdotool click 1; sleep 0.5; xdotool keyup ctrl; sleep 0.5
 xdotool type --delay 100 6; hold Return
 # ink #c03020: into the hex field, all of it replaced
-at 780 388; xdotool click 1; sleep 0.5; hold ctrl+a; xdotool type --delay 100 C03020; hold Return
+at 780 408; xdotool click 1; sleep 0.5; hold ctrl+a; xdotool type --delay 100 C03020; hold Return
 # save PNG, then SVG
-at 743 648; xdotool click 1; await 'saved inkwell-drawing-1.png'
-at 798 648; xdotool click 1; await 'saved inkwell-drawing-1.svg'
+at 743 668; xdotool click 1; await 'saved inkwell-drawing-1.png'
+at 798 668; xdotool click 1; await 'saved inkwell-drawing-1.svg'
 # + over the drawing: a level more, refined on the worker thread
 at 300 300; hold plus; await 'refined stipple at 3 levels'
 hold q
@@ -267,6 +267,98 @@ wait $pid; echo "exit $?" >> log.txt
     CHECK(shot.height == 768);
     CHECK(onlyPaperAndInk(shot, {0xc0, 0x30, 0x20}));
     CHECK(inkedPixels(shot) > inked);  // more stipples at 3 levels than at 2, as large
+}
+
+// Pixels that differ by more than 8 in a channel.
+size_t differentPixels(const ink::RgbaImage& a, const ink::RgbaImage& b) {
+    size_t n = 0;
+    for (size_t i = 0; i < a.pixels.size(); i += 4)
+        for (int c = 0; c < 3; ++c)
+            if (std::abs(int(a.pixels[i + c]) - int(b.pixels[i + c])) > 8) {
+                ++n;
+                break;
+            }
+    return n;
+}
+
+TEST_CASE("viewer: the camera copied and pasted through the clipboard, and pen lines ticked in the panel") {
+    if (std::system("command -v xdotool > /dev/null 2>&1") != 0)
+        FAIL("xdotool is not installed: the panel test needs it (apt-get install xdotool)");
+    TempDir dir("inkwell-viewer-camera");
+    // Window coordinates in the default 1024 x 768 window (docs/viewer.md's first screenshot): the "contours" and
+    // "hatching" checkboxes, the file field, the "copy camera" and "paste camera" buttons. S saves the drawing as
+    // inkwell-view-N.png.
+    std::string script = R"(set -u
+cd '{dir}'
+timeout 150 {inkwell} view {bunny} --camera 120 30 1.3 --validation > log.txt 2>&1 &
+pid=$!
+wid=$(timeout 60 xdotool search --sync --onlyvisible --name 'inkwell view')
+timeout 60 xdotool search --sync --onlyvisible --name ' ms$' > /dev/null
+xdotool windowfocus --sync $wid
+hold() { xdotool keydown $1; sleep 0.5; xdotool keyup $1; sleep 0.5; }
+at() { xdotool mousemove --window $wid $1 $2; sleep 0.5; }
+await() { for i in $(seq 300); do grep -q "$1" log.txt && return; sleep 0.2; done; echo "no '$1'" >> log.txt; }
+# A file name on the clipboard (copied out of the file field): "paste camera" refuses it
+at 780 628; xdotool click 1; sleep 0.5; hold ctrl+a; hold ctrl+c; hold Return
+at 850 588; xdotool click 1; await 'camera not pasted'
+# "copy camera", then orbit by dragging over the drawing, and save that view
+at 755 588; xdotool click 1; await 'copied the camera'
+at 300 300; xdotool mousedown 1; sleep 0.3
+for x in 330 360 390 420; do xdotool mousemove --window $wid $x 340; sleep 0.2; done
+xdotool mouseup 1; sleep 0.5
+hold s; await 'saved inkwell-view-1.png'
+# ctrl + V over the drawing: the copied camera again
+at 300 300; hold ctrl+v; await 'pasted the camera'
+hold s; await 'saved inkwell-view-2.png'
+# contours, then hatching: new lines on the worker thread
+at 722 108; xdotool click 1; await 'pen lines: contours'
+at 805 108; xdotool click 1; await 'hatching traced'
+at 300 300; sleep 1; hold s; await 'saved inkwell-view-3.png'
+hold q
+wait $pid; echo "exit $?" >> log.txt
+)";
+    auto replace = [&script](const std::string& token, const std::string& value) {
+        script.replace(script.find(token), token.size(), value);
+    };
+    replace("{dir}", dir.path.string());
+    replace("{inkwell}", INKWELL_BINARY);
+    replace("{bunny}", kBunny);
+    dir.write("drive.sh", script);
+    Run r = shell("xvfb-run -a -n 220 -s \"-screen 0 1280x1024x24\" bash '" + (dir / "drive.sh") + "'");
+    std::string log = runShell("cat '" + (dir / "log.txt") + "'").output;
+    INFO(r.output);
+    INFO(log);
+    REQUIRE(r.status == 0);
+    CHECK(log.find("validation error") == std::string::npos);
+    CHECK(log.find("note: camera not pasted: not a camera: expected a JSON object or --camera AZ EL DIST [--up "
+                   "AXIS], not 'inkwell-drawing-1.png'") != std::string::npos);
+    CHECK(log.find("view: copied the camera {\"azimuth_deg\":120.0,\"elevation_deg\":30.0,\"distance\":1.3,"
+                   "\"target\":[0.0,0.0,0.0],\"up\":\"y\",\"fov_deg\":40.0,\"free_orbit\":false}\n") !=
+          std::string::npos);
+    CHECK(log.find("view: pasted the camera\n") != std::string::npos);
+    CHECK(log.find("view: pen lines: contours\n") != std::string::npos);
+    CHECK(log.find("view: hatching traced in ") != std::string::npos);
+    CHECK(log.find("exit 0") != std::string::npos);
+
+    // What render draws from the copied camera, with the stipples and then with the pen lines too.
+    const std::string render =
+        INKWELL_BINARY " render " + std::string(kBunny) + " --camera 120 30 1.3 --size 704 768 --supersample 1 -o ";
+    REQUIRE(shell(render + dir / "copied.png").status == 0);
+    REQUIRE(shell(render + dir / "lines.png --style stipple+contours+hatching").status == 0);
+    ink::RgbaImage orbited = ink::readPng(dir / "inkwell-view-1.png");
+    ink::RgbaImage pasted = ink::readPng(dir / "inkwell-view-2.png");
+    ink::RgbaImage lined = ink::readPng(dir / "inkwell-view-3.png");
+    ink::RgbaImage copied = ink::readPng(dir / "copied.png"), lines = ink::readPng(dir / "lines.png");
+    for (const ink::RgbaImage* image : {&orbited, &pasted, &lined, &copied, &lines}) {
+        REQUIRE(image->width == 704);
+        REQUIRE(image->height == 768);
+    }
+    // The drag moved the camera away from the copied one; the paste brought it back.
+    CHECK(differentPixels(orbited, copied) > inkedPixels(copied) / 2);
+    CHECK(differentPixels(pasted, copied) <= inkedPixels(copied) / 20);
+    // The pen lines ticked in the panel are render's --style stipple+contours+hatching.
+    CHECK(inkedPixels(lined) > inkedPixels(pasted) * 5 / 4);
+    CHECK(differentPixels(lined, lines) <= inkedPixels(lines) / 20);
 }
 
 TEST_CASE("viewer: without a display it says so in one line and exits 1") {
