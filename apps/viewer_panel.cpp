@@ -371,10 +371,13 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
             changed |=
                 ImGui::SliderFloat("ink density", &s.inkDensity, 0.0f, 4.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
         }
-        changed |= ImGui::SliderFloat("dot size (px)", &s.frontSize, 0.5f, 8.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
-        changed |=
-            ImGui::SliderFloat("silhouette (px)", &s.silhouetteSize, 0.5f, 8.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
-        changed |= ImGui::SliderFloat("tau (silhouette)", &s.tau, 0.0f, 0.9f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+        if (s.drawDots) {  // the dots' own settings
+            changed |=
+                ImGui::SliderFloat("dot size (px)", &s.frontSize, 0.5f, 8.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+            changed |= ImGui::SliderFloat("silhouette (px)", &s.silhouetteSize, 0.5f, 8.0f, "%.2f",
+                                          ImGuiSliderFlags_AlwaysClamp);
+            changed |= ImGui::SliderFloat("tau (silhouette)", &s.tau, 0.0f, 0.9f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+        }
         if (o.lines.contours) {
             changed |=
                 ImGui::SliderFloat("contour pen (px)", &s.penWidth, 0.25f, 12.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
@@ -387,8 +390,9 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
         ImGui::SameLine();
         changed |= ImGui::Checkbox("occlusion", &s.occlusion);
         if (s.hiddenLines) {
-            changed |= ImGui::SliderFloat("hidden dots (px)", &s.hiddenSize, 0.25f, 8.0f, "%.2f",
-                                          ImGuiSliderFlags_AlwaysClamp);
+            if (s.drawDots)
+                changed |= ImGui::SliderFloat("hidden dots (px)", &s.hiddenSize, 0.25f, 8.0f, "%.2f",
+                                              ImGuiSliderFlags_AlwaysClamp);
             if (o.lines.contours)
                 changed |= ImGui::SliderFloat("hidden pen (px)", &s.hiddenPenWidth, 0.25f, 8.0f, "%.2f",
                                               ImGuiSliderFlags_AlwaysClamp);
