@@ -175,14 +175,8 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
                                          {11, sb, r.puCoarse.buffer}});
     r.descriptors = createDescriptorSet(ctx, bindings, VK_SHADER_STAGE_COMPUTE_BIT);
     r.layout = createPipelineLayout(ctx, r.descriptors.layout, sizeof(LevelParams), VK_SHADER_STAGE_COMPUTE_BIT);
-    // Lavapipe (llvmpipe, subgroups of 8) sums the patches with shared loads; every other device per invocation.
-    const bool lavapipe = ctx.driverId == VK_DRIVER_ID_MESA_LLVMPIPE && ctx.subgroupSize == 8;
-    r.sharedKernel =
-        !global && ctx.subgroupSize == 8 &&
-        (options.kernel == SurfaceKernel::SubgroupShared || (options.kernel == SurfaceKernel::Auto && lavapipe));
-    const uint32_t lanes[1] = {r.sharedKernel ? 8u : 0u};
     r.refine = global ? createComputePipeline(ctx, r.layout, spv_refine_global_comp)
-                      : createComputePipeline(ctx, r.layout, spv_refine_comp, lanes);
+                      : createComputePipeline(ctx, r.layout, spv_refine_comp);
     r.scan = createComputePipeline(ctx, r.layout, spv_scan_comp);
     r.compact = createComputePipeline(ctx, r.layout, spv_compact_comp);
 

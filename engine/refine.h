@@ -24,7 +24,6 @@ struct GpuRefinement {
     RefineOptions options;
     Buffer hrbfHeader, hrbf, points, candidates, flags, blocks, levels, indirect, seeds;
     Buffer puPatches, puNodes, puCells, puCoarse;  // the partition of unity (hrbfHeader is its header then)
-    bool sharedKernel = false;                     // SurfaceKernel::SubgroupShared in use
     DescriptorSet descriptors;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline refine = VK_NULL_HANDLE, scan = VK_NULL_HANDLE, compact = VK_NULL_HANDLE;

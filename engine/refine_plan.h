@@ -18,9 +18,6 @@ enum class SeedMode { ControlPoints, Grid };
 // What a stippling refinement draws: the stipples selected from its points with blue-noise spacing and
 // progressive ranks (select.h), or all its points with the report's random tone values.
 enum class Distribution { BlueNoise, Refinement };
-// How the device sums the partition of unity's patches (pu_hrbf.glsl): Auto picks SubgroupShared on lavapipe
-// (llvmpipe, subgroups of 8), where it is faster, and PerInvocation everywhere else. Tests force each.
-enum class SurfaceKernel { Auto, PerInvocation, SubgroupShared };
 
 struct RefineOptions {
     SampleStyle style = SampleStyle::Stipple;
@@ -47,7 +44,6 @@ struct RefineOptions {
     bool keepAllLevels = true;
     Distribution distribution = Distribution::BlueNoise;  // stippling only; direction sampling draws its points
     float candidatesPerStipple = 4.0f;  // for BlueNoise: the selection keeps about one candidate in this many
-    SurfaceKernel kernel = SurfaceKernel::Auto;
     bool selects() const { return style == SampleStyle::Stipple && distribution == Distribution::BlueNoise; }
 };
 

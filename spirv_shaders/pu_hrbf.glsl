@@ -4,20 +4,12 @@
 //   w_i = W(‖q‖), W(d) = (1 − d)⁴ (4d + 1);  w_c = τ (1 − S/τ)³ for S = Σ w_i < τ
 // The local coefficients are of order one, so float keeps |f|/‖∇f‖ within ~1e-8 of the diagonal (docs/fitting.md).
 //
-// Two ways to sum the patches, chosen per device by the specialization constant PU_LANES:
-//   0 (GPUs): each invocation walks the patches of its own grid cell and their nodes.
-//   8 (lavapipe, subgroups of 8): llvmpipe loads a buffer element at a loop-counter index as a per-lane gather,
-//     so the subgroup shares the loads: for each grid cell its invocations occupy, invocation c loads nodes
-//     j ≡ c (mod 8) and evaluates them against the 8 invocations' points; subgroupAdd sums them at the end.
+// Each invocation walks the patches of its own grid cell and their nodes. On lavapipe too: a kernel whose
+// subgroup of 8 shared the node loads (each lane loading every eighth node and evaluating it against all 8
+// points) was slower than this loop with patches of 8-24 nodes, 1.6x on the bunny and 2.7x on the armadillo
+// (docs/performance.md), and was removed.
 #ifndef PU_HRBF_GLSL
 #define PU_HRBF_GLSL
-
-#extension GL_KHR_shader_subgroup_ballot : require
-#extension GL_KHR_shader_subgroup_arithmetic : require
-#extension GL_KHR_shader_subgroup_shuffle : require
-#extension GL_EXT_control_flow_attributes : require
-
-layout(constant_id = 0) const uint PU_LANES = 0u;
 
 layout(std140, binding = 0) uniform PuHeader {
     vec4 origin;        // xyz: the grid's corner; w: 1 / cell side
@@ -99,8 +91,8 @@ float puFinish(vec3 x, float S, vec3 dS, float N, vec3 dN, out vec3 grad) {
     return F;
 }
 
-// Per invocation: the patches of x's cell, each with its nodes.
-float puEvalEach(vec3 x, out vec3 grad) {
+// F and ∇F: the patches of x's cell, each with its nodes.
+float puEval(vec3 x, out vec3 grad) {
     float S = 0.0, N = 0.0;
     vec3 dS = vec3(0.0), dN = vec3(0.0);
     int cell = puCell(x);
@@ -126,94 +118,7 @@ float puEvalEach(vec3 x, out vec3 grad) {
     return puFinish(x, S, dS, N, dN, grad);
 }
 
-// Subgroups of 8 sharing the node loads (see the top). Call only from subgroup-uniform control flow.
-float puEvalShared(vec3 x, out vec3 grad) {
-    const uint L = 8u;
-    uint lane = gl_SubgroupInvocationID;
-    int myCell = puCell(x);
-    vec3 X[L];
-    int C[L];
-    float Nf[L];  // this invocation's nodes' share of N = Σ w_i R_i h_i, for each lane's point
-    vec3 NG[L];   // and of ∇N = Σ (R_i h_i ∇w_i + w_i ∇h_i)
-    [[unroll]] for (uint l = 0u; l < L; ++l) {
-        X[l] = vec3(subgroupShuffle(x.x, l), subgroupShuffle(x.y, l), subgroupShuffle(x.z, l));
-        C[l] = subgroupShuffle(myCell, l);
-        Nf[l] = 0.0;
-        NG[l] = vec3(0.0);
-    }
-    // The weights and the linear terms, each lane for its own point.
-    float S = 0.0, N = 0.0;
-    vec3 dS = vec3(0.0), dN = vec3(0.0);
-    uint base = puCellCount() + 1u;
-    bool done = false;
-    // One pass per distinct cell among the subgroup's points; a point takes the patches of its own cell only.
-    while (true) {
-        uvec4 open = subgroupBallot(!done);
-        if (open == uvec4(0u)) break;
-        int cell = subgroupShuffle(myCell, subgroupBallotFindLSB(open));
-        done = done || myCell == cell;
-        if (cell < 0) continue;
-        uint k1 = puCells[cell + 1];
-        for (uint k = puCells[cell]; k < k1; ++k) {
-            PuPatch P = puPatches[puCells[base + k]];
-            float R = P.centerRadius.w;
-            vec3 c = P.centerRadius.xyz;
-            float W[L];
-            vec3 DW[L];
-            bool any = false;
-            [[unroll]] for (uint l = 0u; l < L; ++l) {
-                vec3 q = (X[l] - c) / R;
-                W[l] = 0.0;
-                DW[l] = vec3(0.0);
-                if (C[l] == cell && dot(q, q) < 1.0) {
-                    W[l] = puWeight(q, R, DW[l]);
-                    any = true;
-                }
-            }
-            if (!any) continue;
-            vec3 q = (x - c) / R;
-            if (myCell == cell && dot(q, q) < 1.0) {
-                vec3 dw;
-                float w = puWeight(q, R, dw), lin = R * (dot(P.linear.xyz, q) + P.linear.w);
-                S += w;
-                dS += dw;
-                N += w * lin;
-                dN += lin * dw + w * P.linear.xyz;
-            }
-            for (uint j0 = 0u; j0 < P.range.y; j0 += L) {
-                uint j = P.range.x + j0 + lane;
-                bool real = j0 + lane < P.range.y;
-                vec4 pa = real ? puNodes[2u * j] : vec4(0.0);
-                vec3 beta = real ? puNodes[2u * j + 1u].xyz : vec3(0.0);
-                [[unroll]] for (uint l = 0u; l < L; ++l) {
-                    if (W[l] == 0.0 && DW[l] == vec3(0.0)) continue;
-                    float h = 0.0;
-                    vec3 g = vec3(0.0);
-                    puNode((X[l] - c) / R, pa, beta, h, g);
-                    Nf[l] += W[l] * R * h;
-                    NG[l] += R * h * DW[l] + W[l] * g;
-                }
-            }
-        }
-    }
-    [[unroll]] for (uint l = 0u; l < L; ++l) {
-        float nl = subgroupAdd(Nf[l]);
-        vec3 gl = vec3(subgroupAdd(NG[l].x), subgroupAdd(NG[l].y), subgroupAdd(NG[l].z));
-        if (lane == l) {
-            N += nl;
-            dN += gl;
-        }
-    }
-    return puFinish(x, S, dS, N, dN, grad);
-}
-
-// F and ∇F. With PU_LANES = 8, call only from subgroup-uniform control flow.
-float puEval(vec3 x, out vec3 grad) {
-    if (PU_LANES == 8u && gl_SubgroupSize == 8u) return puEvalShared(x, grad);
-    return puEvalEach(x, grad);
-}
-
-// F, ∇F and the Hessian HF = (HN − ∇F ∇Sᵀ − ∇S ∇Fᵀ − F HS) / S. Per invocation, callable anywhere.
+// F, ∇F and the Hessian HF = (HN − ∇F ∇Sᵀ − ∇S ∇Fᵀ − F HS) / S.
 float puEvalHessian(vec3 x, out vec3 grad, out mat3 H) {
     float S = 0.0, N = 0.0;
     vec3 dS = vec3(0.0), dN = vec3(0.0);

@@ -225,31 +225,26 @@ TEST_CASE("refine: the portable CPU kernel (what ARM64 runs) gives the AVX2 kern
     CHECK(double(same) / double(best.size()) > 0.999);
 }
 
-TEST_CASE("refine: the patches summed per invocation and shared across a subgroup both match the CPU reference") {
-    // The device picks the subgroup-shared sum on lavapipe and the per-invocation one elsewhere (pu_hrbf.glsl);
-    // each is forced here, on any device (the shared one needs subgroups of 8 and falls back otherwise).
+TEST_CASE("refine: the partition of unity in float matches the CPU reference, the Hessian's directions too") {
     GpuFixture gpu;
     ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {400});
     REQUIRE(model.surface.method == ink::FitMethod::PartitionOfUnity);
-    for (auto kernel : {ink::SurfaceKernel::PerInvocation, ink::SurfaceKernel::SubgroupShared}) {
-        CAPTURE(int(kernel));
-        for (auto style : {ink::SampleStyle::Stipple, ink::SampleStyle::Direction}) {
-            ink::RefineOptions options;
-            options.kernel = kernel;
-            options.style = style;
-            options.direction = ink::DirectionField::CurvatureMax;  // the Hessian too
-            options.levels = 2;
-            auto [refined, close] = compareWithCpu(gpu, model.surface, options, 1e-4f, 0.999f);
-            CHECK(close > 0.99);
-            // On the surface, as the double-precision model measures it.
-            double worst = 0;
-            for (const auto& p : refined.points) {
-                Eigen::Vector3d x(p.position[0], p.position[1], p.position[2]), g;
-                double f = model.surface.eval(x, g);
-                worst = std::max(worst, std::abs(f) / g.norm());
-            }
-            CHECK(worst < 2e-5);  // ε₁ = 1e-5 of the diagonal, and float rounding of the stored position
+    for (auto style : {ink::SampleStyle::Stipple, ink::SampleStyle::Direction}) {
+        CAPTURE(int(style));
+        ink::RefineOptions options;
+        options.style = style;
+        options.direction = ink::DirectionField::CurvatureMax;  // the Hessian too
+        options.levels = 2;
+        auto [refined, close] = compareWithCpu(gpu, model.surface, options, 1e-4f, 0.999f);
+        CHECK(close > 0.99);
+        // On the surface, as the double-precision model measures it.
+        double worst = 0;
+        for (const auto& p : refined.points) {
+            Eigen::Vector3d x(p.position[0], p.position[1], p.position[2]), g;
+            double f = model.surface.eval(x, g);
+            worst = std::max(worst, std::abs(f) / g.norm());
         }
+        CHECK(worst < 2e-5);  // ε₁ = 1e-5 of the diagonal, and float rounding of the stored position
     }
     gpu.requireNoValidationErrors();
 }
