@@ -182,23 +182,46 @@ size_t inkedPixels(const ink::RgbaImage& image) {
     return n;
 }
 
-TEST_CASE("viewer: settings typed into the panel show in its saved PNG and the screenshot, the panel never does") {
-    if (std::system("command -v xdotool > /dev/null 2>&1") != 0)
-        FAIL("xdotool is not installed: the panel test needs it (apt-get install xdotool)");
-    TempDir dir("inkwell-viewer-panel");
-    // The panel's layout in the default 1024 x 768 window (the screenshot in docs/viewer.md): window coordinates
-    // of the dot size slider, the ink's hex field and the "save PNG" and "SVG" buttons. Keys are held for half a
-    // second: ImGui 1.86 sees a key that is down when a frame starts.
+// Runs `inkwell view VIEW_ARGS --validation` under Xvfb in `dir` and drives it with xdotool: STEPS is bash with
+// hold KEY (held half a second: ImGui 1.86 sees a key that is down when a frame starts), at X Y (the pointer to
+// window coordinates) and await TEXT (until the log shows it) defined; q then ends the viewer. Returns the
+// viewer's log (stdout and stderr) with "exit N" appended; the driver's own status and output go into `driver`.
+std::string driveViewer(TempDir& dir, const std::string& viewArgs, int display, const std::string& steps, Run& driver) {
     std::string script = R"(set -u
 cd '{dir}'
-timeout 120 {inkwell} view {bunny} --screenshot shot.png --validation > log.txt 2>&1 &
+timeout 150 {inkwell} view {args} --validation > log.txt 2>&1 &
 pid=$!
 wid=$(timeout 60 xdotool search --sync --onlyvisible --name 'inkwell view')
 timeout 60 xdotool search --sync --onlyvisible --name ' ms$' > /dev/null
 xdotool windowfocus --sync $wid
 hold() { xdotool keydown $1; sleep 0.5; xdotool keyup $1; sleep 0.5; }
 at() { xdotool mousemove --window $wid $1 $2; sleep 0.5; }
-await() { for i in $(seq 200); do grep -q "$1" log.txt && return; sleep 0.2; done; }
+await() { for i in $(seq 300); do grep -q "$1" log.txt && return; sleep 0.2; done; echo "no '$1'" >> log.txt; }
+{steps}
+hold q
+wait $pid; echo "exit $?" >> log.txt
+)";
+    auto replace = [&script](const std::string& token, const std::string& value) {
+        script.replace(script.find(token), token.size(), value);
+    };
+    replace("{dir}", dir.path.string());
+    replace("{inkwell}", INKWELL_BINARY);
+    replace("{args}", viewArgs);
+    replace("{steps}", steps);
+    dir.write("drive.sh", script);
+    driver = shell("xvfb-run -a -n " + std::to_string(display) + " -s \"-screen 0 1280x1024x24\" bash '" +
+                   (dir / "drive.sh") + "'");
+    return runShell("cat '" + (dir / "log.txt") + "'").output;
+}
+
+TEST_CASE("viewer: settings typed into the panel show in its saved PNG and the screenshot, the panel never does") {
+    if (std::system("command -v xdotool > /dev/null 2>&1") != 0)
+        FAIL("xdotool is not installed: the panel test needs it (apt-get install xdotool)");
+    TempDir dir("inkwell-viewer-panel");
+    // The panel's layout in the default 1024 x 768 window (the screenshot in docs/viewer.md): window coordinates
+    // of the dot size slider, the ink's hex field and the "save PNG" and "SVG" buttons.
+    Run r;
+    const std::string log = driveViewer(dir, std::string(kBunny) + " --screenshot shot.png", 200, R"(
 # dot size 6: ctrl + click on the slider to type a value
 at 800 268; xdotool keydown ctrl; sleep 0.5; xdotool click 1; sleep 0.5; xdotool keyup ctrl; sleep 0.5
 xdotool type --delay 100 6; hold Return
@@ -208,19 +231,8 @@ at 780 408; xdotool click 1; sleep 0.5; hold ctrl+a; xdotool type --delay 100 C0
 at 743 668; xdotool click 1; await 'saved inkwell-drawing-1.png'
 at 798 668; xdotool click 1; await 'saved inkwell-drawing-1.svg'
 # + over the drawing: a level more, refined on the worker thread
-at 300 300; hold plus; await 'refined stipple at 3 levels'
-hold q
-wait $pid; echo "exit $?" >> log.txt
-)";
-    auto replace = [&script](const std::string& token, const std::string& value) {
-        script.replace(script.find(token), token.size(), value);
-    };
-    replace("{dir}", dir.path.string());
-    replace("{inkwell}", INKWELL_BINARY);
-    replace("{bunny}", kBunny);
-    dir.write("drive.sh", script);
-    Run r = shell("xvfb-run -a -n 200 -s \"-screen 0 1280x1024x24\" bash '" + (dir / "drive.sh") + "'");
-    std::string log = runShell("cat '" + (dir / "log.txt") + "'").output;
+at 300 300; hold plus; await 'refined stipple at 3 levels')",
+                                        r);
     INFO(r.output);
     INFO(log);
     REQUIRE(r.status == 0);
@@ -288,16 +300,8 @@ TEST_CASE("viewer: the camera copied and pasted through the clipboard, and pen l
     // Window coordinates in the default 1024 x 768 window (docs/viewer.md's first screenshot): the "contours" and
     // "hatching" checkboxes, the file field, the "copy camera" and "paste camera" buttons. S saves the drawing as
     // inkwell-view-N.png.
-    std::string script = R"(set -u
-cd '{dir}'
-timeout 150 {inkwell} view {bunny} --camera 120 30 1.3 --validation > log.txt 2>&1 &
-pid=$!
-wid=$(timeout 60 xdotool search --sync --onlyvisible --name 'inkwell view')
-timeout 60 xdotool search --sync --onlyvisible --name ' ms$' > /dev/null
-xdotool windowfocus --sync $wid
-hold() { xdotool keydown $1; sleep 0.5; xdotool keyup $1; sleep 0.5; }
-at() { xdotool mousemove --window $wid $1 $2; sleep 0.5; }
-await() { for i in $(seq 300); do grep -q "$1" log.txt && return; sleep 0.2; done; echo "no '$1'" >> log.txt; }
+    Run r;
+    const std::string log = driveViewer(dir, std::string(kBunny) + " --camera 120 30 1.3", 220, R"(
 # A file name on the clipboard (copied out of the file field): "paste camera" refuses it
 at 780 628; xdotool click 1; sleep 0.5; hold ctrl+a; hold ctrl+c; hold Return
 at 850 588; xdotool click 1; await 'camera not pasted'
@@ -313,19 +317,8 @@ hold s; await 'saved inkwell-view-2.png'
 # contours, then hatching: new lines on the worker thread
 at 722 108; xdotool click 1; await 'pen lines: contours'
 at 805 108; xdotool click 1; await 'hatching traced'
-at 300 300; sleep 1; hold s; await 'saved inkwell-view-3.png'
-hold q
-wait $pid; echo "exit $?" >> log.txt
-)";
-    auto replace = [&script](const std::string& token, const std::string& value) {
-        script.replace(script.find(token), token.size(), value);
-    };
-    replace("{dir}", dir.path.string());
-    replace("{inkwell}", INKWELL_BINARY);
-    replace("{bunny}", kBunny);
-    dir.write("drive.sh", script);
-    Run r = shell("xvfb-run -a -n 220 -s \"-screen 0 1280x1024x24\" bash '" + (dir / "drive.sh") + "'");
-    std::string log = runShell("cat '" + (dir / "log.txt") + "'").output;
+at 300 300; sleep 1; hold s; await 'saved inkwell-view-3.png')",
+                                        r);
     INFO(r.output);
     INFO(log);
     REQUIRE(r.status == 0);
