@@ -432,7 +432,9 @@ json fitJson(const ink::Model& m) {
                         {"min_points", m.patches.minPatch},
                         {"max_points", m.patches.maxPatch},
                         {"mean_points", m.patches.meanPatch},
-                        {"far_field_points", m.patches.coarsePoints}};
+                        {"far_field_points", m.patches.coarsePoints},
+                        {"grid_cells", m.patches.gridCells},
+                        {"grid_entries", m.patches.gridEntries}};
     return j;
 }
 

@@ -125,6 +125,16 @@ TEST_CASE("cli: sample writes ranked stipples as a binary PLY in the input's uni
     std::ifstream js(stats);
     nlohmann::json j = nlohmann::json::parse(js);
     CHECK(j["control_points"] == 64);
+    // The partition of unity: interpolating in float, its patches of 8-24 points, each listed in the device's
+    // look-up grid at least once.
+    CHECK(j["fit"]["method"] == "pu");
+    CHECK(j["fit"]["max_distance"].get<double>() < 1e-6);
+    const auto& patches = j["fit"]["patches"];
+    CHECK(patches["count"].get<size_t>() > 1);
+    CHECK(patches["min_points"].get<size_t>() >= 8);
+    CHECK(patches["max_points"].get<size_t>() <= 24);
+    CHECK(patches["grid_cells"].get<size_t>() > 1);
+    CHECK(patches["grid_entries"].get<size_t>() >= patches["count"].get<size_t>());
     CHECK(j["refine"]["points"] == count);
     CHECK(j["refine"]["levels"].size() == 4);
     CHECK(j["select"]["candidates"].get<size_t>() > 3 * count);
