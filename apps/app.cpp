@@ -116,6 +116,14 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
     cmd->add_flag("--light-follows-camera", s.lightFollowsCamera,
                   "Keep the light fixed to the camera instead (the shading, and the dots, change as it moves)");
     cmd->add_flag("--hidden-lines", s.hiddenLines, "Draw occluded silhouettes faint");
+    cmd->add_option("--hidden-dot-size", s.hiddenSize, "With --hidden-lines: hidden silhouette dot diameter in pixels")
+        ->capture_default_str();
+    cmd->add_option("--hidden-contour-width", s.hiddenPenWidth,
+                    "With --hidden-lines: hidden contour pen width in pixels")
+        ->capture_default_str();
+    cmd->add_option("--hidden-opacity", s.hiddenInk.a,
+                    "With --hidden-lines: how much of the ink the hidden lines take, 0-1 (over the paper)")
+        ->capture_default_str();
     cmd->add_flag("!--no-occlusion", s.occlusion, "Skip the splat depth pre-pass (dots behind the surface show)");
     cmd->add_option("--supersample", s.supersample, "Render this many times larger and filter down (1-4)")
         ->check(CLI::Range(1u, 4u))
@@ -166,6 +174,9 @@ static void applyPreset(Options& o) {
     set(o.render.toneGamma, p.tone, "--tone");
     set(o.render.inkDensity, p.inkDensity, "--ink-density");
     set(o.render.hiddenLines, p.hiddenLines, "--hidden-lines");
+    set(o.render.hiddenSize, p.hiddenDotSize, "--hidden-dot-size");
+    set(o.render.hiddenPenWidth, p.hiddenContourWidth, "--hidden-contour-width");
+    set(o.render.hiddenInk.a, p.hiddenOpacity, "--hidden-opacity");
     set(o.up, p.up, "--up");
     set(o.light, p.light, "--light");
     set(o.refine.levels, p.levels, "--levels");
@@ -253,7 +264,7 @@ void finishOptions(Options& o) {
         o.distribution == "refinement" ? ink::Distribution::Refinement : ink::Distribution::BlueNoise;
     o.render.ink = parseColour(o.ink, "ink");
     o.render.paper = parseColour(o.paper, "paper");
-    o.render.hiddenInk = glm::vec4(glm::vec3(o.render.ink), ink::RenderStyle{}.hiddenInk.a);
+    o.render.hiddenInk = glm::vec4(glm::vec3(o.render.ink), o.render.hiddenInk.a);  // --hidden-opacity
     try {
         o.render.up = ink::parseUpAxis(o.up);
     } catch (const ink::Error& e) {
@@ -265,11 +276,13 @@ void finishOptions(Options& o) {
             throw ink::Error("--light must be a non-zero vector");
         o.render.light = l;
     }
-    for (float v : {o.render.frontSize, o.render.silhouetteSize})
+    for (float v : {o.render.frontSize, o.render.silhouetteSize, o.render.hiddenSize})
         if (!(v > 0 && v <= 64)) throw ink::Error("dot sizes must be in (0, 64] pixels");
     if (!(o.render.tau >= 0 && o.render.tau < 1)) throw ink::Error("--tau must be in [0, 1)");
-    for (float v : {o.render.penWidth, o.render.hatchWidth})
+    for (float v : {o.render.penWidth, o.render.hatchWidth, o.render.hiddenPenWidth})
         if (!(v > 0 && v <= 32)) throw ink::Error("pen widths must be in (0, 32] pixels");
+    if (!(o.render.hiddenInk.a >= 0 && o.render.hiddenInk.a <= 1))
+        throw ink::Error("--hidden-opacity must be in [0, 1]");
     if (!(o.render.haloWidth >= 0 && o.render.haloWidth <= 32)) throw ink::Error("--halo must be in [0, 32] pixels");
     if (!(o.lines.hatch.spacing >= 0.001 && o.lines.hatch.spacing <= 0.1))
         throw ink::Error("--hatch-spacing must be in [0.001, 0.1] of the diagonal");
@@ -339,6 +352,9 @@ Preset presetFrom(const Options& o) {
     p.tone = o.render.toneGamma;
     p.inkDensity = o.render.inkDensity;
     p.hiddenLines = o.render.hiddenLines;
+    p.hiddenDotSize = o.render.hiddenSize;
+    p.hiddenContourWidth = o.render.hiddenPenWidth;
+    p.hiddenOpacity = o.render.hiddenInk.a;
     p.light = std::vector<float>{o.render.light.x, o.render.light.y, o.render.light.z};
     p.up = ink::upAxisName(o.render.up);
     p.contourWidth = o.render.penWidth;

@@ -116,7 +116,13 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
         else if (key == "hidden_lines") {
             if (!value.is_boolean()) fail(name, key, "must be true or false");
             p.hiddenLines = value.get<bool>();
-        } else if (key == "light") {
+        } else if (key == "hidden_dot_size")
+            p.hiddenDotSize = ranged(value, name, key, 0, 64, true, false, "(0, 64] pixels");
+        else if (key == "hidden_contour_width")
+            p.hiddenContourWidth = ranged(value, name, key, 0, 32, true, false, "(0, 32] pixels");
+        else if (key == "hidden_opacity")
+            p.hiddenOpacity = ranged(value, name, key, 0, 1, false, false, "[0, 1]");
+        else if (key == "light") {
             if (!value.is_array() || value.size() != 3) fail(name, key, "must be an array of 3 numbers [x, y, z]");
             std::vector<float> l;
             for (const json& v : value) {
@@ -159,6 +165,9 @@ std::string presetJson(const Preset& p) {
     putNumber("tone", p.tone);
     putNumber("ink_density", p.inkDensity);
     put("hidden_lines", p.hiddenLines);
+    putNumber("hidden_dot_size", p.hiddenDotSize);
+    putNumber("hidden_contour_width", p.hiddenContourWidth);
+    putNumber("hidden_opacity", p.hiddenOpacity);
     putNumber("contour_width", p.contourWidth);
     putNumber("hatch_width", p.hatchWidth);
     putNumber("halo", p.halo);

@@ -39,7 +39,10 @@ ink::RenderStyle toStyle(const Look& look) {
     ink::RenderStyle s;
     s.ink = {look.ink[0], look.ink[1], look.ink[2], look.ink[3]};
     s.paper = {look.paper[0], look.paper[1], look.paper[2], look.paper[3]};
-    s.hiddenInk = glm::vec4(glm::vec3(s.ink), ink::RenderStyle{}.hiddenInk.a);
+    if (!(look.hiddenOpacity >= 0 && look.hiddenOpacity <= 1)) throw Error("hiddenOpacity must be in [0, 1]");
+    if (!(look.hiddenDotSize > 0 && look.hiddenDotSize <= 64)) throw Error("hiddenDotSize must be in (0, 64] pixels");
+    s.hiddenInk = glm::vec4(glm::vec3(s.ink), look.hiddenOpacity);
+    s.hiddenSize = look.hiddenDotSize;
     s.frontSize = look.dotSize;
     s.silhouetteSize = look.silhouetteSize;
     s.tau = look.tau;
@@ -50,11 +53,13 @@ ink::RenderStyle toStyle(const Look& look) {
     s.lightFollowsCamera = look.lightFollowsCamera;
     s.supersample = std::max(1u, look.supersample);
     s.drawDots = look.dots;
-    if (!(look.penWidth > 0 && look.penWidth <= 32 && look.hatchWidth > 0 && look.hatchWidth <= 32))
+    if (!(look.penWidth > 0 && look.penWidth <= 32 && look.hatchWidth > 0 && look.hatchWidth <= 32 &&
+          look.hiddenPenWidth > 0 && look.hiddenPenWidth <= 32))
         throw Error("pen widths must be in (0, 32] pixels");
     if (!(look.halo >= 0 && look.halo <= 32)) throw Error("halo must be in [0, 32] pixels");
     s.penWidth = look.penWidth;
     s.hatchWidth = look.hatchWidth;
+    s.hiddenPenWidth = look.hiddenPenWidth;
     s.haloWidth = look.halo;
     return s;
 }

@@ -4,6 +4,7 @@
 #include "inkwell/inkwell.h"
 
 #include "gpu_fixture.h"
+#include "render_style.h"
 #include "resources.h"
 #include "shapes.h"
 
@@ -226,6 +227,22 @@ TEST_CASE("api: a drawing's contour is the sphere's circle seen from the eye, an
     CHECK(inked > 200);  // the circle alone is about 2π·40 pixels of pen
     look.penWidth = 0;
     CHECK_THROWS_WITH_AS(inkwell::Renderer(drawing, 128, 128, look), "pen widths must be in (0, 32] pixels",
+                         inkwell::Error);
+    // The hidden lines' defaults are the engine's (the command line's too).
+    const ink::RenderStyle engine;
+    CHECK(look.hiddenDotSize == engine.hiddenSize);
+    CHECK(look.hiddenPenWidth == engine.hiddenPenWidth);
+    CHECK(look.hiddenOpacity == engine.hiddenInk.a);
+    look.penWidth = 2;
+    look.hiddenPenWidth = 40;
+    CHECK_THROWS_WITH_AS(inkwell::Renderer(drawing, 128, 128, look), "pen widths must be in (0, 32] pixels",
+                         inkwell::Error);
+    look.hiddenPenWidth = 1.2f;
+    look.hiddenOpacity = -0.5f;
+    CHECK_THROWS_WITH_AS(inkwell::Renderer(drawing, 128, 128, look), "hiddenOpacity must be in [0, 1]", inkwell::Error);
+    look.hiddenOpacity = 0.45f;
+    look.hiddenDotSize = 0;
+    CHECK_THROWS_WITH_AS(inkwell::Renderer(drawing, 128, 128, look), "hiddenDotSize must be in (0, 64] pixels",
                          inkwell::Error);
     CHECK(device.validationErrors() == 0);
 }

@@ -263,3 +263,80 @@ TEST_CASE("cli: --up z stands a z-up model up as the y-up original, also from a 
     CHECK(bad.output == "inkwell: --up: up axis 'w' is not one of x, -x, y, -y, z, -z\n");
     fs::remove_all(dir);
 }
+
+TEST_CASE("cli: the hidden lines' dot size, contour width and opacity take effect, from options and a preset") {
+    namespace fs = std::filesystem;
+    fs::path dir = fs::temp_directory_path() / "inkwell-cli-hidden";
+    fs::create_directories(dir);
+    // The torus seen from above: the far side of its hole is hidden.
+    const std::string common =
+        "render " INKWELL_SOURCE_DIR "/tests/golden/torus.pts --levels 3 --camera 20,20,1.4 --size 256 256 -q ";
+    auto render = [&](const std::string& name, const std::string& options) {
+        const std::string out = (dir / (name + ".png")).string();
+        Run r = run(common + options + " -o " + out);
+        REQUIRE_MESSAGE(r.status == 0, r.output);
+        return ink::readPng(out);
+    };
+    // What the hidden lines add over a drawing without them: the pixels they alone ink, the darkest of those,
+    // and the ink added in all (the sum of 255 − red).
+    struct Added {
+        size_t pixels = 0;
+        int darkest = 255;
+        long ink = 0;
+    };
+    auto added = [](const ink::RgbaImage& with, const ink::RgbaImage& without) {
+        Added a;
+        REQUIRE(with.pixels.size() == without.pixels.size());
+        for (size_t i = 0; i < with.pixels.size(); i += 4) {
+            a.ink += long(without.pixels[i]) - long(with.pixels[i]);
+            if (without.pixels[i] == 255 && with.pixels[i] < 255) {
+                ++a.pixels;
+                a.darkest = std::min(a.darkest, int(with.pixels[i]));
+            }
+        }
+        return a;
+    };
+    const ink::RgbaImage none = render("none", "");
+    const Added hidden = added(render("hidden", "--hidden-lines"), none);
+    const Added big = added(render("big", "--hidden-lines --hidden-dot-size 4"), none);
+    const Added black = added(render("black", "--hidden-lines --hidden-opacity 1"), none);
+    const ink::RgbaImage clear = render("clear", "--hidden-lines --hidden-opacity 0");
+    CAPTURE(hidden.pixels);
+    CAPTURE(big.pixels);
+    CAPTURE(hidden.ink);
+    CAPTURE(black.ink);
+    // The default: 1.4 px dots, the ink at 0.45 over white paper: 255 · 0.55 = 140 where a pixel is covered.
+    CHECK(hidden.pixels > 50);
+    CHECK(std::abs(hidden.darkest - 140) <= 1);
+    CHECK(big.pixels > 3 * hidden.pixels);  // 4 px hidden dots cover far more
+    CHECK(std::abs(big.darkest - 140) <= 1);
+    // Opacity 1: the same dots in the ink itself, 1 / 0.45 times the ink; opacity 0: the paper as it was.
+    CHECK(black.pixels == hidden.pixels);
+    CHECK(black.darkest == 0);
+    CHECK(double(black.ink) / double(hidden.ink) == doctest::Approx(1.0 / 0.45).epsilon(0.1));
+    CHECK(clear.pixels == none.pixels);
+
+    // The hidden contours' pen.
+    const ink::RgbaImage visible = render("visible", "--style contours");
+    const Added thin = added(render("thin", "--style contours --hidden-lines"), visible);
+    const Added wide = added(render("wide", "--style contours --hidden-lines --hidden-contour-width 4"), visible);
+    CAPTURE(thin.pixels);
+    CAPTURE(wide.pixels);
+    CHECK(thin.pixels > 30);
+    CHECK(wide.pixels > 2 * thin.pixels);
+    CHECK(std::abs(wide.darkest - 140) <= 1);
+
+    // A preset's keys draw what the options draw.
+    std::ofstream(dir / "p.json") << R"({"style": "stipple+contours", "hidden_lines": true, "hidden_dot_size": 4,
+                                         "hidden_contour_width": 3, "hidden_opacity": 0.8})";
+    const ink::RgbaImage preset = render("preset", "--preset " + (dir / "p.json").string());
+    const ink::RgbaImage options = render("options",
+                                          "--style stipple+contours --hidden-lines --hidden-dot-size 4 "
+                                          "--hidden-contour-width 3 --hidden-opacity 0.8");
+    CHECK(preset.pixels == options.pixels);
+    // and not the defaults: the larger dots and the wider pen ink pixels the default hidden lines leave white.
+    const Added beyond = added(options, render("default", "--style stipple+contours --hidden-lines"));
+    CAPTURE(beyond.pixels);
+    CHECK(beyond.pixels > 50);
+    fs::remove_all(dir);
+}

@@ -197,6 +197,10 @@ TEST_CASE("inputs: a preset's values are checked for type, size and range, namin
         {R"({"hatch_families": 3})", "\"hatch_families\" must be an integer from 1 to 2"},
         {R"({"ink": "#12345"})", "\"ink\" is '#12345', not a colour"},
         {R"({"hidden_lines": 1})", "\"hidden_lines\" must be true or false"},
+        {R"({"hidden_dot_size": 0})", "\"hidden_dot_size\" must be in (0, 64] pixels"},
+        {R"({"hidden_contour_width": 33})", "\"hidden_contour_width\" must be in (0, 32] pixels"},
+        {R"({"hidden_opacity": 1.5})", "\"hidden_opacity\" must be in [0, 1]"},
+        {R"({"hidden_opacity": "faint"})", "\"hidden_opacity\" must be a number"},
         {R"({"shade": 1})", "unknown key 'shade'"},
         {R"([1, 2])", "must be a JSON object"},
     };
@@ -224,7 +228,7 @@ TEST_CASE("inputs: --rho, --control-points, --passes and --grid are refused befo
     CHECK_FALSE(fs::exists(dir / "out.ply"));
 }
 
-TEST_CASE("inputs: --style parts and pen options are refused before the fit, naming what is wrong") {
+TEST_CASE("inputs: --style parts, pen and hidden-line options are refused before the fit, naming what is wrong") {
     TempDir dir;
     const std::string render = "render " + kBunny + " -o " + (dir / "out.png") + " ";
     refused(render + "--style contours+cubist", {"style 'contours+cubist': 'cubist' is not stipple"});
@@ -235,6 +239,12 @@ TEST_CASE("inputs: --style parts and pen options are refused before the fit, nam
     refused(render + "--style hatching --hatch-spacing 0.5", {"--hatch-spacing must be in [0.001, 0.1]"});
     refused(render + "--style hatching --halo -1", {"--halo must be in [0, 32] pixels"});
     refused(render + "--style hatching --hatch-families 3", {"--hatch-families"}, true);
+    refused(render + "--hidden-lines --hidden-dot-size 0", {"dot sizes must be in (0, 64] pixels"});
+    refused(render + "--hidden-lines --hidden-dot-size 65", {"dot sizes must be in (0, 64] pixels"});
+    refused(render + "--style contours --hidden-lines --hidden-contour-width -1",
+            {"pen widths must be in (0, 32] pixels"});
+    refused(render + "--hidden-lines --hidden-opacity 1.5", {"--hidden-opacity must be in [0, 1]"});
+    refused(render + "--hidden-lines --hidden-opacity nan", {"--hidden-opacity must be in [0, 1]"});
     CHECK_FALSE(fs::exists(dir / "out.png"));
 }
 

@@ -18,6 +18,9 @@ TEST_CASE("preset: what presetJson writes, parsePreset reads back to the same va
     p.tone = 2.0f;
     p.inkDensity = 0.8f;
     p.hiddenLines = true;
+    p.hiddenDotSize = 2.25f;
+    p.hiddenContourWidth = 0.8f;
+    p.hiddenOpacity = 0.3f;
     p.light = std::vector<float>{-0.5f, 0.6f, 0.65f};
     p.up = "-z";
     const std::string text = app::presetJson(p);
@@ -34,6 +37,10 @@ TEST_CASE("preset: what presetJson writes, parsePreset reads back to the same va
     CHECK(*q.tone == doctest::Approx(*p.tone));
     CHECK(*q.inkDensity == doctest::Approx(*p.inkDensity));
     CHECK(q.hiddenLines == p.hiddenLines);
+    CHECK(*q.hiddenDotSize == doctest::Approx(*p.hiddenDotSize));
+    CHECK(*q.hiddenContourWidth == doctest::Approx(*p.hiddenContourWidth));
+    CHECK(*q.hiddenOpacity == doctest::Approx(*p.hiddenOpacity));
+    CHECK(text.find("\"hidden_opacity\": 0.3,") != std::string::npos);
     REQUIRE(q.light);
     for (int i = 0; i < 3; ++i) CHECK((*q.light)[i] == doctest::Approx((*p.light)[i]));
     CHECK(q.up == p.up);

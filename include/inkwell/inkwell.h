@@ -246,6 +246,12 @@ struct Look {
     float penWidth = 2.0f;     // contour pen width in output pixels
     float hatchWidth = 1.0f;   // hatching pen width, tapering at the strokes' ends
     float halo = 4.0f;         // paper kept clear each side of an interior contour (Brazil et al. 2011)
+    // With hiddenLines: the hidden silhouette dots' diameter and the hidden contours' pen width in output pixels,
+    // and how much of the ink they take over the paper (0.45: a grey; --hidden-dot-size, --hidden-contour-width,
+    // --hidden-opacity).
+    float hiddenDotSize = 1.4f;
+    float hiddenPenWidth = 1.2f;
+    float hiddenOpacity = 0.45f;
     // Towards the light, x right, y up, z to the viewer, as seen from the default camera; fixed to the model
     // as the camera moves, unless lightFollowsCamera.
     std::array<float, 3> light{-0.5f, 0.6f, 0.65f};
