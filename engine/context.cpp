@@ -216,7 +216,6 @@ static void describeDevice(Context& ctx, bool pickQueueFamily = true) {
     ctx.properties = props2.properties;
     ctx.driverInfo = std::string(driver.driverName) + " " + driver.driverInfo;
     ctx.driverId = driver.driverID;
-    ctx.subgroupSize = subgroup.subgroupSize;
     vkGetPhysicalDeviceMemoryProperties(ctx.physicalDevice, &ctx.memoryProperties);
 
     uint32_t familyCount = 0;

@@ -51,9 +51,8 @@ struct Context {
     VkPhysicalDeviceProperties properties{};
     VkPhysicalDeviceMemoryProperties memoryProperties{};
     std::string driverInfo;  // "Mesa 22.3.6 (LLVM 15.0.6)"
-    VkDriverId driverId{};   // picks device-specific code paths (e.g. lavapipe's in pu_hrbf.glsl)
-    uint32_t subgroupSize = 0;
-    bool float64 = false;  // shaderFloat64 enabled: the global fit's double evaluation can run
+    VkDriverId driverId{};   // picks device-specific code paths (lavapipe's stamped pen lines, strokes.cpp)
+    bool float64 = false;    // shaderFloat64 enabled: the global fit's double evaluation can run
     bool validation = false;
     bool ownsDevice = true;  // false for an adopted device: destroyContext leaves it to its owner
     std::function<void(bool error, const std::string& message)> validationMessage;

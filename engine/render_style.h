@@ -47,4 +47,14 @@ struct RenderStyle {
     uint32_t supersample = 2;  // offscreen: render this many times larger and filter down
 };
 
+// The unit light direction the shaders read: in view space when it follows the camera, else in model space (a
+// light fixed to the model is given as seen from the default camera and turned into model space here).
+inline glm::vec3 shaderLight(const RenderStyle& s) {
+    glm::vec3 l = glm::length(s.light) > 0 ? glm::normalize(s.light) : glm::vec3(0, 0, 1);
+    if (s.lightFollowsCamera) return l;
+    Camera home;
+    home.up = s.up;
+    return glm::transpose(glm::mat3(home.view())) * l;
+}
+
 }  // namespace ink

@@ -142,12 +142,7 @@ void PointRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pi
     b.color[0] = s.ink;
     b.color[1] = s.hiddenInk;
     b.size = glm::vec4(s.silhouetteSize * pixelScale, s.frontSize * pixelScale, s.hiddenSize * pixelScale, s.tau);
-    glm::vec3 l = glm::length(s.light) > 0 ? glm::normalize(s.light) : glm::vec3(0, 0, 1);
-    // A light fixed to the model is given as seen from the default camera, and turned into model space there.
-    Camera home;
-    home.up = s.up;
-    if (!s.lightFollowsCamera) l = glm::transpose(glm::mat3(home.view())) * l;
-    b.light = glm::vec4(l, s.toneGamma);
+    b.light = glm::vec4(shaderLight(s), s.toneGamma);
     b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.drawDots ? 0.0f : 1.0f, 0.0f, 0.0f);
     b.tone = glm::vec4(s.inkDensity, s.ambient, 1.0f, kMaxDotPixels * pixelScale);
     // A frame still in flight may be reading the block: its reads finish before this write.

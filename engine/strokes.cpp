@@ -121,10 +121,7 @@ LineRenderer::LineRenderer(Context& ctx, const StrokeBuffers& strokes, VkFormat 
             createBuffer(ctx, sizeof(LineStyleBlock),
                          VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
         // The set layout every frame's sets share (created alike, hence compatible).
-        VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
-        VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
-        vkGetPhysicalDeviceProperties2(ctx.physicalDevice, &properties);
-        cpuDriver_ = driver.driverID == VK_DRIVER_ID_MESA_LLVMPIPE;
+        cpuDriver_ = ctx.driverId == VK_DRIVER_ID_MESA_LLVMPIPE;
         VkDescriptorSetLayoutBinding bindings[6] = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, kStages, nullptr},
                                                     {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
                                                     {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, kStages, nullptr},
@@ -175,11 +172,7 @@ void LineRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pix
     b.paper = s.paper;
     b.widths = glm::vec4(s.penWidth, s.hiddenPenWidth, s.hatchWidth, s.haloWidth) * pixelScale;
     b.thresholds = s.hatchThresholds;
-    glm::vec3 l = glm::length(s.light) > 0 ? glm::normalize(s.light) : glm::vec3(0, 0, 1);
-    Camera home;
-    home.up = s.up;
-    if (!s.lightFollowsCamera) l = glm::transpose(glm::mat3(home.view())) * l;
-    b.light = glm::vec4(l, s.toneGamma);
+    b.light = glm::vec4(shaderLight(s), s.toneGamma);
     b.tone = glm::vec4(s.inkDensity, s.ambient, s.hatchMinFacing, 0.0f);
     b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.hiddenLines ? 1.0f : 0.0f, 0.0f, 0.0f);
     stageBarrier(cmd,
