@@ -6,7 +6,7 @@
 //
 // Each invocation walks the patches of its own grid cell and their nodes. On lavapipe too: a kernel whose
 // subgroup of 8 shared the node loads (each lane loading every eighth node and evaluating it against all 8
-// points) was slower than this loop with patches of 8-24 nodes, 1.6x on the bunny and 2.7x on the armadillo
+// points) was slower than this loop with patches of 8-24 nodes, 1.8x on the bunny and 2.7x on the armadillo
 // (docs/performance.md), and was removed.
 #ifndef PU_HRBF_GLSL
 #define PU_HRBF_GLSL
