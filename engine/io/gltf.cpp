@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>  // tiny_gltf.h uses it without including it
 #include <limits>
+#include <set>
 #include <string_view>
 
 #define TINYGLTF_IMPLEMENTATION
@@ -66,22 +67,33 @@ std::string percentDecode(std::string_view s) {
     return out;
 }
 
-// What the file system callbacks may read: files in `dir` (absolute), as many bytes in all as `budget`.
+// What the file system callbacks may read: files in `dir` (absolute, with every symbolic link resolved), each
+// at most once, as many bytes in all as `budget`.
 struct Files {
     std::string dir;
     uint64_t budget = kMaxFileBytes;
-    std::string error;  // the first refusal, reported instead of tinygltf's message
+    std::set<std::string> read;  // the canonical paths read so far
+    std::string error;           // the first refusal, reported instead of tinygltf's message
 };
 
-bool inDir(const std::string& path, const Files& files) {
-    return !files.dir.empty() && path.size() > files.dir.size() + 1 &&
-           path.compare(0, files.dir.size(), files.dir) == 0 && path[files.dir.size()] == '/';
+// The path with every symbolic link resolved (in the directories on the way too), or "" when that fails.
+std::string canonical(const std::string& path) {
+    std::error_code ec;
+    std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec);
+    return ec ? std::string() : p.string();
 }
 
-bool fileExists(const std::string& path, void* user) {
-    const Files& files = *static_cast<Files*>(user);
+// Whether `path`, resolved, lies in the glTF file's directory (or below it): a buffer that is a symbolic link
+// to a file elsewhere, or reached through a linked directory, is outside, whatever its name says.
+bool inDir(const std::string& path, const Files& files) {
+    std::string real = canonical(path);
+    return !files.dir.empty() && real.size() > files.dir.size() + 1 &&
+           real.compare(0, files.dir.size(), files.dir) == 0 && real[files.dir.size()] == '/';
+}
+
+bool fileExists(const std::string& path, void*) {
     std::error_code ec;
-    return inDir(path, files) && std::filesystem::is_regular_file(path, ec);
+    return std::filesystem::is_regular_file(path, ec);  // readWholeFile refuses what lies outside, by name
 }
 
 std::string expandPath(const std::string& path, void*) { return path; }  // no ~ or $VAR: the path as named
@@ -89,7 +101,14 @@ std::string expandPath(const std::string& path, void*) { return path; }  // no ~
 bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
     Files& files = *static_cast<Files*>(user);
     try {
-        if (!inDir(path, files)) throw Error("'" + path + "' is outside the glTF file's directory");
+        if (!inDir(path, files))
+            throw Error("'" + path +
+                        "' is outside the glTF file's directory once symbolic links are resolved (buffers are read "
+                        "only from files in it)");
+        // Each file once: one file named by many buffers would be held, and counted, once a buffer.
+        std::string real = canonical(path);
+        if (!files.read.insert(real).second)
+            throw Error("'" + path + "' is named by more than one buffer (each file may be one buffer)");
         std::string bytes = readFileCapped(path, files.budget, "the glTF file's buffers are larger than 2 GiB in all");
         files.budget -= bytes.size();
         out->assign(bytes.begin(), bytes.end());
@@ -456,9 +475,11 @@ OrientedPoints parseGltf(const std::string& bytes, const std::string& name, bool
 
     Files files;
     if (externalFiles) {
+        // The directory the file is in, every link resolved, as the buffers' paths will be: a buffer must
+        // resolve to a file inside it.
         std::error_code ec;
         std::filesystem::path dir = std::filesystem::absolute(name, ec).parent_path();
-        if (!ec) files.dir = dir.lexically_normal().string();
+        if (!ec) files.dir = canonical(dir.string());
         while (files.dir.size() > 1 && files.dir.back() == '/') files.dir.pop_back();
     }
     tinygltf::TinyGLTF loader;
