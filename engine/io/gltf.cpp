@@ -10,6 +10,7 @@
 #include "text.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <bit>
 #include <cctype>
 #include <cstring>
@@ -129,9 +130,83 @@ bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, i
     return true;
 }
 
+// How deep arrays and objects may nest: glTF itself needs 6 levels; tinygltf (and nlohmann's dump) build and
+// write values recursively, so 20,000 levels in an ignored `extras` overflowed the stack.
+constexpr size_t kMaxJsonDepth = 64;
+// The most objects tinygltf may build (nodes, meshes, primitives, accessors, buffer views, buffers, scenes):
+// each costs it some 350-460 bytes, from as little as 3 bytes of JSON (`{},`). 500,000 is about 230 MB.
+constexpr size_t kMaxGltfObjects = 500000;
+// Index, count, offset and size members: tinygltf stores indices as int and would cast 2^32 to 0, a negative
+// offset it leaves at 0. Each must be an integer 0..2^31-1 (no glTF Inkwell reads has a larger one).
+constexpr uint64_t kMaxGltfInteger = (uint64_t(1) << 31) - 1;
+
+// Refuses JSON nested deeper than kMaxJsonDepth before anything parses it (the check counts brackets outside
+// strings; anything malformed is left to the parser).
+void checkDepth(std::string_view text, const std::string& name) {
+    size_t depth = 0;
+    bool inString = false;
+    for (size_t i = 0; i < text.size(); ++i) {
+        char c = text[i];
+        if (inString) {
+            if (c == '\\')
+                ++i;
+            else if (c == '"')
+                inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > kMaxJsonDepth)
+                fail(name, "glTF JSON: arrays and objects nest more than " + std::to_string(kMaxJsonDepth) +
+                               " levels deep (at byte " + std::to_string(i) + ")");
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+}
+
+bool isIndexKey(std::string_view key) {
+    static constexpr std::string_view kKeys[] = {"bufferView", "buffer",   "indices",       "material",   "mesh",
+                                                 "skin",       "camera",   "source",        "sampler",    "node",
+                                                 "scene",      "input",    "output",        "index",      "texCoord",
+                                                 "skeleton",   "children", "nodes",         "joints",     "count",
+                                                 "byteOffset", "mode",     "componentType", "byteLength", "byteStride"};
+    return std::find(std::begin(kKeys), std::end(kKeys), key) != std::end(kKeys);
+}
+
+// Every index, count, offset and size, at any depth: an integer 0..kMaxGltfInteger. `at` spells where; `index`
+// says that a number here is one, `members` that an object's members are (`attributes`, morph `targets`).
+void checkIntegers(const json& value, const std::string& at, bool index, bool members, const std::string& name) {
+    if (value.is_number()) {
+        if (index && !(value.is_number_unsigned() && value.get<uint64_t>() <= kMaxGltfInteger))
+            fail(name, "glTF: " + firstLine(at) + " is " + firstLine(value.dump()) +
+                           ", not an index, count or size (an integer 0 to " + std::to_string(kMaxGltfInteger) + ")");
+    } else if (value.is_array()) {
+        for (size_t i = 0; i < value.size(); ++i)
+            checkIntegers(value[i], at + "[" + std::to_string(i) + "]", index, members, name);
+    } else if (value.is_object()) {
+        for (auto it = value.begin(); it != value.end(); ++it)
+            checkIntegers(it.value(), at.empty() ? it.key() : at + "." + it.key(), members || isIndexKey(it.key()),
+                          it.key() == "attributes" || it.key() == "targets", name);
+    }
+}
+
+// Drops every `extras` and `extensions` member (nothing Inkwell reads is in them; tinygltf would build
+// values of them at some 150 bytes a JSON value).
+void dropExtras(json& value) {
+    if (value.is_object()) {
+        value.erase("extras");
+        value.erase("extensions");
+        for (auto& member : value.items()) dropExtras(member.value());
+    } else if (value.is_array()) {
+        for (json& element : value) dropExtras(element);
+    }
+}
+
 // Checks the JSON before tinygltf acts on it, and drops what is not needed (images: tinygltf would hand an
-// image's buffer view to the image loader unchecked). Returns the JSON to give tinygltf.
+// image's buffer view to the image loader unchecked; materials, animations and the rest cost it memory far
+// beyond their bytes). Returns the JSON to give tinygltf.
 std::string vetJson(std::string_view text, const std::string& name, bool binary, uint64_t binSize, bool external) {
+    checkDepth(text, name);
     json doc;
     try {
         doc = json::parse(text.begin(), text.end());
@@ -190,8 +265,31 @@ std::string vetJson(std::string_view text, const std::string& name, bool binary,
             if (!external) fail(name, at + ": external buffer " + ink::quoted(u) + " is not read here");
         }
     }
-    doc.erase("images");
-    doc.erase("textures");
+    // What tinygltf needs to find the meshes; the rest is dropped before it builds objects of it.
+    static constexpr std::string_view kKept[] = {"asset",     "scene",       "scenes",  "nodes",         "meshes",
+                                                 "accessors", "bufferViews", "buffers", "extensionsUsed"};
+    for (auto it = doc.begin(); it != doc.end();) {
+        bool keep = std::find(std::begin(kKept), std::end(kKept), it.key()) != std::end(kKept);
+        it = keep ? std::next(it) : doc.erase(it);
+    }
+    dropExtras(doc);
+    size_t objects = 0;
+    for (const char* key : {"scenes", "nodes", "meshes", "accessors", "bufferViews", "buffers"}) {
+        auto list = doc.find(key);
+        if (list == doc.end()) continue;
+        if (!list->is_array()) fail(name, std::string("glTF: '") + key + "' is not an array");
+        objects += list->size();
+        if (std::string_view(key) == "meshes")
+            for (const json& mesh : *list)
+                if (auto primitives = mesh.find("primitives"); mesh.is_object() && primitives != mesh.end())
+                    objects += primitives->size();
+    }
+    if (objects > kMaxGltfObjects)
+        fail(name, "glTF: " + std::to_string(objects) +
+                       " scenes, nodes, meshes, primitives, accessors, buffer views "
+                       "and buffers; the limit is " +
+                       std::to_string(kMaxGltfObjects));
+    checkIntegers(doc, "", false, false, name);
     return doc.dump();
 }
 
@@ -365,7 +463,8 @@ void addMesh(const tinygltf::Model& model, int meshIndex, const Matrix4d& world,
         out.instanced += pos.count;
         if (out.instanced > out.limit)
             fail(name, "glTF: the scene instances more than " + std::to_string(out.limit) +
-                           " vertices (the limit is 100 million, and 64 a byte of the file and its buffers)");
+                           " vertices and indices (the limit is 100 million, and 64 a byte of the file and its "
+                           "buffers)");
         auto world3 = [&](uint64_t i) {
             Vector3d v(pos.get(i, 0), pos.get(i, 1), pos.get(i, 2));
             if (!v.allFinite())
@@ -382,6 +481,13 @@ void addMesh(const tinygltf::Model& model, int meshIndex, const Matrix4d& world,
                     idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
                     fail(name, at + ": indices are not of an unsigned integer type");
                 idx.normalized = false;
+                // Indices cost memory as vertices do: a small file whose primitives all use one large index
+                // accessor would make every instance read it again.
+                out.instanced += idx.count;
+                if (out.instanced > out.limit)
+                    fail(name, "glTF: the scene instances more than " + std::to_string(out.limit) +
+                                   " vertices and indices (the limit is 100 million, and 64 a byte of the file and "
+                                   "its buffers)");
                 corners.resize(idx.count);
                 for (uint64_t i = 0; i < idx.count; ++i) {
                     double c = idx.get(i, 0);
