@@ -23,6 +23,11 @@ std::string readFileCapped(const std::string& path, size_t maxBytes, const std::
                                              : "a socket or other special file") +
                     ")");
     }
+    // A regular file larger than the cap is refused unread (a FIFO has no size: read up to the cap).
+    if (S_ISREG(info.st_mode) && uint64_t(info.st_size) > uint64_t(maxBytes)) {
+        std::fclose(file);
+        throw Error(path + ": " + tooLarge);
+    }
     std::string bytes;
     char chunk[1 << 16];
     size_t n;

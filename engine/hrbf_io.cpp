@@ -17,10 +17,7 @@ namespace ink {
 namespace {
 
 constexpr const char* kMagic = "inkwell-hrbf";
-constexpr int kVersion = 2;  // 1: the global fit; 2: the partition of unity. Both are read and written.
-// A global model is at most ~1 MB (4000 lines of ten numbers), a partition of unity of 2·10⁶ points some
-// hundreds; this only stops a wrong file being slurped.
-constexpr size_t kMaxFileBytes = size_t(1) << 30;
+constexpr int kVersion = 2;           // 1: the global fit; 2: the partition of unity. Both are read and written.
 constexpr size_t kCenterFields = 10;  // x y z nx ny nz alpha bx by bz
 // The shortest centre line: ten one-digit numbers, nine separators and a newline. Bounds the count a file
 // of a given size can hold, so that a hostile count is refused before anything is allocated for it.
@@ -104,7 +101,9 @@ private:
 };
 
 std::string readFile(const std::string& path) {
-    return readFileCapped(path, kMaxFileBytes, "file is larger than 1 GiB, far more than any HRBF model");
+    return readFileCapped(path, kMaxHrbfBytes,
+                          "file is larger than " + std::to_string(kMaxHrbfBytes >> 30) +
+                              " GiB, the limit for an HRBF model (docs/hrbf-format.md)");
 }
 
 // %.17g, without the C locale's say in the decimal point: 17 significant digits always read back to the
@@ -132,7 +131,9 @@ std::string number(double v) {
 // or grad f, and made-up coefficients do not interpolate the stored normals. A fitted model satisfies
 // f(p_j) = 0 and grad f(p_j) = n_j to about 1e-6 (docs/fitting.md); a file that misses by far more than that
 // was not written by a fit, and every later step (projection, normals, validate) would believe it.
-void checkConsistent(const Surface& model, const std::string& name) {
+//
+// The checks that need no evaluation: the frame, and every centre inside the normalized box.
+void checkFrame(const Surface& model, const std::string& name) {
     const double inverse = 1.0 / model.frame.scale;
     if (!std::isfinite(inverse) || !(model.frame.center.array().abs() + inverse).allFinite())
         fail(name, "the frame's scale " + number(model.frame.scale) +
@@ -142,6 +143,11 @@ void checkConsistent(const Surface& model, const std::string& name) {
         if (!(model.centers[j].cwiseAbs().maxCoeff() <= 1.0))
             fail(name, "centre " + std::to_string(j + 1) +
                            " lies outside the normalized box (coordinates beyond +-1; the file is inconsistent)");
+}
+
+// The model must pass through its centres with their normals (evaluated: for a partition of unity, after the
+// grid is built).
+void checkConsistent(const Surface& model, const std::string& name) {
     for (size_t j = 0; j < model.size(); ++j) {
         Eigen::Vector3d g;
         double f = model.eval(model.centers[j], g);
@@ -367,8 +373,9 @@ Surface parseHrbf(const std::string& bytes, const std::string& name) {
             uint64_t count = 0;
             std::string_view c = lines.fields[8];
             auto [end, ec] = std::from_chars(c.data(), c.data() + c.size(), count);
-            if (ec != std::errc() || end != c.data() + c.size() || count < 1 || count > 100000)
-                lines.fail(quoted(c) + " is not a patch's node count (1 to 100000)");
+            if (ec != std::errc() || end != c.data() + c.size() || count < 1 || count > kMaxPatchNodes)
+                lines.fail(quoted(c) + " is not a patch's node count (1 to " + std::to_string(kMaxPatchNodes) +
+                           "; a fit makes 8 to 24)");
             if (!(p.radius > 0 && p.radius <= 4)) lines.fail("a patch's radius must be in (0, 4]");
             if (!(p.center.cwiseAbs().maxCoeff() <= 4)) lines.fail("the patch's centre lies far outside the model");
             p.first = uint32_t(total);
@@ -398,13 +405,16 @@ Surface parseHrbf(const std::string& bytes, const std::string& name) {
             model.normals.push_back(lines.vector(3));
             if (model.normals.back().squaredNorm() == 0) lines.fail("normal is zero");
         }
-        pu.grid = buildPuGrid(pu.patches);
     }
     if (!lines.next()) fail(name, "truncated: no 'end' line after the " + std::to_string(m) + " centres");
     if (lines.fields[0] != "end" || lines.count != 1)
         lines.fail("expected 'end' after the " + std::to_string(m) + " centres declared, found " +
                    quoted(lines.fields[0]) + " (more centres than the count?)");
     if (lines.next()) lines.fail("unexpected " + quoted(lines.fields[0]) + " after 'end'");
+    // The grid only once the whole file has been read and checked, all that needs no evaluation; buildPuGrid
+    // bounds its size whatever the patches' radii.
+    checkFrame(model, name);
+    if (!global) model.pu.grid = buildPuGrid(model.pu.patches);
     chooseSeeds(model);
     checkConsistent(model, name);
     return model;

@@ -190,7 +190,24 @@ PuGrid buildPuGrid(const std::vector<PuPatch>& patches) {
     // median radius measured 17% slower refining bunny-684 on lavapipe). At most 2^21 cells.
     double cell = std::max(radii[radii.size() / 2] / 2, 1e-9);
     Vector3d extent = hi - lo;
-    while ((extent / cell).array().ceil().prod() > double(1 << 21)) cell *= 1.25;
+    // The entries, counted in 64 bits (the cells of each patch's bounding cube, at least those it meets), at
+    // most 1024 a patch and 2^26 in all: a loaded file's few large patches over a fine grid made 4.4e9, which
+    // wrapped in 32 bits. Cells only speed the look-up up; larger ones find the same patches.
+    const uint64_t maxEntries =
+        std::min<uint64_t>(uint64_t(1) << 26, std::max<uint64_t>(uint64_t(1) << 20, 1024 * uint64_t(patches.size())));
+    auto boxEntries = [&](double c) {
+        uint64_t total = 0;
+        for (const PuPatch& p : patches) {
+            double n = 1;
+            for (int k = 0; k < 3; ++k)
+                n *= std::min(std::floor((p.center[k] + p.radius - lo[k]) / c) -
+                                  std::floor((p.center[k] - p.radius - lo[k]) / c) + 1,
+                              std::max(std::ceil(extent[k] / c), 1.0));
+            total += uint64_t(n);
+        }
+        return total;
+    };
+    while ((extent / cell).array().ceil().prod() > double(1 << 21) || boxEntries(cell) > maxEntries) cell *= 1.25;
     grid.origin = lo;
     grid.cell = cell;
     grid.dims = (extent / cell).array().ceil().cast<int>().max(1).matrix();
