@@ -1,11 +1,13 @@
 // capture (frames along an orbit, with a manifest) and compare (two PNGs against a tolerance): the tools of
 // visual regression testing (docs/capture.md).
 #include "commands.h"
+#include "common.h"
 #include "compare.h"
 #include "files.h"
 #include "image.h"
 
 #include <unistd.h>
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -13,6 +15,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <system_error>
 
 namespace app {
@@ -97,11 +100,16 @@ void writeOrdered(const std::string& path, const ordered& j) {
 }
 
 // The output directory of one capture: created (with missing parents) up front, so that a bad path fails
-// before any work; what the capture writes is listed, and unless commit() is called, the destructor removes
-// it again, and the directories it created: a failed capture leaves neither frames nor empty directories.
+// before any work. The frames are drawn into a staging directory inside it (`.inkwell-capture-XXXXXX`, on the
+// same file system), and only when all are drawn does commit() swap them in: the old manifest removed, each
+// frame renamed into place (a rename replaces the directory entry: a symbolic link there is replaced, never
+// written through), the frames of the old manifest that the new capture does not have removed, then the new
+// manifest (and stats) renamed into place by the caller's OutputBatch. Unless commit() ran, the destructor
+// removes the staging directory and the directories it created: a failed capture leaves the old capture, its
+// manifest and frames, as they were.
 class CaptureOutput {
 public:
-    explicit CaptureOutput(const std::string& path) {
+    explicit CaptureOutput(const std::string& path) : path_(path) {
         namespace fs = std::filesystem;
         std::error_code error;
         for (fs::path p = fs::path(path).lexically_normal(); !p.empty() && !fs::exists(p, error); p = p.parent_path()) {
@@ -117,38 +125,114 @@ public:
             throw ink::Error("cannot create directory '" + path + "': a file of that name exists");
     }
     ~CaptureOutput() {
-        if (committed_) return;
-        for (const std::string& file : files_) std::remove(file.c_str());
-        removeCreated();
+        std::error_code error;
+        if (!staging_.empty()) std::filesystem::remove_all(staging_, error);
+        if (!committed_) removeCreated();
     }
     CaptureOutput(const CaptureOutput&) = delete;
     CaptureOutput& operator=(const CaptureOutput&) = delete;
 
-    void wrote(const std::string& file) { files_.push_back(file); }
-    void commit() { committed_ = true; }
+    // The staging directory, made on first use.
+    const std::string& staging() {
+        if (staging_.empty()) {
+            std::string pattern = (std::filesystem::path(path_) / ".inkwell-capture-XXXXXX").string();
+            if (!::mkdtemp(pattern.data()))
+                throw ink::Error("cannot write into '" + path_ + "': " + std::strerror(errno));
+            staging_ = pattern;
+        }
+        return staging_;
+    }
+
+    // Swaps the staged frames in (see above). `names` are the new frames, `stale` the old manifest's; none of
+    // `keep` (the inputs and the stats: a stale frame's name may be one) is removed.
+    void commit(const std::string& manifestPath, const std::vector<std::string>& names,
+                const std::vector<std::string>& stale, const std::vector<std::string>& keep) {
+        namespace fs = std::filesystem;
+        if (::unlink(manifestPath.c_str()) != 0 && errno != ENOENT)
+            throw ink::Error("cannot remove the old '" + manifestPath + "': " + std::strerror(errno));
+        committed_ = true;  // from here the old capture is gone: its directories stay
+        for (const std::string& name : names) {
+            std::string from = (fs::path(staging_) / name).string(), to = (fs::path(path_) / name).string();
+            if (::rename(from.c_str(), to.c_str()) != 0)
+                throw ink::Error("cannot write '" + to + "': " + std::strerror(errno));
+        }
+        const std::set<std::string> fresh(names.begin(), names.end());
+        for (const std::string& name : stale) {
+            std::string path = (fs::path(path_) / name).string();
+            bool kept = std::any_of(keep.begin(), keep.end(),
+                                    [&](const std::string& k) { return !k.empty() && ink::sameFile(path, k); });
+            if (!fresh.count(name) && !kept) ::unlink(path.c_str());  // best effort: no manifest names it now
+        }
+    }
 
 private:
     void removeCreated() {
         std::error_code error;
         for (const auto& dir : created_) std::filesystem::remove(dir, error);  // deepest first; only if empty
     }
+    std::string path_, staging_;
     std::vector<std::filesystem::path> created_;
-    std::vector<std::string> files_;
     bool committed_ = false;
 };
+
+// frame_0000.png ... : the only names a manifest's frames may have (a manifest names what a re-capture removes).
+std::string frameName(uint32_t i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04u.png", i);
+    return name;
+}
+
+bool isFrameName(const std::string& name) {
+    if (name.size() != 14 || name.compare(0, 6, "frame_") != 0 || name.compare(10, 4, ".png") != 0) return false;
+    return std::all_of(name.begin() + 6, name.begin() + 10, [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// The frames the manifest in the directory lists (none when it is missing or not a manifest).
+std::vector<std::string> manifestFrames(const std::string& manifestPath) {
+    std::vector<std::string> names;
+    try {
+        std::string text = ink::readFileCapped(manifestPath, size_t(16) << 20, "too large");
+        nlohmann::json m = nlohmann::json::parse(text);
+        for (const auto& f : m.at("frames"))
+            if (f.is_object() && f.contains("file") && f["file"].is_string() &&
+                isFrameName(f["file"].get<std::string>()))
+                names.push_back(f["file"].get<std::string>());
+    } catch (const std::exception&) {
+        names.clear();
+    }
+    return names;
+}
 
 int runCapture(Options& o, const CaptureOptions& c) {
     finishOptions(o);
     if (!std::isfinite(c.orbitDeg)) throw ink::Error("--orbit must be a finite number of degrees");
     CaptureOutput output(c.directory);
-    std::string manifestPath = (std::filesystem::path(c.directory) / "manifest.json").string();
+    namespace fs = std::filesystem;
+    std::string manifestPath = (fs::path(c.directory) / "manifest.json").string();
     // After the directory: the stats may go into it. A directory that exists but cannot be written to is
     // refused here, as is an output that is an input.
     ink::checkOutputs({manifestPath, o.statsPath}, {o.model, o.preset});
-    // A re-capture first removes the old manifest: killed halfway, it must not leave a manifest that
-    // describes frames it has replaced. The new one is written last, so a manifest means a complete capture.
-    if (::unlink(manifestPath.c_str()) != 0 && errno != ENOENT)
-        throw ink::Error("cannot remove the old '" + manifestPath + "': " + std::strerror(errno));
+    // The frames too, before any work: none may be an input (a frame that is a link to the model), or the
+    // stats, or something other than a file or link in the way.
+    std::vector<std::string> names;
+    for (uint32_t i = 0; i < c.frames; ++i) {
+        names.push_back(frameName(i));
+        std::string frame = (fs::path(c.directory) / names.back()).string();
+        for (const std::string& input : {o.model, o.preset})
+            if (!input.empty() && ink::sameFile(frame, input))
+                throw ink::Error("cannot write '" + frame +
+                                 "': it is also an input of this command (inputs are never modified)");
+        if (!o.statsPath.empty() && ink::sameFile(frame, o.statsPath))
+            throw ink::Error("cannot write '" + o.statsPath + "': it is also frame " + std::to_string(i) +
+                             " of the capture (it is given as two outputs)");
+        std::error_code error;
+        fs::file_status st = fs::symlink_status(frame, error);
+        if (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st))
+            throw ink::Error(
+                "cannot write '" + frame + "': " +
+                (fs::is_directory(st) ? "Is a directory" : "not a regular file: only regular files are replaced"));
+    }
+    const std::vector<std::string> stale = manifestFrames(manifestPath);
     auto start = Clock::now();
     Session session(o);
     ink::checkOffscreenSize(session.ctx, o.size[0], o.size[1], std::max(1u, o.render.supersample));
@@ -167,12 +251,17 @@ int runCapture(Options& o, const CaptureOptions& c) {
             scene.traceContours(camera);  // the contour of this view
             ink::RgbaImage image = renderer.render(camera);
             session.checkValidation();  // before writing: a frame drawn with validation errors is not kept
-            char name[32];
-            std::snprintf(name, sizeof name, "frame_%04u.png", i);
-            std::string frame = (std::filesystem::path(c.directory) / name).string();
-            ink::writePng(frame, image);
-            output.wrote(frame);
-            frames.push_back({{"file", name}, {"camera", cameraJson(camera)}});
+            std::string staged = (fs::path(output.staging()) / names[i]).string();
+            try {
+                ink::writePng(staged, image);
+            } catch (const ink::Error& e) {  // named as the user knows it, not by the staging directory
+                std::string message = e.what();
+                std::string frame = (fs::path(c.directory) / names[i]).string();
+                if (size_t at = message.find(staged); at != std::string::npos)
+                    message.replace(at, staged.size(), frame);
+                throw ink::Error(message);
+            }
+            frames.push_back({{"file", names[i]}, {"camera", cameraJson(camera)}});
             progress.update(i + 1);
         }
     }
@@ -195,8 +284,9 @@ int runCapture(Options& o, const CaptureOptions& c) {
                             {"seconds", seconds},
                             {"device", session.ctx.properties.deviceName},
                             {"driver", session.ctx.driverInfo}});
+    // Everything is written: only renames (and the stale frames' removal) are left.
+    output.commit(manifestPath, names, stale, {o.model, o.preset, o.statsPath});
     outputs.commit();
-    output.commit();
     std::printf("%s: %zu control points, %llu points, %u frames, %.2f s -> %s\n", o.model.c_str(),
                 scene.model.fit.controlPoints, (unsigned long long)points, c.frames, seconds, manifestPath.c_str());
     return 0;

@@ -244,14 +244,16 @@ TEST_CASE("outputs: a full disk is exit 1 with the reason, and leaves no output,
     CHECK(!fs::exists(dir / "ok.hrbf"));
     CHECK(!fs::exists(full.path + "/s.json"));
 
-    // A re-capture that fails (its stats do not fit) leaves no manifest: not the old one, which described
-    // the frames it replaced, and not a new one.
+    // A re-capture that fails (its stats do not fit) leaves the old capture as it was, its manifest included
+    // (the new frames are swapped in only once everything is written), and no new manifest.
     fs::create_directories(dir.path / "cap");
     dir.write("cap/manifest.json", "{\"frames\": [\"old\"]}\n");
     r = runInkwell("capture " + kBunny + kFit + kSmall + "--frames 2 -o " + (dir / "cap") + " --stats " + full.path +
                    "/s.json");
     CHECK(r.status == 1);
     CHECK(r.output.find("No space left on device") != std::string::npos);
-    CHECK(!fs::exists(dir / "cap/manifest.json"));
+    std::ifstream old(dir / "cap/manifest.json");
+    CHECK(std::string(std::istreambuf_iterator<char>(old), {}) == "{\"frames\": [\"old\"]}\n");
+    CHECK(!fs::exists(dir / "cap/frame_0000.png"));
     CHECK(noTemporaries(dir.path));
 }
