@@ -309,9 +309,12 @@ void finishOptions(Options& o) {
         o.page.orientation = !explicitSize     ? ink::Orientation::Auto
                              : page.x > page.y ? ink::Orientation::Landscape
                                                : ink::Orientation::Portrait;
-    if (!(o.page.penWidth > 0 && o.page.penWidth <= 10)) throw ink::Error("--pen-width must be in (0, 10] mm");
-    if (!(o.page.margin >= 0 && 2 * o.page.margin < std::min(page.x, page.y)))
-        throw ink::Error("--margin must be at least 0 mm and leave room on the page");
+    if (!(o.page.penWidth >= ink::kMinPenWidth && o.page.penWidth <= ink::kMaxPenWidth))
+        throw ink::Error("--pen-width must be in [0.001, 10] mm (kMinPenWidth: the files give a micrometre)");
+    // The view fits within the margins; it must be wider and taller than the pen (layoutPlot checks the view
+    // itself once the image's proportions are known).
+    if (!(o.page.margin >= 0 && 2 * o.page.margin + o.page.penWidth < std::min(page.x, page.y)))
+        throw ink::Error("--margin must be at least 0 mm and leave room for the pen on the page");
     if (!o.camera.empty()) {
         if (!std::isfinite(o.camera[0]) || !std::isfinite(o.camera[1]) || !(o.camera[2] > 0.05f && o.camera[2] < 100))
             throw ink::Error("--camera needs finite angles and a distance in (0.05, 100) diagonals");

@@ -167,7 +167,12 @@ std::string xmlEscape(const std::string& text) {
 
 Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& o) {
     if (drawing.width == 0 || drawing.height == 0) throw Error("a vector drawing needs a view of at least 1x1 pixels");
-    if (!(o.penWidth > 0 && o.penWidth <= 10)) throw Error("the pen width must be in (0, 10] mm");
+    if (!(o.penWidth >= kMinPenWidth && o.penWidth <= kMaxPenWidth)) {
+        char text[128];
+        std::snprintf(text, sizeof text, "the pen width %g mm is not in [%g, %g] mm", o.penWidth, kMinPenWidth,
+                      kMaxPenWidth);
+        throw Error(text);
+    }
     if (!(o.margin >= 0)) throw Error("the margin must not be negative");
     glm::dvec2 page(o.width, o.height);
     const bool landscape =
@@ -183,6 +188,15 @@ Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& o) {
     const double scale = std::min(room.x / image.x, room.y / image.y);  // mm a pixel
     const glm::dvec2 lo = (page - image * scale) * 0.5, hi = lo + image * scale;
     const double w = o.penWidth;
+    // A view no wider or taller than the pen would hold no mark: an empty drawing, written as if it were one.
+    if (!(hi.x - lo.x > w && hi.y - lo.y > w)) {
+        char text[192];
+        std::snprintf(text, sizeof text,
+                      "margins of %g mm leave no room for a %g mm pen on a %gx%g mm page (the view would be %.3gx%.3g "
+                      "mm)",
+                      o.margin, w, page.x, page.y, hi.x - lo.x, hi.y - lo.y);
+        throw Error(text);
+    }
 
     Plot plot;
     plot.width = page.x;

@@ -86,9 +86,13 @@ struct Plot {
 // dot d mm wide and a pen w mm wide, at least kMinRadius) or a tick (a 45° stroke (d − w) long, at least
 // 2·kMinRadius); polylines are clipped to the view; marks whose ink would leave the view are dropped; each
 // layer's paths are then ordered (options.order) and touching polylines merged. Throws ink::Error for a
-// page the margins leave no room on or a pen width outside (0, 10] mm.
+// page whose margins leave no room for the pen (the view, scaled into the margins, must be wider and taller
+// than the pen) or a pen width outside [kMinPenWidth, kMaxPenWidth] mm.
 Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& options);
 constexpr double kMinRadius = 0.05;  // mm: the smallest circle or half tick drawn
+// The pen widths a page takes, mm: numbers are written with 3 decimals (a micrometre), so a thinner pen would
+// be written as 0 (SVG: no stroke; PDF: the thinnest line the device can draw).
+constexpr double kMinPenWidth = 0.001, kMaxPenWidth = 10;
 
 std::string plotSvg(const Plot& plot);
 std::string plotPdf(const Plot& plot);
