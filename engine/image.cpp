@@ -83,7 +83,7 @@ RgbaImage readPngFromMemory(const std::string& bytes, const std::string& name) {
         uint64_t(w) * uint64_t(h) > kMaxImagePixels)
         throw Error(what + std::to_string(w) + "x" + std::to_string(h) + " pixels is over the limit (at most " +
                     std::to_string(kMaxImageSide) + " a side and " + std::to_string(kMaxImagePixels) +
-                    " pixels = 2^28 in all)");
+                    " pixels = 8192^2 in all)");
     // Within those, a file far smaller than its pixels need: an 8-bit RGBA PNG decodes to at most 1032 bytes
     // per byte of data (deflate's largest ratio), so more than kMaxImageExpansion bytes of RGBA per byte of
     // file is a low-bit-depth bomb (a 7.8 KB 1-bit PNG of 8000x8000 pixels took 766 MB). Every PNG Inkwell
@@ -120,7 +120,7 @@ RgbaImage readPngFromMemory(const std::string& bytes, const std::string& name) {
 }
 
 RgbaImage readPng(const std::string& path) {
-    // A 2^28-pixel PNG compresses to far less than this; the cap only stops a wrong file being slurped.
+    // A 2^26-pixel PNG compresses to far less than this; the cap only stops a wrong file being slurped.
     std::string bytes;
     try {
         bytes = readFileCapped(path, size_t(256) << 20, "file is larger than 256 MiB, too large for an image");

@@ -16,7 +16,9 @@ void writePng(const std::string& path, const RgbaImage& image);
 // Limits on every image read, checked from the header before anything is decoded (a small PNG may claim
 // a huge size: a decompression bomb). Messages are printable ASCII whatever the file name or stb says.
 constexpr uint64_t kMaxImageSide = 16384;
-constexpr uint64_t kMaxImagePixels = uint64_t(1) << 28;
+// 2^26 pixels (8192², the largest image Inkwell writes): 256 MiB of RGBA, so that `compare`'s two images and
+// their diff stay within about 1 GB (at 2^28, two 1-bit 16384² PNGs of 300 KB took 4.2 GB).
+constexpr uint64_t kMaxImagePixels = uint64_t(1) << 26;
 // Above 2^22 pixels, at most this many bytes of RGBA per byte of file: 4 x 1032, deflate's largest ratio.
 constexpr uint64_t kMaxImageExpansion = 4 * 1032;
 constexpr uint64_t kMinImageForRatio = uint64_t(1) << 22;
