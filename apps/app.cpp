@@ -397,7 +397,8 @@ ink::Camera cameraFrom(const Options& o) {
 
 ink::Reporter terminalReporter(bool quiet) {
     ink::Reporter r;
-    if (!quiet) r.note = [](const std::string& line) { std::fprintf(stderr, "note: %s\n", line.c_str()); };
+    if (!quiet)
+        r.note = [](const std::string& line) { std::fprintf(stderr, "note: %s\n", ink::escapeText(line).c_str()); };
     if (isatty(STDERR_FILENO))
         r.progress = [](const char* task, size_t done, size_t total) {
             if (done < total)

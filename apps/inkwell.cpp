@@ -36,13 +36,13 @@ int main(int argc, char** argv) {
                 return run();
             }
     } catch (const ink::Error& e) {
-        std::fprintf(stderr, "inkwell: %s\n", e.what());
+        std::fprintf(stderr, "inkwell: %s\n", ink::escapeText(e.what()).c_str());  // no raw bytes of a file
         return 1;
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "inkwell: out of memory\n");
         return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "inkwell: internal error: %s\n", e.what());
+        std::fprintf(stderr, "inkwell: internal error: %s\n", ink::escapeText(e.what()).c_str());
         return 2;
     }
     return 0;

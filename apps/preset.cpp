@@ -68,7 +68,8 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
     try {
         j = json::parse(bytes);
     } catch (const json::exception& e) {
-        throw ink::Error("preset '" + name + "' is not valid JSON: " + e.what());
+        // nlohmann quotes the bytes it stopped at, an invalid UTF-8 byte too: escaped, not echoed.
+        throw ink::Error("preset '" + name + "' is not valid JSON: " + ink::escapeText(e.what()));
     }
     if (!j.is_object()) throw ink::Error("preset '" + name + "' must be a JSON object");
     Preset p;

@@ -56,6 +56,50 @@ std::string quoted(std::string_view s) {
     return out + "'";
 }
 
+std::string escapeText(std::string_view s) {
+    std::string out;
+    out.reserve(s.size());
+    auto escape = [&out](unsigned char c) {
+        static const char* kHex = "0123456789abcdef";
+        out += "\\x";
+        out += kHex[c >> 4];
+        out += kHex[c & 15];
+    };
+    for (size_t i = 0; i < s.size();) {
+        unsigned char c = static_cast<unsigned char>(s[i]);
+        if (c < 0x80) {
+            if (c < 0x20 || c == 0x7f)
+                escape(c);
+            else
+                out += char(c);
+            ++i;
+            continue;
+        }
+        // The length of a well-formed UTF-8 sequence starting with c (RFC 3629: no overlong forms, no
+        // surrogates, nothing above U+10FFFF), or 0.
+        size_t n = c >= 0xc2 && c <= 0xdf ? 2 : c >= 0xe0 && c <= 0xef ? 3 : c >= 0xf0 && c <= 0xf4 ? 4 : 0;
+        bool ok = n > 0 && i + n <= s.size();
+        for (size_t k = 1; ok && k < n; ++k) {
+            unsigned char d = static_cast<unsigned char>(s[i + k]);
+            ok = (d & 0xc0) == 0x80;
+            if (k == 1 && ok) {
+                if (c == 0xe0) ok = d >= 0xa0;
+                if (c == 0xed) ok = d < 0xa0;
+                if (c == 0xf0) ok = d >= 0x90;
+                if (c == 0xf4) ok = d < 0x90;
+            }
+        }
+        if (!ok) {
+            escape(c);
+            ++i;
+            continue;
+        }
+        out.append(s.substr(i, n));
+        i += n;
+    }
+    return out;
+}
+
 namespace {
 thread_local const Reporter* t_reporter = nullptr;
 }

@@ -19,6 +19,11 @@ using Error = inkwell::Error;
 // so that binary garbage cannot break the one-line message.
 std::string quoted(std::string_view s);
 
+// `s` with every byte that is not printable text escaped as \xNN: control characters (a newline too) and
+// bytes that are not valid UTF-8; valid UTF-8 (a file name with accents) stays as it is. Every message the
+// command line prints goes through it, so a file's stray byte never reaches the terminal raw.
+std::string escapeText(std::string_view s);
+
 // The whole file, read in chunks (pipes have no size, files can change); more than maxBytes throws
 // "PATH: tooLarge". Errors name the file and the system's reason.
 std::string readFileCapped(const std::string& path, size_t maxBytes, const std::string& tooLarge);

@@ -141,6 +141,13 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& name) {
     bool haveFormat = false;
     std::unordered_set<std::string> elementNames, propertyNames;  // of the header; properties of the last element
     std::vector<std::string_view> f;
+    // Unknown lines writers add get a note each, the first few: a header of 10,000 of them gets 3 and a count.
+    constexpr size_t kMaxLineNotes = 3;
+    size_t unknownLines = 0;
+    auto noteUnknown = [&] {
+        if (unknownLines > kMaxLineNotes)
+            note(name + ": and " + std::to_string(unknownLines - kMaxLineNotes) + " more unknown header lines ignored");
+    };
     while (next(line)) {
         auto where = [&] { return "header line " + std::to_string(number); };
         splitFields(line, f);
@@ -149,6 +156,7 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& name) {
         if (f.empty() || f[0] == "comment" || f[0] == "obj_info") continue;
         if (f[0] == "end_header") {
             if (!haveFormat) fail(name, "header has no format line");
+            noteUnknown();
             header.bodyStart = pos;
             header.bodyFirstLine = number + 1;
             return header;
@@ -204,7 +212,8 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& name) {
         } else if (looksLikeWriterNote(line, f[0])) {
             // Lines the format does not define but writers add ("Created by ...", "TextureFile x.png"):
             // passed over with a note, as other readers do.
-            note(name + ": " + where() + ": ignored the unknown header line " + quoted(line));
+            if (++unknownLines <= kMaxLineNotes)
+                note(name + ": " + where() + ": ignored the unknown header line " + quoted(line));
         } else {
             fail(name, where() + ": unknown header keyword " + quoted(f[0]));
         }
