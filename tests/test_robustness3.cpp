@@ -364,7 +364,9 @@ TEST_CASE("robust: a page with no room for the pen, and a pen under a micrometre
     CHECK(contains(ink::plotSvg(plot), "stroke-width=\"0.001\""));
 }
 
-TEST_CASE("robust: glTF indices beyond 2^31 and negative offsets are refused, not truncated (issue 29)") {
+TEST_CASE(
+    "robust: glTF indices beyond 2^31, to missing objects, and negative offsets are refused, not truncated (issue "
+    "29)") {
     std::string json = tetraJson();
     std::string bin = tetraBuffer();
     refusedGlb(replaced(json, R"("bufferView": 0, "componentType": 5126)",
@@ -379,6 +381,18 @@ TEST_CASE("robust: glTF indices beyond 2^31 and negative offsets are refused, no
     refusedGlb(replaced(json, R"("POSITION": 0)", R"("POSITION": 2147483648)"), bin,
                "meshes[0].primitives[0].attributes.POSITION is 2147483648");
     refusedGlb(replaced(json, R"("nodes": [0])", R"("nodes": [0.5])"), bin, "scenes[0].nodes[0] is 0.5");
+    // An index must name an object the file has, also one Inkwell does not read (a material, a camera).
+    refusedGlb(replaced(json, R"("indices": 1)", R"("indices": 1, "material": 3)"), bin,
+               "glTF: meshes[0].primitives[0].material is 3, but the file has 0 materials");
+    refusedGlb(replaced(json, R"("nodes": [{"mesh": 0}])", R"("nodes": [{"mesh": 0, "camera": 0}])"), bin,
+               "glTF: nodes[0].camera is 0, but the file has 0 cameras");
+    refusedGlb(replaced(json, R"("POSITION": 0)", R"("POSITION": 0, "NORMAL": 7)"), bin,
+               "glTF: meshes[0].primitives[0].attributes.NORMAL is 7, but the file has 2 accessors");
+    CHECK(ink::parsePoints(glb(replaced(replaced(json, R"("indices": 1)", R"("indices": 1, "material": 0)"),
+                                        R"("buffers": [)", R"("materials": [{}], "buffers": [)"),
+                               bin),
+                           "glb", "material.glb")
+              .positions.size() == 4);
     // Numbers that are not indices are not checked: a matrix, min and max.
     CHECK(ink::parsePoints(glb(replaced(json, R"("nodes": [{"mesh": 0}])",
                                         R"("nodes": [{"mesh": 0, "translation": [-1.5, 3e9, 0]}])"),

@@ -165,28 +165,78 @@ void checkDepth(std::string_view text, const std::string& name) {
 }
 
 bool isIndexKey(std::string_view key) {
-    static constexpr std::string_view kKeys[] = {"bufferView", "buffer",   "indices",       "material",   "mesh",
-                                                 "skin",       "camera",   "source",        "sampler",    "node",
-                                                 "scene",      "input",    "output",        "index",      "texCoord",
-                                                 "skeleton",   "children", "nodes",         "joints",     "count",
-                                                 "byteOffset", "mode",     "componentType", "byteLength", "byteStride"};
+    static constexpr std::string_view kKeys[] = {"bufferView",    "buffer",
+                                                 "indices",       "material",
+                                                 "mesh",          "skin",
+                                                 "camera",        "source",
+                                                 "sampler",       "node",
+                                                 "scene",         "input",
+                                                 "output",        "index",
+                                                 "texCoord",      "skeleton",
+                                                 "children",      "nodes",
+                                                 "joints",        "count",
+                                                 "byteOffset",    "mode",
+                                                 "byteLength",    "byteStride",
+                                                 "componentType", "inverseBindMatrices"};
     return std::find(std::begin(kKeys), std::end(kKeys), key) != std::end(kKeys);
 }
 
-// Every index, count, offset and size, at any depth: an integer 0..kMaxGltfInteger. `at` spells where; `index`
-// says that a number here is one, `members` that an object's members are (`attributes`, morph `targets`).
-void checkIntegers(const json& value, const std::string& at, bool index, bool members, const std::string& name) {
+// The top-level array an index member names, or "" (a count, an offset, a sampler of either kind).
+std::string_view referenceOf(std::string_view key) {
+    static constexpr std::pair<std::string_view, std::string_view> kTargets[] = {{"bufferView", "bufferViews"},
+                                                                                 {"buffer", "buffers"},
+                                                                                 {"indices", "accessors"},
+                                                                                 {"material", "materials"},
+                                                                                 {"mesh", "meshes"},
+                                                                                 {"skin", "skins"},
+                                                                                 {"camera", "cameras"},
+                                                                                 {"source", "images"},
+                                                                                 {"node", "nodes"},
+                                                                                 {"scene", "scenes"},
+                                                                                 {"input", "accessors"},
+                                                                                 {"output", "accessors"},
+                                                                                 {"index", "textures"},
+                                                                                 {"skeleton", "nodes"},
+                                                                                 {"children", "nodes"},
+                                                                                 {"nodes", "nodes"},
+                                                                                 {"joints", "nodes"},
+                                                                                 {"inverseBindMatrices", "accessors"}};
+    for (const auto& [k, target] : kTargets)
+        if (k == key) return target;
+    return {};
+}
+
+// How many objects each top-level array of the file holds (before anything is dropped).
+using Counts = std::vector<std::pair<std::string, size_t>>;
+
+// Every index, count, offset and size, at any depth: an integer 0..kMaxGltfInteger; an index must also name an
+// object the file has (a material, a camera or an image too, though they are not read). `at` spells where;
+// `index` says that a number here is one, `target` the array it indexes, `members` that an object's members
+// are indices (`attributes`, morph `targets`).
+void checkIntegers(const json& value, const std::string& at, bool index, std::string_view target, bool members,
+                   const Counts& counts, const std::string& name) {
     if (value.is_number()) {
-        if (index && !(value.is_number_unsigned() && value.get<uint64_t>() <= kMaxGltfInteger))
+        if (!index) return;
+        if (!(value.is_number_unsigned() && value.get<uint64_t>() <= kMaxGltfInteger))
             fail(name, "glTF: " + firstLine(at) + " is " + firstLine(value.dump()) +
                            ", not an index, count or size (an integer 0 to " + std::to_string(kMaxGltfInteger) + ")");
+        if (target.empty()) return;
+        size_t have = 0;
+        for (const auto& [array, n] : counts)
+            if (array == target) have = n;
+        if (value.get<uint64_t>() >= have)
+            fail(name, "glTF: " + firstLine(at) + " is " + std::to_string(value.get<uint64_t>()) +
+                           ", but the file has " + std::to_string(have) + " " + std::string(target));
     } else if (value.is_array()) {
         for (size_t i = 0; i < value.size(); ++i)
-            checkIntegers(value[i], at + "[" + std::to_string(i) + "]", index, members, name);
+            checkIntegers(value[i], at + "[" + std::to_string(i) + "]", index, target, members, counts, name);
     } else if (value.is_object()) {
-        for (auto it = value.begin(); it != value.end(); ++it)
-            checkIntegers(it.value(), at.empty() ? it.key() : at + "." + it.key(), members || isIndexKey(it.key()),
-                          it.key() == "attributes" || it.key() == "targets", name);
+        for (auto it = value.begin(); it != value.end(); ++it) {
+            bool isIndex = members || isIndexKey(it.key());
+            std::string_view to = members ? std::string_view("accessors") : referenceOf(it.key());
+            checkIntegers(it.value(), at.empty() ? it.key() : at + "." + it.key(), isIndex, to,
+                          it.key() == "attributes" || it.key() == "targets", counts, name);
+        }
     }
 }
 
@@ -265,6 +315,10 @@ std::string vetJson(std::string_view text, const std::string& name, bool binary,
             if (!external) fail(name, at + ": external buffer " + ink::quoted(u) + " is not read here");
         }
     }
+    // Every index must name an object the file has, also in the sections dropped below: counted first.
+    Counts counts;
+    for (auto it = doc.begin(); it != doc.end(); ++it)
+        if (it.value().is_array()) counts.emplace_back(it.key(), it.value().size());
     // What tinygltf needs to find the meshes; the rest is dropped before it builds objects of it.
     static constexpr std::string_view kKept[] = {"asset",     "scene",       "scenes",  "nodes",         "meshes",
                                                  "accessors", "bufferViews", "buffers", "extensionsUsed"};
@@ -289,7 +343,7 @@ std::string vetJson(std::string_view text, const std::string& name, bool binary,
                        " scenes, nodes, meshes, primitives, accessors, buffer views "
                        "and buffers; the limit is " +
                        std::to_string(kMaxGltfObjects));
-    checkIntegers(doc, "", false, false, name);
+    checkIntegers(doc, "", false, {}, false, counts, name);
     return doc.dump();
 }
 
