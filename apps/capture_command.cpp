@@ -326,7 +326,10 @@ int runCompare(const CompareOptions& c) {
         std::printf("%s\n", ink::describe(result).c_str());
         return 0;
     }
-    ink::writePng(diffPath, ink::diffImage(a, b, threshold));
+    ink::RgbaImage diff = ink::diffImage(a, b, threshold);
+    a = {};  // the inputs go before the diff is encoded: three images of 2^26 pixels at most at any time
+    b = {};
+    ink::writePng(diffPath, diff);
     std::printf("%s: over %.3f%%, diff -> %s\n", ink::describe(result).c_str(), 100.0 * c.maxFraction,
                 diffPath.c_str());
     return 1;
