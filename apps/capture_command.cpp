@@ -106,7 +106,7 @@ void writeOrdered(const std::string& path, const ordered& j) {
 // written through), the frames of the old manifest that the new capture does not have removed, then the new
 // manifest (and stats) renamed into place by the caller's OutputBatch. Unless commit() ran, the destructor
 // removes the staging directory and the directories it created: a failed capture leaves the old capture, its
-// manifest and frames, as they were.
+// manifest and frames, as they were. A signal's handler removes the staging directory too (files.h).
 class CaptureOutput {
 public:
     explicit CaptureOutput(const std::string& path) : path_(path) {
@@ -127,6 +127,7 @@ public:
     ~CaptureOutput() {
         std::error_code error;
         if (!staging_.empty()) std::filesystem::remove_all(staging_, error);
+        ink::unregisterTemporary(stagingSlot_);
         if (!committed_) removeCreated();
     }
     CaptureOutput(const CaptureOutput&) = delete;
@@ -139,6 +140,7 @@ public:
             if (!::mkdtemp(pattern.data()))
                 throw ink::Error("cannot write into '" + path_ + "': " + std::strerror(errno));
             staging_ = pattern;
+            stagingSlot_ = ink::registerTemporaryDirectory(staging_);  // removed on SIGINT/SIGTERM/SIGHUP too
         }
         return staging_;
     }
@@ -171,6 +173,7 @@ private:
         for (const auto& dir : created_) std::filesystem::remove(dir, error);  // deepest first; only if empty
     }
     std::string path_, staging_;
+    int stagingSlot_ = -1;
     std::vector<std::filesystem::path> created_;
     bool committed_ = false;
 };

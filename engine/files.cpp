@@ -5,9 +5,12 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 #include <cerrno>
 #include <csignal>
+#include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -24,14 +27,50 @@ constexpr int kSlots = 64;
 constexpr size_t kPathMax = 4096;
 char gPaths[kSlots][kPathMax];
 volatile std::sig_atomic_t gUsed[kSlots];
+volatile std::sig_atomic_t gDirectory[kSlots];  // the slot is a directory of temporaries
 std::mutex gRegistryMutex;
+
+// Removes the files in `path` and then the directory, with async-signal-safe calls only (open, getdents64,
+// unlinkat, lseek, close, rmdir): passes over the entries until one removes nothing.
+void removeDirectoryOnSignal(const char* path) {
+    int fd = ::open(path, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd >= 0) {
+        struct Entry {
+            uint64_t inode;
+            int64_t offset;
+            unsigned short length;
+            unsigned char type;
+            char name[1];
+        };
+        alignas(8) char buffer[4096];
+        for (int pass = 0; pass < 64; ++pass) {
+            bool removed = false;
+            ::lseek(fd, 0, SEEK_SET);
+            long n;
+            while ((n = ::syscall(SYS_getdents64, fd, buffer, sizeof buffer)) > 0)
+                for (long at = 0; at < n;) {
+                    const Entry* e = reinterpret_cast<const Entry*>(buffer + at);
+                    const char* name = buffer + at + offsetof(Entry, name);
+                    bool dots = name[0] == '.' && (name[1] == 0 || (name[1] == '.' && name[2] == 0));
+                    if (!dots && ::unlinkat(fd, name, 0) == 0) removed = true;
+                    at += e->length;
+                }
+            if (!removed) break;
+        }
+        ::close(fd);
+    }
+    ::rmdir(path);
+}
 
 constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
 struct sigaction gPrevious[3];
 
 extern "C" void removeTemporariesAndDie(int sig) {
     for (int i = 0; i < kSlots; ++i)
-        if (gUsed[i]) ::unlink(gPaths[i]);  // async-signal-safe
+        if (gUsed[i] && gDirectory[i])
+            removeDirectoryOnSignal(gPaths[i]);
+        else if (gUsed[i])
+            ::unlink(gPaths[i]);  // async-signal-safe
     // The action before ours (the default: end the process; or another's handler, which runs next), raised
     // again: it is delivered once this handler returns.
     for (int i = 0; i < 3; ++i)
@@ -145,7 +184,9 @@ std::string normalized(const std::string& path) {
 
 }  // namespace
 
-int registerTemporary(const std::string& path) {
+namespace {
+
+int registerSlot(const std::string& path, bool directory) {
     static std::once_flag once;
     std::call_once(once, removeTemporariesOnSignals);
     if (path.size() >= kPathMax) return -1;
@@ -153,11 +194,18 @@ int registerTemporary(const std::string& path) {
     for (int i = 0; i < kSlots; ++i)
         if (!gUsed[i]) {
             std::memcpy(gPaths[i], path.c_str(), path.size() + 1);
+            gDirectory[i] = directory ? 1 : 0;
             gUsed[i] = 1;
             return i;
         }
     return -1;
 }
+
+}  // namespace
+
+int registerTemporary(const std::string& path) { return registerSlot(path, false); }
+
+int registerTemporaryDirectory(const std::string& path) { return registerSlot(path, true); }
 
 void unregisterTemporary(int slot) {
     if (slot < 0 || slot >= kSlots) return;

@@ -66,6 +66,8 @@ void removeTemporariesOnSignals();
 // The registry of temporaries the SIGINT/SIGTERM handler removes (unlink only, on a fixed array), exposed
 // for tests. registerTemporary returns a slot (or -1 when full: the file is then not protected).
 int registerTemporary(const std::string& path);
+// A directory of temporaries (capture's staging directory): the handler removes the files in it, then it.
+int registerTemporaryDirectory(const std::string& path);
 void unregisterTemporary(int slot);
 size_t registeredTemporaries();
 

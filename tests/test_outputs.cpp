@@ -162,6 +162,33 @@ TEST_CASE("outputs: SIGTERM and SIGINT during a write remove the registered temp
     }
 }
 
+TEST_CASE("outputs: SIGTERM removes a registered directory of temporaries with the files in it (issue 29)") {
+    TempDir dir;
+    pid_t child = ::fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+        // capture's staging directory: frames already drawn, one being written.
+        std::signal(SIGTERM, SIG_DFL);
+        ink::removeTemporariesOnSignals();
+        std::string staging = dir / ".inkwell-capture-test";
+        fs::create_directory(staging);
+        ink::registerTemporaryDirectory(staging);
+        for (int i = 0; i < 300; ++i) std::ofstream(staging + "/frame_" + std::to_string(i) + ".png") << "frame";
+        try {
+            ink::writeAtomically(staging + "/frame_300.png", [&](const std::string& tmp) {
+                std::ofstream(tmp) << "half";
+                ::raise(SIGTERM);
+            });
+        } catch (...) {}
+        ::_exit(0);
+    }
+    int status = 0;
+    REQUIRE(::waitpid(child, &status, 0) == child);
+    CHECK(WIFSIGNALED(status));
+    CHECK(!fs::exists(dir / ".inkwell-capture-test"));
+    CHECK(fs::is_empty(dir.path));
+}
+
 TEST_CASE("outputs: a FIFO or a symbolic link given to a command") {
     TempDir dir;
     std::string fifo = dir / "out.hrbf";
