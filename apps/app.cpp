@@ -454,7 +454,15 @@ json fitJson(const ink::Model& m) {
                         {"mean_points", m.patches.meanPatch},
                         {"far_field_points", m.patches.coarsePoints},
                         {"grid_cells", m.patches.gridCells},
-                        {"grid_entries", m.patches.gridEntries}};
+                        {"grid_entries", m.patches.gridEntries},
+                        {"seams",
+                         {{"samples", m.patches.seams.samples},
+                          {"normal_deg_median", m.patches.seams.normalDegMedian},
+                          {"normal_deg_p95", m.patches.seams.normalDegP95},
+                          {"curvature_ratio_median", m.patches.seams.curvatureRatioMedian},
+                          {"curvature_ratio_p95", m.patches.seams.curvatureRatioP95},
+                          {"roughness_median", m.patches.seams.roughnessMedian},
+                          {"roughness_p95", m.patches.seams.roughnessP95}}}};
     return j;
 }
 

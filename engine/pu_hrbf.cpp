@@ -3,6 +3,7 @@
 #include "clean.h"
 #include "common.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -264,6 +265,96 @@ double PuHrbf::eval(const Vector3d& x, Vector3d& gradient, Matrix3d* hessian) co
     return blend.finish(tau, far, gradient, hessian);
 }
 
+namespace {
+
+// The largest |eigenvalue| of P A P on the tangent plane of unit n (A symmetric).
+double tangentNorm(const Matrix3d& A, const Vector3d& n) {
+    const Vector3d u = n.unitOrthogonal(), v = n.cross(u);
+    const double a = u.dot(A * u), b = u.dot(A * v), c = v.dot(A * v);
+    return std::abs(0.5 * (a + c)) + std::sqrt(0.25 * (a - c) * (a - c) + b * b);
+}
+
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0;
+    const size_t k = std::min(v.size() - 1, size_t(q * double(v.size())));
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+    return v[k];
+}
+
+}  // namespace
+
+PuSeams measureSeams(const PuHrbf& model, size_t maxSamples) {
+    PuSeams out;
+    std::vector<double> tilt, ratio, rough;
+    const size_t stride = std::max<size_t>(1, model.patches.size() / std::max<size_t>(1, maxSamples));
+    for (size_t pi = 0; pi < model.patches.size(); pi += stride) {
+        const PuPatch& patch = model.patches[pi];
+        if (patch.count < 2) continue;
+        // Halfway from the patch's first node to its nearest neighbour in the patch, projected onto F = 0.
+        const Vector3d p0 = model.nodes[patch.first].p;
+        Vector3d nearest = model.nodes[patch.first + 1].p;
+        for (uint32_t j = patch.first + 1; j < patch.first + patch.count; ++j)
+            if ((model.nodes[j].p - p0).squaredNorm() < (nearest - p0).squaredNorm()) nearest = model.nodes[j].p;
+        Vector3d x = patch.center + patch.radius * 0.5 * (p0 + nearest), gradient;
+        bool onSurface = false;
+        for (int k = 0; k < 8 && !onSurface; ++k) {
+            const double f = model.eval(x, gradient), g2 = gradient.squaredNorm();
+            if (!(g2 > 0) || !std::isfinite(f)) break;
+            x -= (f / g2) * gradient;
+            onSurface = std::abs(f) < 1e-10 * std::sqrt(g2);
+        }
+        if (!onSurface) continue;
+        // The blend at x, whole, and the patches' own part of it.
+        Matrix3d hessian;
+        model.eval(x, gradient, &hessian);
+        double S = 0;
+        Vector3d ownGradient = Vector3d::Zero();
+        Matrix3d ownHessian = Matrix3d::Zero();
+        const int64_t cell = model.grid.cellOf(x);
+        if (cell < 0) continue;
+        for (uint32_t k = model.grid.cellStart[size_t(cell)]; k < model.grid.cellStart[size_t(cell) + 1]; ++k) {
+            const PuPatch& other = model.patches[model.grid.cellPatches[k]];
+            const Vector3d q = (x - other.center) / other.radius;
+            if (!(q.squaredNorm() < 1)) continue;
+            double f = other.a.dot(q) + other.b;
+            Vector3d g = other.a;
+            Matrix3d H = Matrix3d::Zero();
+            for (uint32_t j = other.first; j < other.first + other.count; ++j)
+                addNode<double>(q, model.nodes[j].p, model.nodes[j].alpha, model.nodes[j].beta, f, g, &H);
+            const double w = wendland(q.norm());
+            S += w;
+            ownGradient += w * g;
+            ownHessian += (w / other.radius) * H;
+        }
+        if (!(S >= model.tau)) continue;  // the far field blends in here: not a seam between patches
+        ownGradient /= S;
+        ownHessian /= S;
+        const double gn = gradient.norm();
+        const Vector3d n = gradient / gn;
+        tilt.push_back(std::atan2(gradient.cross(ownGradient).norm(), gradient.dot(ownGradient)) * 180.0 / M_PI);
+        const double own = tangentNorm(ownHessian, n) / gn, seam = tangentNorm(hessian - ownHessian, n) / gn;
+        ratio.push_back(seam / std::max(own, 1e-3));
+        // The roughness: F's shape operator halfway against the mean of its two ends'.
+        auto shape = [&](const Vector3d& at) {
+            Vector3d g;
+            Matrix3d H;
+            model.eval(at, g, &H);
+            return Matrix3d(H / g.norm());
+        };
+        const Matrix3d ends = 0.5 * (shape(patch.center + patch.radius * p0) + shape(patch.center + patch.radius * nearest));
+        const Matrix3d mid = hessian / gn;
+        rough.push_back(tangentNorm(mid - ends, n) / (0.5 * (tangentNorm(mid, n) + tangentNorm(ends, n)) + 1.0));
+    }
+    out.samples = tilt.size();
+    out.normalDegMedian = percentile(tilt, 0.5);
+    out.normalDegP95 = percentile(tilt, 0.95);
+    out.curvatureRatioMedian = percentile(ratio, 0.5);
+    out.curvatureRatioP95 = percentile(ratio, 0.95);
+    out.roughnessMedian = percentile(rough, 0.5);
+    out.roughnessP95 = percentile(rough, 0.95);
+    return out;
+}
+
 PuHrbf fitPuHrbf(const std::vector<Vector3d>& points, const std::vector<Vector3d>& normals, const PuOptions& options,
                  PuStats* stats) {
     const size_t n = points.size();
@@ -401,6 +492,7 @@ PuHrbf fitPuHrbf(const std::vector<Vector3d>& points, const std::vector<Vector3d
         stats->coarsePoints = model.coarse.size();
         stats->gridCells = model.grid.cellStart.size() - 1;
         stats->gridEntries = model.grid.cellPatches.size();
+        stats->seams = measureSeams(model);
     }
     return model;
 }

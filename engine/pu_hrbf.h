@@ -70,13 +70,31 @@ struct PuOptions {
     size_t coarsePoints = 256;  // points of the far-field HRBF
 };
 
+// How much the blend's seams add to the surface's normal and curvature (issue 24's seam figure), at points on
+// F = 0 between neighbouring data points, where patches disagree most. With normalized weights W_i = w_i / Σw,
+//   ∇F = Σ W_i ∇f_i + Σ ∇W_i f_i,   HF = Σ W_i Hf_i + Σ (HW_i f_i + ∇W_i ∇f_iᵀ + ∇f_i ∇W_iᵀ),
+// the first sums being the patches' own shape (inside) and the rest what their disagreement puts in through the
+// weights' derivatives (the seams). Reported: the angle between ∇F and Σ W_i ∇f_i, and the seams' shape operator
+// (P HF P − P Σ W_i Hf_i P) / ‖∇F‖ against the patches' own, by its largest tangent eigenvalue.
+struct PuSeams {
+    size_t samples = 0;
+    double normalDegMedian = 0, normalDegP95 = 0;  // the seams' tilt of the normal, degrees
+    double curvatureRatioMedian = 0, curvatureRatioP95 = 0;  // |κ| of the seams over |κ| of the patches
+    // The roughness inside: ‖S(mid) − (S(a) + S(b))/2‖ / (mean ‖S‖ + 1), S the shape operator, between
+    // neighbouring data points a and b (1 in normalized units: a surface curving like a ball of the diagonal).
+    double roughnessMedian = 0, roughnessP95 = 0;
+};
+
 struct PuStats {
     size_t patches = 0, minPatch = 0, maxPatch = 0;
     double meanPatch = 0;
     double maxRelativeResidual = 0;  // the worst patch's ‖A x − B‖ / ‖B‖
     size_t coarsePoints = 0;
     size_t gridCells = 0, gridEntries = 0;
+    PuSeams seams;
 };
+
+PuSeams measureSeams(const PuHrbf& model, size_t maxSamples = 4000);
 
 // The grid of `patches` (PuHrbf::grid), a function of the patches alone: a loaded model rebuilds it.
 PuGrid buildPuGrid(const std::vector<PuPatch>& patches);

@@ -3,11 +3,13 @@
 #include "lines.h"
 #include "model.h"
 #include "shapes.h"
+#include "temp_dir.h"
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <glm/glm.hpp>
 #include <map>
 #include <set>
@@ -59,6 +61,56 @@ struct Outline {
 };
 
 }  // namespace
+
+// The contour's cusps and vertices of a model fitted with default options, seen by the default camera.
+ink::ContourStats contourOf(const ink::Model& m, float azimuth, float elevation) {
+    ink::Camera camera;
+    camera.azimuthDeg = azimuth;
+    camera.elevationDeg = elevation;
+    const glm::vec3 e = camera.eye();
+    std::vector<ink::SurfaceSample> seeds;
+    for (size_t i = 0; i < m.surface.size(); ++i) seeds.push_back({m.surface.centers[i], m.surface.normals[i]});
+    ink::ContourStats stats;
+    ink::traceContours(m.surface, Vector3d(e.x, e.y, e.z), seeds, {}, &stats);
+    return stats;
+}
+
+TEST_CASE("contours: fitted meshes have their true cusps only (issue 24)") {
+    // A 64 × 32 torus mesh of 2,048 vertices: its contour has no cusp at these views; the fit to its vertices and
+    // all its flat face samples gave 21,906 cusps and 409,614 vertices (65 s).
+    TempDir dir;
+    {
+        std::ofstream obj(dir / "torus.obj");
+        const int nu = 64, nv = 32;
+        for (int i = 0; i < nu; ++i)
+            for (int j = 0; j < nv; ++j) {
+                const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
+                obj << "v " << (1 + 0.42 * std::cos(v)) * std::cos(u) << ' ' << (1 + 0.42 * std::cos(v)) * std::sin(u)
+                    << ' ' << 0.42 * std::sin(v) << '\n';
+            }
+        for (int i = 0; i < nu; ++i)
+            for (int j = 0; j < nv; ++j) {
+                const int a = i * nv + j + 1, b = (i + 1) % nu * nv + j + 1, c = (i + 1) % nu * nv + (j + 1) % nv + 1,
+                          d = i * nv + (j + 1) % nv + 1;
+                obj << "f " << a << ' ' << b << ' ' << c << "\nf " << a << ' ' << c << ' ' << d << '\n';
+            }
+    }
+    const ink::Model torusMesh = ink::loadModel(dir / "torus.obj", {});
+    for (float elevation : {20.0f, 60.0f}) {
+        CAPTURE(elevation);
+        ink::ContourStats s = contourOf(torusMesh, 30, elevation);
+        CHECK(s.cusps <= 4);
+        CHECK(s.curves >= 1);
+        CHECK(s.curves <= 4);
+        CHECK(s.vertices < 3000);
+    }
+    // The bunny (1,839 vertices): 42 cusps and 2,313 vertices measured (34,203 and 916,832 before).
+    const ink::Model bunny = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {});
+    ink::ContourStats s = contourOf(bunny, 0, 15);
+    CHECK(s.cusps <= 100);
+    CHECK(s.vertices <= 20000);
+    CHECK(s.curves >= 3);
+}
 
 TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of the analytic one, in few pieces") {
     const ink::Model& m = torus();

@@ -39,7 +39,10 @@ std::pair<double, double> floatError(const ink::Surface& s, const std::vector<Ve
 TEST_CASE("pu: the bunny and a torus interpolate every point in float: under 1e-6 of the diagonal and 0.01 degree") {
     ink::Model bunny = ink::loadModel(kBunny, {});
     REQUIRE(bunny.surface.method == ink::FitMethod::PartitionOfUnity);
-    CHECK(bunny.faceSamples > 1000);  // the mesh's faces are sampled besides its 1839 vertices
+    // The faces are sampled, and the samples fitted only where the 1,839 vertices alone miss them (measured: 632
+    // of 16,939); all of them would put the facets' disagreement with the vertex normals into the curvature.
+    CHECK(bunny.faceSamples > 100);
+    CHECK(bunny.faceSamples < 3000);
     CHECK(bunny.surface.size() > 1839);
     CHECK(bunny.patches.patches > 100);
     CHECK(bunny.patches.maxPatch <= 64);
