@@ -37,7 +37,8 @@ size_t inked(const inkwell::Image& image) {
 
 }  // namespace
 
-TEST_CASE("api: a fitted sphere evaluates as the sphere, and bad input is an inkwell::Error with a sentence") {
+TEST_CASE("api: a fitted sphere evaluates as the sphere, and bad input is an inkwell::Error with a sentence" *
+          doctest::test_suite("unit")) {
     std::vector<inkwell::Vec3> positions, normals;
     spherePoints(positions, normals);
     inkwell::Model model = inkwell::Model::fit(positions, normals);
@@ -68,7 +69,7 @@ TEST_CASE("api: a fitted sphere evaluates as the sphere, and bad input is an ink
                          inkwell::Error);
 }
 
-TEST_CASE("api: notes reach the Reporter, and nothing else is said") {
+TEST_CASE("api: notes reach the Reporter, and nothing else is said" * doctest::test_suite("unit")) {
     std::vector<std::string> notes;
     inkwell::Reporter reporter;
     reporter.note = [&](const std::string& line) { notes.push_back(line); };
@@ -88,7 +89,8 @@ TEST_CASE("api: notes reach the Reporter, and nothing else is said") {
     CHECK(notes.back().find("ignored") != std::string::npos);
 }
 
-TEST_CASE("api: an adopted device draws into the application's own image what the Renderer draws") {
+TEST_CASE("api: an adopted device draws into the application's own image what the Renderer draws" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;  // the application's instance and device, with validation
     inkwell::Device device(inkwell::AdoptedDevice{gpu.ctx.instance, gpu.ctx.physicalDevice, gpu.ctx.device,
                                                   gpu.ctx.queue, gpu.ctx.queueFamily});
@@ -183,7 +185,8 @@ TEST_CASE("api: an adopted device draws into the application's own image what th
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("api: a drawing's contour is the sphere's circle seen from the eye, and its hatching lies on the surface") {
+TEST_CASE("api: a drawing's contour is the sphere's circle seen from the eye, and its hatching lies on the surface" *
+          doctest::test_suite("gpu")) {
     std::vector<inkwell::Vec3> positions, normals;
     for (const Eigen::Vector3d& p : ink::spherePoints(300, 0.5).positions) {
         positions.push_back({p.x(), p.y(), p.z()});

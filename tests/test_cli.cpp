@@ -22,14 +22,15 @@ Run run(const std::string& args) { return runInkwell(args); }
 
 }  // namespace
 
-TEST_CASE("cli: --help lists the commands") {
+TEST_CASE("cli: --help lists the commands" * doctest::test_suite("cli")) {
     Run r = run("--help");
     CHECK(r.status == 0);
     CHECK(r.output.find("render") != std::string::npos);
     CHECK(r.output.find("devices") != std::string::npos);
 }
 
-TEST_CASE("cli: render of a missing file prints one line and exits non-zero, writing nothing") {
+TEST_CASE("cli: render of a missing file prints one line and exits non-zero, writing nothing" *
+          doctest::test_suite("cli")) {
     std::string out = (std::filesystem::temp_directory_path() / "inkwell-missing.png").string();
     std::filesystem::remove(out);
     Run r = run("render /nonexistent/model.obj -o " + out);
@@ -38,14 +39,14 @@ TEST_CASE("cli: render of a missing file prints one line and exits non-zero, wri
     CHECK_FALSE(std::filesystem::exists(out));
 }
 
-TEST_CASE("cli: render of an unreadable file (a directory) fails cleanly") {
+TEST_CASE("cli: render of an unreadable file (a directory) fails cleanly" * doctest::test_suite("cli")) {
     Run r = run("render " INKWELL_SOURCE_DIR "/assets -o /tmp/inkwell-dir.png");
     CHECK(r.status == 1);
     CHECK(r.output.rfind("inkwell: ", 0) == 0);
     CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
 }
 
-TEST_CASE("cli: render with validation writes the bunny PNG and reports its points") {
+TEST_CASE("cli: render with validation writes the bunny PNG and reports its points" * doctest::test_suite("cli")) {
     std::string out = (std::filesystem::temp_directory_path() / "inkwell-cli-bunny.png").string();
     std::filesystem::remove(out);
     Run r =
@@ -85,7 +86,8 @@ TEST_CASE("cli: render with validation writes the bunny PNG and reports its poin
     CHECK(std::abs(int(y0 + y1) / 2 - 512) < 80);
 }
 
-TEST_CASE("cli: sample writes ranked stipples as a binary PLY in the input's units, and their spacing in stats") {
+TEST_CASE("cli: sample writes ranked stipples as a binary PLY in the input's units, and their spacing in stats" *
+          doctest::test_suite("cli")) {
     std::string dir = std::filesystem::temp_directory_path().string();
     std::string ply = dir + "/inkwell-cli-sample.ply", stats = dir + "/inkwell-cli-sample.json";
     Run r = run("sample " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 64 --levels 3 --points " + ply +
@@ -151,7 +153,7 @@ TEST_CASE("cli: sample writes ranked stipples as a binary PLY in the input's uni
     }
 }
 
-TEST_CASE("cli: absurd requests are refused up front, leaving no output") {
+TEST_CASE("cli: absurd requests are refused up front, leaving no output" * doctest::test_suite("cli")) {
     std::string out = (std::filesystem::temp_directory_path() / "inkwell-cli-absurd.png").string();
     std::filesystem::remove(out);
     Run levels = run("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --levels 14 -o " + out);
@@ -166,14 +168,14 @@ TEST_CASE("cli: absurd requests are refused up front, leaving no output") {
     CHECK_FALSE(std::filesystem::exists(out));
 }
 
-TEST_CASE("cli: validate passes its built-in scenes with zero validation messages") {
+TEST_CASE("cli: validate passes its built-in scenes with zero validation messages" * doctest::test_suite("cli")) {
     Run r = run("validate");
     CHECK(r.status == 0);
     CHECK(r.output.find("0 failed checks, 0 validation errors") != std::string::npos);
     CHECK(r.output.find(": OK") != std::string::npos);
 }
 
-TEST_CASE("cli: bench runs the sphere workload and reports the documented keys") {
+TEST_CASE("cli: bench runs the sphere workload and reports the documented keys" * doctest::test_suite("cli")) {
     std::string json = (std::filesystem::temp_directory_path() / "inkwell-cli-bench.json").string();
     Run r = run("bench --workload sphere --repeat 1 --frames 3 --json " + json);
     REQUIRE(r.status == 0);
@@ -209,7 +211,7 @@ Ink inkOf(const ink::RgbaImage& image) {
 
 }  // namespace
 
-TEST_CASE("cli: --up z stands a z-up model up as the y-up original, also from a preset") {
+TEST_CASE("cli: --up z stands a z-up model up as the y-up original, also from a preset" * doctest::test_suite("cli")) {
     namespace fs = std::filesystem;
     fs::path dir = fs::temp_directory_path() / "inkwell-cli-up";
     fs::create_directories(dir);
@@ -264,7 +266,8 @@ TEST_CASE("cli: --up z stands a z-up model up as the y-up original, also from a 
     fs::remove_all(dir);
 }
 
-TEST_CASE("cli: the hidden lines' dot size, contour width and opacity take effect, from options and a preset") {
+TEST_CASE("cli: the hidden lines' dot size, contour width and opacity take effect, from options and a preset" *
+          doctest::test_suite("cli")) {
     namespace fs = std::filesystem;
     fs::path dir = fs::temp_directory_path() / "inkwell-cli-hidden";
     fs::create_directories(dir);

@@ -121,7 +121,8 @@ void checkDoneWhen(const std::string& name, const Measured& m, bool spider) {
 
 }  // namespace
 
-TEST_CASE("fidelity: distances to a mesh are the brute-force ones, near it and far from it") {
+TEST_CASE("fidelity: distances to a mesh are the brute-force ones, near it and far from it" *
+          doctest::test_suite("unit")) {
     for (const char* name : {"spider.obj", "parts.obj", "hemisphere.obj"}) {
         OrientedPoints mesh = ink::loadPoints(kModels + name);
         const double d = diagonalOf(mesh);
@@ -143,7 +144,7 @@ TEST_CASE("fidelity: distances to a mesh are the brute-force ones, near it and f
     }
 }
 
-TEST_CASE("fidelity: the shares and distances of known point sets") {
+TEST_CASE("fidelity: the shares and distances of known point sets" * doctest::test_suite("unit")) {
     OrientedPoints mesh = ink::loadPoints(kModels + "parts.obj");
     const double d = diagonalOf(mesh);
     SUBCASE("points on the surface everywhere: both shares 1") {
@@ -196,7 +197,8 @@ TEST_CASE("fidelity: the shares and distances of known point sets") {
     }
 }
 
-TEST_CASE("fidelity: the public measureFidelity reads the mesh, and refuses files without faces") {
+TEST_CASE("fidelity: the public measureFidelity reads the mesh, and refuses files without faces" *
+          doctest::test_suite("unit")) {
     OrientedPoints mesh = ink::loadPoints(kModels + "hemisphere.obj");
     std::vector<inkwell::Vec3> corners;
     for (const Vector3d& p : mesh.positions) corners.push_back({p.x(), p.y(), p.z()});
@@ -218,7 +220,8 @@ TEST_CASE("fidelity: the public measureFidelity reads the mesh, and refuses file
                          "the fidelity tolerance must be positive (it is in bounding-box diagonals)", inkwell::Error);
 }
 
-TEST_CASE("fidelity: sample --fidelity prints and writes both shares; files without faces are refused") {
+TEST_CASE("fidelity: sample --fidelity prints and writes both shares; files without faces are refused" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     Run run = runInkwell("sample " + kModels + "parts.obj --points " + (dir / "p.ply") + " --fidelity --stats " +
                          (dir / "s.json"));
@@ -250,7 +253,8 @@ TEST_CASE("fidelity: sample --fidelity prints and writes both shares; files with
           std::string::npos);
 }
 
-TEST_CASE("fidelity: the spider and the separate parts, fitted to their vertices and face samples, are followed") {
+TEST_CASE("fidelity: the spider and the separate parts, fitted to their vertices and face samples, are followed" *
+          doctest::test_suite("gpu")) {
     // Face sampling on its own, through today's fit: what makes the legs whole.
     GpuFixture gpu;
     for (const char* name : {"spider.obj", "parts.obj"}) {
@@ -264,7 +268,7 @@ TEST_CASE("fidelity: the spider and the separate parts, fitted to their vertices
     }
 }
 
-TEST_CASE("fidelity: the spider with default options keeps its legs whole") {
+TEST_CASE("fidelity: the spider with default options keeps its legs whole" * doctest::test_suite("gpu")) {
     // The partition of unity fitted to the vertices and the face samples. The global fit to the vertices alone
     // made beads of the legs (coverage 0.44, a leg gap of 0.27 of the diagonal).
     GpuFixture gpu;
@@ -272,14 +276,14 @@ TEST_CASE("fidelity: the spider with default options keeps its legs whole") {
     checkDoneWhen("spider.obj", measure(gpu, mesh, ink::loadModel(kModels + "spider.obj", {}), true), true);
 }
 
-TEST_CASE("fidelity: separate parts with default options are followed") {
+TEST_CASE("fidelity: separate parts with default options are followed" * doctest::test_suite("gpu")) {
     // The global fit to the vertices alone covered 0.66 of the surface.
     GpuFixture gpu;
     OrientedPoints mesh = ink::loadPoints(kModels + "parts.obj");
     checkDoneWhen("parts.obj", measure(gpu, mesh, ink::loadModel(kModels + "parts.obj", {}), false), false);
 }
 
-TEST_CASE("fidelity: an open hemisphere with default options is followed") {
+TEST_CASE("fidelity: an open hemisphere with default options is followed" * doctest::test_suite("gpu")) {
     // The global fit closed the open surface with a sheet of its own (accuracy 0.86 on the vertices alone; 0.990,
     // just under, with face samples); the partition of unity has no patch past the rim.
     GpuFixture gpu;

@@ -60,7 +60,8 @@ struct Outline {
 
 }  // namespace
 
-TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of the analytic one, in few pieces") {
+TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of the analytic one, in few pieces" *
+          doctest::test_suite("unit")) {
     const ink::Model& m = torus();
     const double scale = m.surface.frame.scale;
     const Vector3d centre = m.surface.frame.toNormalized(Vector3d::Zero());
@@ -210,7 +211,8 @@ std::pair<double, double> spacingVariation(const std::vector<ink::PenStroke>& st
 
 }  // namespace
 
-TEST_CASE("hatching: the bunny's strokes at 1024² are long, evenly spaced, and no stroke enters a contour's halo") {
+TEST_CASE("hatching: the bunny's strokes at 1024² are long, evenly spaced, and no stroke enters a contour's halo" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::LineOptions lines;
     lines.contours = lines.hatching = true;
@@ -314,7 +316,8 @@ TEST_CASE("hatching: the bunny's strokes at 1024² are long, evenly spaced, and 
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("contours: each frame decides on the device which contour segments are hidden, as ray casting does") {
+TEST_CASE("contours: each frame decides on the device which contour segments are hidden, as ray casting does" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::LineOptions lines;
     lines.contours = true;
@@ -387,7 +390,8 @@ TEST_CASE("contours: each frame decides on the device which contour segments are
 #include <fstream>
 #include <sstream>
 
-TEST_CASE("lines: render -o out.svg writes the pen lines as polylines in their own layers") {
+TEST_CASE("lines: render -o out.svg writes the pen lines as polylines in their own layers" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     const std::string svg = dir / "pen.svg";
     Run r = runInkwell("render " INKWELL_SOURCE_DIR
