@@ -7,6 +7,7 @@
 #include "render_style.h"
 #include "resources.h"
 #include "shapes.h"
+#include "temp_dir.h"
 
 #include <doctest/doctest.h>
 
@@ -79,10 +80,10 @@ TEST_CASE("api: notes reach the Reporter, and nothing else is said" * doctest::t
     CHECK(model.report().controlPoints == 200);
     CHECK(model.report().inputPoints > 1000);
     // Saved and loaded back with a control-point count: ignored, with a note.
-    std::string path = (std::filesystem::temp_directory_path() / "inkwell-api-test.hrbf").string();
+    TempDir dir;
+    std::string path = dir / "model.hrbf";
     model.save(path);
     inkwell::Model loaded = inkwell::Model::load(path, options, reporter);
-    std::filesystem::remove(path);
     CHECK(loaded.report().controlPoints == 200);
     CHECK(loaded.value({0, 0.1, 0}) == model.value({0, 0.1, 0}));
     REQUIRE(!notes.empty());
@@ -115,8 +116,8 @@ TEST_CASE("api: an adopted device draws into the application's own image what th
     inkwell::Camera camera;
     camera.azimuthDeg = 70;
     inkwell::Image offscreen;
-    const std::string dir = std::filesystem::temp_directory_path().string();
-    const std::string svgRenderer = dir + "/inkwell-api-renderer.svg", svgRecorder = dir + "/inkwell-api-recorder.svg";
+    TempDir dir;
+    const std::string svgRenderer = dir / "renderer.svg", svgRecorder = dir / "recorder.svg";
     inkwell::Page page = inkwell::Page::named("100x100mm");
     page.marginMm = 5;
     {
@@ -129,7 +130,7 @@ TEST_CASE("api: an adopted device draws into the application's own image what th
         CHECK(layers[0].name == "stipple");
         CHECK(layers[0].paths > 100);
         CHECK(layers[0].travelAfterMm < layers[0].travelBeforeMm);
-        CHECK_THROWS_WITH_AS(renderer.writeVector(dir + "/inkwell-api.eps", page),
+        CHECK_THROWS_WITH_AS(renderer.writeVector(dir / "drawing.eps", page),
                              doctest::Contains("is not an .svg or .pdf file"), inkwell::Error);
         CHECK_THROWS_WITH_AS(inkwell::Page::named("huge"), doctest::Contains("page 'huge' is not"), inkwell::Error);
     }
@@ -172,8 +173,6 @@ TEST_CASE("api: an adopted device draws into the application's own image what th
         CHECK(textA.size() > 1000);
         CHECK(textA == textB);
         CHECK(textA.find("stroke=\"#1a3399\"") != std::string::npos);  // the ink's colour
-        std::filesystem::remove(svgRenderer);
-        std::filesystem::remove(svgRecorder);
     }
     ink::destroyBuffer(gpu.ctx, readback);
     ink::destroyImage(gpu.ctx, target);

@@ -1,6 +1,7 @@
 // The inkwell executable as a user meets it: exit codes and one-line messages.
 #include "image.h"
 #include "run_command.h"
+#include "temp_dir.h"
 
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
@@ -31,8 +32,8 @@ TEST_CASE("cli: --help lists the commands" * doctest::test_suite("cli")) {
 
 TEST_CASE("cli: render of a missing file prints one line and exits non-zero, writing nothing" *
           doctest::test_suite("cli")) {
-    std::string out = (std::filesystem::temp_directory_path() / "inkwell-missing.png").string();
-    std::filesystem::remove(out);
+    TempDir dir;
+    std::string out = dir / "missing.png";
     Run r = run("render /nonexistent/model.obj -o " + out);
     CHECK(r.status == 1);
     CHECK(r.output == "inkwell: cannot open '/nonexistent/model.obj': No such file or directory\n");
@@ -40,15 +41,16 @@ TEST_CASE("cli: render of a missing file prints one line and exits non-zero, wri
 }
 
 TEST_CASE("cli: render of an unreadable file (a directory) fails cleanly" * doctest::test_suite("cli")) {
-    Run r = run("render " INKWELL_SOURCE_DIR "/assets -o /tmp/inkwell-dir.png");
+    TempDir dir;
+    Run r = run("render " INKWELL_SOURCE_DIR "/assets -o " + dir / "dir.png");
     CHECK(r.status == 1);
     CHECK(r.output.rfind("inkwell: ", 0) == 0);
     CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
 }
 
 TEST_CASE("cli: render with validation writes the bunny PNG and reports its points" * doctest::test_suite("cli")) {
-    std::string out = (std::filesystem::temp_directory_path() / "inkwell-cli-bunny.png").string();
-    std::filesystem::remove(out);
+    TempDir dir;
+    std::string out = dir / "bunny.png";
     Run r =
         run("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 100 --levels 2 --validation -o " + out);
     CHECK(r.status == 0);
@@ -88,8 +90,8 @@ TEST_CASE("cli: render with validation writes the bunny PNG and reports its poin
 
 TEST_CASE("cli: sample writes ranked stipples as a binary PLY in the input's units, and their spacing in stats" *
           doctest::test_suite("cli")) {
-    std::string dir = std::filesystem::temp_directory_path().string();
-    std::string ply = dir + "/inkwell-cli-sample.ply", stats = dir + "/inkwell-cli-sample.json";
+    TempDir dir;
+    std::string ply = dir / "sample.ply", stats = dir / "sample.json";
     Run r = run("sample " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 64 --levels 3 --points " + ply +
                 " --stats " + stats);
     REQUIRE(r.status == 0);
@@ -154,8 +156,8 @@ TEST_CASE("cli: sample writes ranked stipples as a binary PLY in the input's uni
 }
 
 TEST_CASE("cli: absurd requests are refused up front, leaving no output" * doctest::test_suite("cli")) {
-    std::string out = (std::filesystem::temp_directory_path() / "inkwell-cli-absurd.png").string();
-    std::filesystem::remove(out);
+    TempDir dir;
+    std::string out = dir / "absurd.png";
     Run levels = run("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --levels 14 -o " + out);
     CHECK(levels.status == 1);
     CHECK(levels.output.find("asks for up to") != std::string::npos);
@@ -176,7 +178,8 @@ TEST_CASE("cli: validate passes its built-in scenes with zero validation message
 }
 
 TEST_CASE("cli: bench runs the sphere workload and reports the documented keys" * doctest::test_suite("cli")) {
-    std::string json = (std::filesystem::temp_directory_path() / "inkwell-cli-bench.json").string();
+    TempDir tmp;
+    std::string json = tmp / "bench.json";
     Run r = run("bench --workload sphere --repeat 1 --frames 3 --json " + json);
     REQUIRE(r.status == 0);
     std::ifstream js(json);
@@ -213,8 +216,8 @@ Ink inkOf(const ink::RgbaImage& image) {
 
 TEST_CASE("cli: --up z stands a z-up model up as the y-up original, also from a preset" * doctest::test_suite("cli")) {
     namespace fs = std::filesystem;
-    fs::path dir = fs::temp_directory_path() / "inkwell-cli-up";
-    fs::create_directories(dir);
+    TempDir tmp;
+    const fs::path dir = tmp.path;
     // The bunny turned z-up: (x, y, z) -> (x, -z, y).
     {
         std::ifstream in(INKWELL_SOURCE_DIR "/assets/bunny.obj");
@@ -263,14 +266,13 @@ TEST_CASE("cli: --up z stands a z-up model up as the y-up original, also from a 
     Run bad = run("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --up w -o " + (dir / "bad.png").string());
     CHECK(bad.status == 1);
     CHECK(bad.output == "inkwell: --up: up axis 'w' is not one of x, -x, y, -y, z, -z\n");
-    fs::remove_all(dir);
 }
 
 TEST_CASE("cli: the hidden lines' dot size, contour width and opacity take effect, from options and a preset" *
           doctest::test_suite("cli")) {
     namespace fs = std::filesystem;
-    fs::path dir = fs::temp_directory_path() / "inkwell-cli-hidden";
-    fs::create_directories(dir);
+    TempDir tmp;
+    const fs::path dir = tmp.path;
     // The torus seen from above: the far side of its hole is hidden.
     const std::string common =
         "render " INKWELL_SOURCE_DIR "/tests/golden/torus.pts --levels 3 --camera 20,20,1.4 --size 256 256 -q ";
@@ -341,5 +343,4 @@ TEST_CASE("cli: the hidden lines' dot size, contour width and opacity take effec
     const Added beyond = added(options, render("default", "--style stipple+contours --hidden-lines"));
     CAPTURE(beyond.pixels);
     CHECK(beyond.pixels > 50);
-    fs::remove_all(dir);
 }

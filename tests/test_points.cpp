@@ -1,5 +1,6 @@
 #include "common.h"
 #include "points.h"
+#include "temp_dir.h"
 
 #include <doctest/doctest.h>
 
@@ -569,7 +570,8 @@ TEST_CASE("points: loadPoints" * doctest::test_suite("unit")) {
         CHECK_THROWS_WITH_AS(ink::loadPoints("model"), doctest::Contains("no file extension"), Error);
     }
     SUBCASE("a file, case-insensitive extension, and a directory") {
-        std::string path = std::string("/tmp/inkwell_test_points_") + std::to_string(std::random_device()()) + ".XYZN";
+        TempDir tmp;
+        std::string path = tmp / "points.XYZN";
         std::FILE* f = std::fopen(path.c_str(), "wb");
         REQUIRE(f);
         std::fputs("0 0 0 0 0 1\n", f);

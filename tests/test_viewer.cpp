@@ -30,10 +30,10 @@ Run view(const std::string& args, int firstDisplay) {
                  INKWELL_BINARY " view " + args);
 }
 
+// A file in this process's own temporary directory (removed at exit): tests run in parallel.
 std::string tempPng(const char* name) {
-    std::string path = (std::filesystem::temp_directory_path() / name).string();
-    std::filesystem::remove(path);
-    return path;
+    static TempDir dir("inkwell-viewer");
+    return dir / name;
 }
 
 const char* kBunny = INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 150 --levels 2";
