@@ -310,14 +310,22 @@ TEST_CASE("cli: the hidden lines' dot size, contour width and opacity take effec
     CAPTURE(big.pixels);
     CAPTURE(hidden.ink);
     CAPTURE(black.ink);
-    // The default: 1.4 px dots, the ink at 0.45 over white paper: 255 · 0.55 = 140 where a pixel is covered.
+    // The default: 1.4 px dots, the ink at 0.45 over white paper: 255 − 0.45 · 255 · c where a share c of a pixel
+    // is covered, 140 where it all is. Antialiasing (a GPU's coverage, the supersampling filter) only lightens
+    // partly covered pixels, so: never darker than 140 (a higher opacity fails), and somewhere at least half
+    // covered (hidden dots missing or a lower opacity fail). 4 px dots and pens cover whole pixels anywhere.
+    const auto darkness = [](const Added& a) { return 255 - a.darkest; };  // 0.45 · 255 · c, at most 114.75
     CHECK(hidden.pixels > 50);
-    CHECK(std::abs(hidden.darkest - 140) <= 1);
+    CHECK(darkness(hidden) <= 116);
+    CHECK(darkness(hidden) >= 57);
     CHECK(big.pixels > 3 * hidden.pixels);  // 4 px hidden dots cover far more
-    CHECK(std::abs(big.darkest - 140) <= 1);
-    // Opacity 1: the same dots in the ink itself, 1 / 0.45 times the ink; opacity 0: the paper as it was.
-    CHECK(black.pixels == hidden.pixels);
-    CHECK(black.darkest == 0);
+    CHECK(darkness(big) <= 116);
+    CHECK(darkness(big) >= 110);
+    // Opacity 1: the same dots in the ink itself: the same coverage darkens 1 / 0.45 times as much (and faint
+    // antialiased edges that round away at 0.45 may show), 1 / 0.45 times the ink; opacity 0: the paper as it was.
+    CHECK(black.pixels >= hidden.pixels);
+    CHECK(double(black.pixels) <= 1.1 * double(hidden.pixels));
+    CHECK(double(darkness(black)) == doctest::Approx(darkness(hidden) / 0.45).epsilon(0.03));
     CHECK(double(black.ink) / double(hidden.ink) == doctest::Approx(1.0 / 0.45).epsilon(0.1));
     CHECK(clear.pixels == none.pixels);
 
@@ -329,7 +337,8 @@ TEST_CASE("cli: the hidden lines' dot size, contour width and opacity take effec
     CAPTURE(wide.pixels);
     CHECK(thin.pixels > 30);
     CHECK(wide.pixels > 2 * thin.pixels);
-    CHECK(std::abs(wide.darkest - 140) <= 1);
+    CHECK(darkness(wide) <= 116);
+    CHECK(darkness(wide) >= 110);
 
     // A preset's keys draw what the options draw.
     std::ofstream(dir / "p.json") << R"({"style": "stipple+contours", "hidden_lines": true, "hidden_dot_size": 4,
