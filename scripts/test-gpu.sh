@@ -6,7 +6,8 @@
 # Extra arguments go to ctest (-R name, -j N, ...). Exit status: ctest's.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DINKWELL_WERROR="${INKWELL_WERROR:-OFF}" >/dev/null
+# INKWELL_WERROR=ON/OFF when given; otherwise the build directory keeps its setting.
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release ${INKWELL_WERROR:+-DINKWELL_WERROR=$INKWELL_WERROR} >/dev/null
 cmake --build build -j"$(nproc)"
 
 tmp=$(mktemp -d)
