@@ -242,7 +242,7 @@ struct Drawing::Impl {
 
 Drawing::Drawing(Device& device, const Model& model, const DrawingOptions& options, const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
-    impl_ = std::make_unique<Impl>(device.impl().ctx, model.impl().model, options);
+    impl_ = std::make_unique<Impl>(device.impl_->ctx, model.impl_->model, options);
 }
 
 Drawing::~Drawing() = default;
@@ -329,10 +329,10 @@ struct Renderer::Impl {
 };
 
 Renderer::Renderer(const Drawing& drawing, uint32_t width, uint32_t height, const Look& look) {
-    ink::Scene& scene = drawing.impl().scene;
+    ink::Scene& scene = drawing.impl_->scene;
     ink::RenderStyle style = toStyle(look);
     ink::checkOffscreenSize(scene.ctx, width, height, style.supersample);
-    impl_ = std::make_unique<Impl>(drawing.impl(), width, height, style);
+    impl_ = std::make_unique<Impl>(*drawing.impl_, width, height, style);
 }
 
 Renderer::~Renderer() = default;
@@ -372,7 +372,7 @@ struct FrameRecorder::Impl {
 };
 
 FrameRecorder::FrameRecorder(const Drawing& drawing, VkFormat colorFormat, uint32_t framesInFlight, const Look& look) {
-    impl_ = std::make_unique<Impl>(drawing.impl(), colorFormat, std::max(1u, framesInFlight), toStyle(look));
+    impl_ = std::make_unique<Impl>(*drawing.impl_, colorFormat, std::max(1u, framesInFlight), toStyle(look));
 }
 
 FrameRecorder::~FrameRecorder() = default;

@@ -248,3 +248,28 @@ TEST_CASE("api: a drawing's contour is the sphere's circle seen from the eye, an
                          inkwell::Error);
     CHECK(device.validationErrors() == 0);
 }
+
+namespace {
+
+// Whether a public object hands out its internals (it must not: the API is what applications can rely on).
+template <class T>
+concept ExposesImpl = requires(const T& t) {
+    t.impl();
+};
+
+}  // namespace
+
+TEST_CASE("api: the public objects hide their internals, and the version macros are the project's" *
+          doctest::test_suite("unit")) {
+    CHECK_FALSE(ExposesImpl<inkwell::Model>);
+    CHECK_FALSE(ExposesImpl<inkwell::Device>);
+    CHECK_FALSE(ExposesImpl<inkwell::Drawing>);
+    CHECK_FALSE(ExposesImpl<inkwell::Renderer>);
+    CHECK_FALSE(ExposesImpl<inkwell::FrameRecorder>);
+    CHECK(std::string(INKWELL_VERSION_STRING) == INKWELL_PROJECT_VERSION);  // CMakeLists.txt's project(VERSION)
+    CHECK(std::to_string(INKWELL_VERSION_MAJOR) + "." + std::to_string(INKWELL_VERSION_MINOR) + "." +
+              std::to_string(INKWELL_VERSION_PATCH) ==
+          INKWELL_PROJECT_VERSION);
+    static_assert(INKWELL_VERSION ==
+                  INKWELL_VERSION_MAJOR * 10000 + INKWELL_VERSION_MINOR * 100 + INKWELL_VERSION_PATCH);
+}

@@ -17,6 +17,7 @@
 #pragma once
 
 #include "inkwell/error.h"
+#include "inkwell/version.h"
 
 #include <vulkan/vulkan.h>
 
@@ -75,10 +76,9 @@ public:
     double value(const Vec3& x) const;
     Vec3 gradient(const Vec3& x) const;
 
-    struct Impl;
-    const Impl& impl() const { return *impl_; }
-
 private:
+    struct Impl;
+    friend class Drawing;
     explicit Model(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
     std::shared_ptr<const Impl> impl_;
 };
@@ -136,10 +136,9 @@ public:
     std::string name() const;           // "llvmpipe (LLVM 15.0.6, 256 bits)"
     uint32_t validationErrors() const;  // counted since creation (with DeviceOptions::validation)
 
-    struct Impl;
-    Impl& impl() const { return *impl_; }
-
 private:
+    struct Impl;
+    friend class Drawing;
     std::unique_ptr<Impl> impl_;
 };
 
@@ -208,10 +207,10 @@ public:
     std::vector<Polyline> hatching() const;
     std::vector<Polyline> contours(const Camera& camera) const;
 
-    struct Impl;
-    Impl& impl() const { return *impl_; }
-
 private:
+    struct Impl;
+    friend class Renderer;
+    friend class FrameRecorder;
     std::unique_ptr<Impl> impl_;
 };
 
