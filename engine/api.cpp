@@ -16,6 +16,7 @@
 #include "vector.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace inkwell {
 
@@ -35,12 +36,34 @@ ink::Camera toCamera(const Camera& c) {
     return camera;
 }
 
+// Every value of a Look against its range (the command line's, apps/app.cpp): one Error naming the field.
+void checkLook(const Look& look) {
+    for (const Color* c : {&look.ink, &look.paper})
+        for (float v : *c)
+            if (!(v >= 0 && v <= 1))
+                throw Error(std::string(c == &look.ink ? "ink" : "paper") + " colour components must be in [0, 1]");
+    if (!(look.dotSize > 0 && look.dotSize <= 64)) throw Error("dotSize must be in (0, 64] pixels");
+    if (!(look.silhouetteSize > 0 && look.silhouetteSize <= 64))
+        throw Error("silhouetteSize must be in (0, 64] pixels");
+    if (!(look.tau >= 0 && look.tau < 1)) throw Error("tau must be in [0, 1)");
+    if (!(look.toneGamma >= 0 && look.toneGamma <= 16)) throw Error("toneGamma must be in [0, 16]");
+    if (!(look.inkDensity >= 0 && look.inkDensity <= 100)) throw Error("inkDensity must be in [0, 100]");
+    if (!(look.hiddenOpacity >= 0 && look.hiddenOpacity <= 1)) throw Error("hiddenOpacity must be in [0, 1]");
+    if (!(look.hiddenDotSize > 0 && look.hiddenDotSize <= 64)) throw Error("hiddenDotSize must be in (0, 64] pixels");
+    if (!(look.penWidth > 0 && look.penWidth <= 32 && look.hatchWidth > 0 && look.hatchWidth <= 32 &&
+          look.hiddenPenWidth > 0 && look.hiddenPenWidth <= 32))
+        throw Error("pen widths must be in (0, 32] pixels");
+    if (!(look.halo >= 0 && look.halo <= 32)) throw Error("halo must be in [0, 32] pixels");
+    const float light = std::hypot(look.light[0], look.light[1], look.light[2]);
+    if (!(light > 0) || !std::isfinite(light)) throw Error("light must be a finite, non-zero vector");
+    if (look.supersample < 1 || look.supersample > 4) throw Error("supersample must be 1 to 4");
+}
+
 ink::RenderStyle toStyle(const Look& look) {
+    checkLook(look);
     ink::RenderStyle s;
     s.ink = {look.ink[0], look.ink[1], look.ink[2], look.ink[3]};
     s.paper = {look.paper[0], look.paper[1], look.paper[2], look.paper[3]};
-    if (!(look.hiddenOpacity >= 0 && look.hiddenOpacity <= 1)) throw Error("hiddenOpacity must be in [0, 1]");
-    if (!(look.hiddenDotSize > 0 && look.hiddenDotSize <= 64)) throw Error("hiddenDotSize must be in (0, 64] pixels");
     s.hiddenInk = glm::vec4(glm::vec3(s.ink), look.hiddenOpacity);
     s.hiddenSize = look.hiddenDotSize;
     s.frontSize = look.dotSize;
@@ -51,12 +74,8 @@ ink::RenderStyle toStyle(const Look& look) {
     s.hiddenLines = look.hiddenLines;
     s.light = {look.light[0], look.light[1], look.light[2]};
     s.lightFollowsCamera = look.lightFollowsCamera;
-    s.supersample = std::max(1u, look.supersample);
+    s.supersample = look.supersample;
     s.drawDots = look.dots;
-    if (!(look.penWidth > 0 && look.penWidth <= 32 && look.hatchWidth > 0 && look.hatchWidth <= 32 &&
-          look.hiddenPenWidth > 0 && look.hiddenPenWidth <= 32))
-        throw Error("pen widths must be in (0, 32] pixels");
-    if (!(look.halo >= 0 && look.halo <= 32)) throw Error("halo must be in [0, 32] pixels");
     s.penWidth = look.penWidth;
     s.hatchWidth = look.hatchWidth;
     s.hiddenPenWidth = look.hiddenPenWidth;

@@ -5,6 +5,7 @@
 
 #include "gpu_fixture.h"
 #include "render_style.h"
+#include "renderer.h"
 #include "resources.h"
 #include "shapes.h"
 #include "temp_dir.h"
@@ -272,4 +273,57 @@ TEST_CASE("api: the public objects hide their internals, and the version macros 
           INKWELL_PROJECT_VERSION);
     static_assert(INKWELL_VERSION ==
                   INKWELL_VERSION_MAJOR * 10000 + INKWELL_VERSION_MINOR * 100 + INKWELL_VERSION_PATCH);
+}
+
+TEST_CASE("api: every Look value is checked, with one error naming the field and its range" *
+          doctest::test_suite("gpu")) {
+    inkwell::DeviceOptions validated;
+    validated.validation = true;
+    inkwell::Device device(validated);
+    std::vector<inkwell::Vec3> positions, normals;
+    spherePoints(positions, normals);
+    inkwell::DrawingOptions options;
+    options.levels = 1;
+    inkwell::Drawing drawing(device, inkwell::Model::fit(positions, normals), options);
+    struct Case {
+        void (*spoil)(inkwell::Look&);
+        const char* message;
+    };
+    const Case cases[] = {
+        {[](inkwell::Look& l) { l.dotSize = -1; }, "dotSize must be in (0, 64] pixels"},
+        {[](inkwell::Look& l) { l.dotSize = NAN; }, "dotSize must be in (0, 64] pixels"},
+        {[](inkwell::Look& l) { l.silhouetteSize = 100; }, "silhouetteSize must be in (0, 64] pixels"},
+        {[](inkwell::Look& l) { l.tau = 1; }, "tau must be in [0, 1)"},
+        {[](inkwell::Look& l) { l.toneGamma = -0.5f; }, "toneGamma must be in [0, 16]"},
+        {[](inkwell::Look& l) { l.inkDensity = INFINITY; }, "inkDensity must be in [0, 100]"},
+        {[](inkwell::Look& l) { l.ink[1] = 1.5f; }, "ink colour components must be in [0, 1]"},
+        {[](inkwell::Look& l) { l.paper[3] = -1; }, "paper colour components must be in [0, 1]"},
+        {[](inkwell::Look& l) {
+             l.light = {0, 0, 0};
+         },
+         "light must be a finite, non-zero vector"},
+        {[](inkwell::Look& l) {
+             l.light = {NAN, 1, 0};
+         },
+         "light must be a finite, non-zero vector"},
+        // 160 × 2²⁷ wrapped around 2³² to a 0×0 image.
+        {[](inkwell::Look& l) { l.supersample = 1u << 27; }, "supersample must be 1 to 4"},
+        {[](inkwell::Look& l) { l.supersample = 0; }, "supersample must be 1 to 4"},
+    };
+    for (const Case& c : cases) {
+        inkwell::Look look;
+        c.spoil(look);
+        CAPTURE(c.message);
+        CHECK_THROWS_WITH_AS(inkwell::Renderer(drawing, 160, 160, look), c.message, inkwell::Error);
+        CHECK_THROWS_WITH_AS(inkwell::FrameRecorder(drawing, VK_FORMAT_R8G8B8A8_UNORM, 1, look), c.message,
+                             inkwell::Error);
+        inkwell::Renderer renderer(drawing, 32, 32);
+        CHECK_THROWS_WITH_AS(renderer.setLook(look), c.message, inkwell::Error);
+    }
+    CHECK(device.validationErrors() == 0);
+    // The engine's own size check (the commands') counts in 64 bits: 160 × 2²⁷ supersampling is refused, not
+    // wrapped around to a 0×0 image.
+    GpuFixture gpu;
+    CHECK_THROWS_WITH_AS(ink::checkOffscreenSize(gpu.ctx, 160, 160, 1u << 27), doctest::Contains("is outside 1.."),
+                         inkwell::Error);
 }
