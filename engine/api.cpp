@@ -249,6 +249,8 @@ std::vector<Polyline> toPolylines(const std::vector<ink::PenStroke>& strokes, co
 struct Drawing::Impl {
     ink::Scene scene;
     glm::vec3 tracedEye{NAN};  // where the contours on the device were traced from
+    // Counts refine(), which replaces the sets: a renderer made before draws them again from new descriptors.
+    uint64_t generation = 0;
     Impl(ink::Context& ctx, const ink::Model& model, const DrawingOptions& o)
         : scene(ctx, model, toDrawStyle(o.style), toRefine(o), toLines(o)) {}
     // The contours of the view from `camera`, traced again when the eye moved.
@@ -272,6 +274,7 @@ void Drawing::refine(const DrawingOptions& options, const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
     impl_->scene.refine(toDrawStyle(options.style), toRefine(options), toLines(options));
     impl_->tracedEye = glm::vec3(NAN);
+    ++impl_->generation;
 }
 
 std::vector<Polyline> Drawing::hatching() const {
@@ -339,12 +342,32 @@ std::vector<PenLayer> writeVectorDrawing(const std::string& path, const ink::Vec
 
 }  // namespace
 
+// A renderer's descriptors name the drawing's sets. Drawing::refine replaces those (after waiting for the
+// device), so a renderer made before it is made again, for the new sets, before it next draws
+// (VUID-vkCmdDispatch-None-02699 otherwise: descriptors of destroyed buffers).
 struct Renderer::Impl {
     Drawing::Impl& drawing;
-    ink::OffscreenRenderer renderer;
+    uint32_t width, height;
     ink::RenderStyle style;
-    Impl(Drawing::Impl& d, uint32_t width, uint32_t height, const ink::RenderStyle& s)
-        : drawing(d), renderer(d.scene.ctx, width, height, s, d.scene.pointers(), d.scene.strokes.get()), style(s) {}
+    uint64_t generation;
+    std::unique_ptr<ink::OffscreenRenderer> renderer;
+    bool rendered = false;  // a frame since the renderer was made for the drawing's sets
+    Impl(Drawing::Impl& d, uint32_t w, uint32_t h, const ink::RenderStyle& s)
+        : drawing(d), width(w), height(h), style(s), generation(d.generation), renderer(make()) {}
+    std::unique_ptr<ink::OffscreenRenderer> make() const {
+        return std::make_unique<ink::OffscreenRenderer>(drawing.scene.ctx, width, height, style,
+                                                        drawing.scene.pointers(), drawing.scene.strokes.get());
+    }
+    // The renderer for the drawing's current sets.
+    ink::OffscreenRenderer& current() {
+        if (generation != drawing.generation) {
+            renderer.reset();
+            renderer = make();
+            generation = drawing.generation;
+            rendered = false;
+        }
+        return *renderer;
+    }
 };
 
 Renderer::Renderer(const Drawing& drawing, uint32_t width, uint32_t height, const Look& look) {
@@ -359,35 +382,65 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 void Renderer::setLook(const Look& look) {
-    ink::UpAxis up = impl_->style.up;
-    impl_->style = toStyle(look);
-    impl_->style.up = up;
-    impl_->renderer.setStyle(impl_->style);
+    ink::RenderStyle style = toStyle(look);
+    if (style.supersample != impl_->style.supersample)
+        throw Error("setLook cannot change supersample (" + std::to_string(impl_->style.supersample) + " to " +
+                    std::to_string(style.supersample) + "): make a new Renderer");
+    style.up = impl_->style.up;
+    impl_->style = style;
+    impl_->current().setStyle(impl_->style);
 }
 
 Image Renderer::render(const Camera& camera) {
+    ink::OffscreenRenderer& renderer = impl_->current();
     if (impl_->style.up != ink::UpAxis(int(camera.up))) {  // the fixed light is given about the up axis
         impl_->style.up = ink::UpAxis(int(camera.up));
-        impl_->renderer.setStyle(impl_->style);
+        renderer.setStyle(impl_->style);
     }
     impl_->drawing.traceFor(toCamera(camera));
-    ink::RgbaImage image = impl_->renderer.render(toCamera(camera));
+    ink::RgbaImage image = renderer.render(toCamera(camera));
+    impl_->rendered = true;
     return {image.width, image.height, std::move(image.pixels)};
 }
 
-uint32_t Renderer::dotsDrawn() const { return impl_->renderer.drawnDots(); }
-
-std::vector<PenLayer> Renderer::writeVector(const std::string& path, const Page& page) const {
-    return writeVectorDrawing(path, impl_->renderer.vectorDrawing(), page);
+uint32_t Renderer::dotsDrawn() const {
+    ink::OffscreenRenderer& renderer = impl_->current();
+    return impl_->rendered ? renderer.drawnDots() : 0;
 }
 
+std::vector<PenLayer> Renderer::writeVector(const std::string& path, const Page& page) const {
+    ink::OffscreenRenderer& renderer = impl_->current();
+    if (!impl_->rendered) throw Error("Renderer::writeVector: no frame of the drawing's points rendered yet");
+    return writeVectorDrawing(path, renderer.vectorDrawing(), page);
+}
+
+// As Renderer::Impl: made again for the drawing's new sets after Drawing::refine, before the next record.
 struct FrameRecorder::Impl {
     Drawing::Impl& drawing;
-    ink::PointRenderer renderer;
+    VkFormat format;
+    uint32_t frames;
+    uint64_t generation;
+    std::unique_ptr<ink::PointRenderer> renderer;
     ink::RenderStyle style;
     bool restyle = true;
-    Impl(Drawing::Impl& d, VkFormat format, uint32_t frames, const ink::RenderStyle& s)
-        : drawing(d), renderer(d.scene.ctx, d.scene.pointers(), format, frames, d.scene.strokes.get()), style(s) {}
+    std::vector<bool> recorded;  // a slot's frame recorded since the renderer was made for the drawing's sets
+    Impl(Drawing::Impl& d, VkFormat f, uint32_t n, const ink::RenderStyle& s)
+        : drawing(d), format(f), frames(n), generation(d.generation), renderer(make()), style(s), recorded(n) {}
+    std::unique_ptr<ink::PointRenderer> make() const {
+        return std::make_unique<ink::PointRenderer>(drawing.scene.ctx, drawing.scene.pointers(), format, frames,
+                                                    drawing.scene.strokes.get());
+    }
+    ink::PointRenderer& current() {
+        if (generation != drawing.generation) {
+            vkDeviceWaitIdle(drawing.scene.ctx.device);  // frames submitted since refine() still read the old
+            renderer.reset();
+            renderer = make();
+            generation = drawing.generation;
+            restyle = true;
+            recorded.assign(frames, false);
+        }
+        return *renderer;
+    }
 };
 
 FrameRecorder::FrameRecorder(const Drawing& drawing, VkFormat colorFormat, uint32_t framesInFlight, const Look& look) {
@@ -404,26 +457,32 @@ void FrameRecorder::setLook(const Look& look) {
 }
 
 void FrameRecorder::record(VkCommandBuffer cmd, const Camera& camera, const FrameTarget& target, uint32_t frame) {
-    if (frame >= impl_->renderer.framesInFlight())
-        throw Error("frame " + std::to_string(frame) + " is not one of the " +
-                    std::to_string(impl_->renderer.framesInFlight()) + " frames in flight");
+    if (frame >= impl_->frames)
+        throw Error("frame " + std::to_string(frame) + " is not one of the " + std::to_string(impl_->frames) +
+                    " frames in flight");
+    ink::PointRenderer& renderer = impl_->current();
     if (impl_->style.up != ink::UpAxis(int(camera.up))) {
         impl_->style.up = ink::UpAxis(int(camera.up));
         impl_->restyle = true;
     }
     if (impl_->restyle) {
-        impl_->renderer.setStyle(cmd, impl_->style, 1.0f);
+        renderer.setStyle(cmd, impl_->style, 1.0f);
         impl_->restyle = false;
     }
     impl_->drawing.traceFor(toCamera(camera));  // waits for the device when the eye moved
-    impl_->renderer.recordFrame(cmd, toCamera(camera), target, frame);
+    renderer.recordFrame(cmd, toCamera(camera), target, frame);
+    impl_->recorded[frame] = true;
 }
 
 std::vector<PenLayer> FrameRecorder::writeVector(const std::string& path, uint32_t frame, const Page& page) const {
-    if (frame >= impl_->renderer.framesInFlight())
-        throw Error("frame " + std::to_string(frame) + " is not one of the " +
-                    std::to_string(impl_->renderer.framesInFlight()) + " frames in flight");
-    return writeVectorDrawing(path, impl_->renderer.vectorDrawing(frame), page);
+    if (frame >= impl_->frames)
+        throw Error("frame " + std::to_string(frame) + " is not one of the " + std::to_string(impl_->frames) +
+                    " frames in flight");
+    ink::PointRenderer& renderer = impl_->current();
+    if (!impl_->recorded[frame])
+        throw Error("FrameRecorder::writeVector: frame " + std::to_string(frame) +
+                    " has recorded no frame of the drawing's points yet");
+    return writeVectorDrawing(path, renderer.vectorDrawing(frame), page);
 }
 
 }  // namespace inkwell

@@ -258,6 +258,45 @@ concept ExposesImpl = requires(const T& t) {
     t.impl();
 };
 
+// The application's colour image and a host-visible copy of it, for frames a FrameRecorder records.
+struct AppTarget {
+    ink::Context& ctx;
+    uint32_t size;
+    ink::Image image;
+    ink::Buffer readback;
+    AppTarget(ink::Context& c, uint32_t s) : ctx(c), size(s) {
+        image = ink::createImage(ctx, size, size, VK_FORMAT_R8G8B8A8_UNORM,
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                 VK_IMAGE_ASPECT_COLOR_BIT);
+        readback = ink::createBuffer(ctx, VkDeviceSize(size) * size * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     ink::MemoryUse::Readback);
+    }
+    ~AppTarget() {
+        ink::destroyBuffer(ctx, readback);
+        ink::destroyImage(ctx, image);
+    }
+    // Records frame slot `frame` into one command buffer, submits it, waits, and reads the image back.
+    inkwell::Image record(inkwell::FrameRecorder& recorder, const inkwell::Camera& camera, uint32_t frame) {
+        ink::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+            inkwell::FrameTarget t{image.image,
+                                   image.view,
+                                   {size, size},
+                                   VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT};
+            recorder.record(cmd, camera, t, frame);
+            VkBufferImageCopy region{};
+            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.imageExtent = {size, size, 1};
+            vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1, &region);
+            ink::stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                              VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+        });
+        inkwell::Image out{size, size, std::vector<uint8_t>(size_t(size) * size * 4)};
+        std::memcpy(out.rgba.data(), readback.mapped, out.rgba.size());
+        return out;
+    }
+};
+
 }  // namespace
 
 TEST_CASE("api: the public objects hide their internals, and the version macros are the project's" *
@@ -273,6 +312,44 @@ TEST_CASE("api: the public objects hide their internals, and the version macros 
           INKWELL_PROJECT_VERSION);
     static_assert(INKWELL_VERSION ==
                   INKWELL_VERSION_MAJOR * 10000 + INKWELL_VERSION_MINOR * 100 + INKWELL_VERSION_PATCH);
+}
+
+TEST_CASE("api: Drawing::refine under a live Renderer and FrameRecorder: both draw the new sets, validation clean" *
+          doctest::test_suite("gpu")) {
+    GpuFixture gpu;
+    inkwell::Device device(inkwell::AdoptedDevice{gpu.ctx.instance, gpu.ctx.physicalDevice, gpu.ctx.device,
+                                                  gpu.ctx.queue, gpu.ctx.queueFamily});
+    std::vector<inkwell::Vec3> positions, normals;
+    spherePoints(positions, normals);
+    inkwell::DrawingOptions options;
+    options.levels = 3;
+    inkwell::Drawing drawing(device, inkwell::Model::fit(positions, normals), options);
+    const uint32_t size = 96;
+    inkwell::Look look;
+    look.supersample = 1;
+    inkwell::Camera camera;
+    inkwell::Renderer renderer(drawing, size, size, look);
+    inkwell::FrameRecorder recorder(drawing, VK_FORMAT_R8G8B8A8_UNORM, 1, look);
+    AppTarget app(gpu.ctx, size);
+    const inkwell::Image before = renderer.render(camera);
+    CHECK(app.record(recorder, camera, 0).rgba == before.rgba);
+    REQUIRE(drawing.sets() == 1);
+
+    // Two sets now, and more levels: the renderer and the recorder made before draw them, as new ones do.
+    options.levels = 4;
+    options.style = inkwell::Style::Both;
+    drawing.refine(options);
+    REQUIRE(drawing.sets() == 2);
+    CHECK(renderer.dotsDrawn() == 0);  // nothing drawn of the new sets yet
+    TempDir dir;
+    CHECK_THROWS_WITH_AS(renderer.writeVector(dir / "none.svg"), doctest::Contains("no frame"), inkwell::Error);
+    CHECK_FALSE(std::filesystem::exists(dir / "none.svg"));
+    const inkwell::Image after = renderer.render(camera);
+    CHECK(renderer.dotsDrawn() > 0);
+    CHECK(after.rgba != before.rgba);
+    CHECK(after.rgba == inkwell::Renderer(drawing, size, size, look).render(camera).rgba);
+    CHECK(app.record(recorder, camera, 0).rgba == after.rgba);
+    gpu.requireNoValidationErrors();
 }
 
 TEST_CASE("api: every Look value is checked, with one error naming the field and its range" *

@@ -196,7 +196,9 @@ public:
     Drawing(Drawing&&) noexcept;
     Drawing& operator=(Drawing&&) noexcept;
 
-    // Replaces the sets (another style, more levels); waits for the device to be idle.
+    // Replaces the sets (another style, more levels); waits for the device to be idle. Renderers and frame
+    // recorders of this drawing stay valid: each draws the new sets from its next render() or record() (a
+    // FrameRecorder's command buffers recorded before refine() must be recorded again, not resubmitted).
     void refine(const DrawingOptions& options, const Reporter& reporter = {});
     size_t sets() const;
     // The points set `set` draws (reads them back), and the same written as binary PLY with rank and level.
