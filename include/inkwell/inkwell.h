@@ -110,8 +110,8 @@ struct DeviceOptions {
     std::function<void(bool error, const std::string& message)> validationMessage;
 };
 
-// A device the application made and keeps. It must be Vulkan 1.3 with synchronization2, dynamicRendering,
-// maintenance4 and hostQueryReset enabled (and shaderFloat64 for FitMethod::Global models), and subgroup
+// A device the application made and keeps. It must be Vulkan 1.3 with synchronization2, dynamicRendering and
+// maintenance4 enabled (and shaderFloat64 for FitMethod::Global models), and subgroup
 // basic/vote/ballot/arithmetic/shuffle operations in compute; the queue's family must do graphics and compute. Inkwell
 // makes only its own command pool, buffers and pipelines on it, and waits for the queue when the Device goes.
 struct AdoptedDevice {
