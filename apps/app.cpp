@@ -128,7 +128,7 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--supersample", s.supersample, "Render this many times larger and filter down (1-4)")
         ->check(CLI::Range(1u, 4u))
         ->capture_default_str();
-    cmd->add_option("--preset", o.preset, "Style preset, a JSON file (docs/presets.md); options given win");
+    cmd->add_option("--preset", o.preset, "Style preset, a JSON file (docs/usage.md, Presets); options given win");
 }
 
 void addVectorOptions(CLI::App* cmd, Options& o) {

@@ -16,6 +16,7 @@
 #include "vector.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace inkwell {
 
@@ -35,12 +36,34 @@ ink::Camera toCamera(const Camera& c) {
     return camera;
 }
 
+// Every value of a Look against its range (the command line's, apps/app.cpp): one Error naming the field.
+void checkLook(const Look& look) {
+    for (const Color* c : {&look.ink, &look.paper})
+        for (float v : *c)
+            if (!(v >= 0 && v <= 1))
+                throw Error(std::string(c == &look.ink ? "ink" : "paper") + " colour components must be in [0, 1]");
+    if (!(look.dotSize > 0 && look.dotSize <= 64)) throw Error("dotSize must be in (0, 64] pixels");
+    if (!(look.silhouetteSize > 0 && look.silhouetteSize <= 64))
+        throw Error("silhouetteSize must be in (0, 64] pixels");
+    if (!(look.tau >= 0 && look.tau < 1)) throw Error("tau must be in [0, 1)");
+    if (!(look.toneGamma >= 0 && look.toneGamma <= 16)) throw Error("toneGamma must be in [0, 16]");
+    if (!(look.inkDensity >= 0 && look.inkDensity <= 100)) throw Error("inkDensity must be in [0, 100]");
+    if (!(look.hiddenOpacity >= 0 && look.hiddenOpacity <= 1)) throw Error("hiddenOpacity must be in [0, 1]");
+    if (!(look.hiddenDotSize > 0 && look.hiddenDotSize <= 64)) throw Error("hiddenDotSize must be in (0, 64] pixels");
+    if (!(look.penWidth > 0 && look.penWidth <= 32 && look.hatchWidth > 0 && look.hatchWidth <= 32 &&
+          look.hiddenPenWidth > 0 && look.hiddenPenWidth <= 32))
+        throw Error("pen widths must be in (0, 32] pixels");
+    if (!(look.halo >= 0 && look.halo <= 32)) throw Error("halo must be in [0, 32] pixels");
+    const float light = std::hypot(look.light[0], look.light[1], look.light[2]);
+    if (!(light > 0) || !std::isfinite(light)) throw Error("light must be a finite, non-zero vector");
+    if (look.supersample < 1 || look.supersample > 4) throw Error("supersample must be 1 to 4");
+}
+
 ink::RenderStyle toStyle(const Look& look) {
+    checkLook(look);
     ink::RenderStyle s;
     s.ink = {look.ink[0], look.ink[1], look.ink[2], look.ink[3]};
     s.paper = {look.paper[0], look.paper[1], look.paper[2], look.paper[3]};
-    if (!(look.hiddenOpacity >= 0 && look.hiddenOpacity <= 1)) throw Error("hiddenOpacity must be in [0, 1]");
-    if (!(look.hiddenDotSize > 0 && look.hiddenDotSize <= 64)) throw Error("hiddenDotSize must be in (0, 64] pixels");
     s.hiddenInk = glm::vec4(glm::vec3(s.ink), look.hiddenOpacity);
     s.hiddenSize = look.hiddenDotSize;
     s.frontSize = look.dotSize;
@@ -51,12 +74,8 @@ ink::RenderStyle toStyle(const Look& look) {
     s.hiddenLines = look.hiddenLines;
     s.light = {look.light[0], look.light[1], look.light[2]};
     s.lightFollowsCamera = look.lightFollowsCamera;
-    s.supersample = std::max(1u, look.supersample);
+    s.supersample = look.supersample;
     s.drawDots = look.dots;
-    if (!(look.penWidth > 0 && look.penWidth <= 32 && look.hatchWidth > 0 && look.hatchWidth <= 32 &&
-          look.hiddenPenWidth > 0 && look.hiddenPenWidth <= 32))
-        throw Error("pen widths must be in (0, 32] pixels");
-    if (!(look.halo >= 0 && look.halo <= 32)) throw Error("halo must be in [0, 32] pixels");
     s.penWidth = look.penWidth;
     s.hatchWidth = look.hatchWidth;
     s.hiddenPenWidth = look.hiddenPenWidth;
@@ -230,6 +249,8 @@ std::vector<Polyline> toPolylines(const std::vector<ink::PenStroke>& strokes, co
 struct Drawing::Impl {
     ink::Scene scene;
     glm::vec3 tracedEye{NAN};  // where the contours on the device were traced from
+    // Counts refine(), which replaces the sets: a renderer made before draws them again from new descriptors.
+    uint64_t generation = 0;
     Impl(ink::Context& ctx, const ink::Model& model, const DrawingOptions& o)
         : scene(ctx, model, toDrawStyle(o.style), toRefine(o), toLines(o)) {}
     // The contours of the view from `camera`, traced again when the eye moved.
@@ -242,7 +263,7 @@ struct Drawing::Impl {
 
 Drawing::Drawing(Device& device, const Model& model, const DrawingOptions& options, const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
-    impl_ = std::make_unique<Impl>(device.impl().ctx, model.impl().model, options);
+    impl_ = std::make_unique<Impl>(device.impl_->ctx, model.impl_->model, options);
 }
 
 Drawing::~Drawing() = default;
@@ -253,6 +274,7 @@ void Drawing::refine(const DrawingOptions& options, const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
     impl_->scene.refine(toDrawStyle(options.style), toRefine(options), toLines(options));
     impl_->tracedEye = glm::vec3(NAN);
+    ++impl_->generation;
 }
 
 std::vector<Polyline> Drawing::hatching() const {
@@ -320,19 +342,39 @@ std::vector<PenLayer> writeVectorDrawing(const std::string& path, const ink::Vec
 
 }  // namespace
 
+// A renderer's descriptors name the drawing's sets. Drawing::refine replaces those (after waiting for the
+// device), so a renderer made before it is made again, for the new sets, before it next draws
+// (VUID-vkCmdDispatch-None-02699 otherwise: descriptors of destroyed buffers).
 struct Renderer::Impl {
     Drawing::Impl& drawing;
-    ink::OffscreenRenderer renderer;
+    uint32_t width, height;
     ink::RenderStyle style;
-    Impl(Drawing::Impl& d, uint32_t width, uint32_t height, const ink::RenderStyle& s)
-        : drawing(d), renderer(d.scene.ctx, width, height, s, d.scene.pointers(), d.scene.strokes.get()), style(s) {}
+    uint64_t generation;
+    std::unique_ptr<ink::OffscreenRenderer> renderer;
+    bool rendered = false;  // a frame since the renderer was made for the drawing's sets
+    Impl(Drawing::Impl& d, uint32_t w, uint32_t h, const ink::RenderStyle& s)
+        : drawing(d), width(w), height(h), style(s), generation(d.generation), renderer(make()) {}
+    std::unique_ptr<ink::OffscreenRenderer> make() const {
+        return std::make_unique<ink::OffscreenRenderer>(drawing.scene.ctx, width, height, style,
+                                                        drawing.scene.pointers(), drawing.scene.strokes.get());
+    }
+    // The renderer for the drawing's current sets.
+    ink::OffscreenRenderer& current() {
+        if (generation != drawing.generation) {
+            renderer.reset();
+            renderer = make();
+            generation = drawing.generation;
+            rendered = false;
+        }
+        return *renderer;
+    }
 };
 
 Renderer::Renderer(const Drawing& drawing, uint32_t width, uint32_t height, const Look& look) {
-    ink::Scene& scene = drawing.impl().scene;
+    ink::Scene& scene = drawing.impl_->scene;
     ink::RenderStyle style = toStyle(look);
     ink::checkOffscreenSize(scene.ctx, width, height, style.supersample);
-    impl_ = std::make_unique<Impl>(drawing.impl(), width, height, style);
+    impl_ = std::make_unique<Impl>(*drawing.impl_, width, height, style);
 }
 
 Renderer::~Renderer() = default;
@@ -340,39 +382,69 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 void Renderer::setLook(const Look& look) {
-    ink::UpAxis up = impl_->style.up;
-    impl_->style = toStyle(look);
-    impl_->style.up = up;
-    impl_->renderer.setStyle(impl_->style);
+    ink::RenderStyle style = toStyle(look);
+    if (style.supersample != impl_->style.supersample)
+        throw Error("setLook cannot change supersample (" + std::to_string(impl_->style.supersample) + " to " +
+                    std::to_string(style.supersample) + "): make a new Renderer");
+    style.up = impl_->style.up;
+    impl_->style = style;
+    impl_->current().setStyle(impl_->style);
 }
 
 Image Renderer::render(const Camera& camera) {
+    ink::OffscreenRenderer& renderer = impl_->current();
     if (impl_->style.up != ink::UpAxis(int(camera.up))) {  // the fixed light is given about the up axis
         impl_->style.up = ink::UpAxis(int(camera.up));
-        impl_->renderer.setStyle(impl_->style);
+        renderer.setStyle(impl_->style);
     }
     impl_->drawing.traceFor(toCamera(camera));
-    ink::RgbaImage image = impl_->renderer.render(toCamera(camera));
+    ink::RgbaImage image = renderer.render(toCamera(camera));
+    impl_->rendered = true;
     return {image.width, image.height, std::move(image.pixels)};
 }
 
-uint32_t Renderer::dotsDrawn() const { return impl_->renderer.drawnDots(); }
-
-std::vector<PenLayer> Renderer::writeVector(const std::string& path, const Page& page) const {
-    return writeVectorDrawing(path, impl_->renderer.vectorDrawing(), page);
+uint32_t Renderer::dotsDrawn() const {
+    ink::OffscreenRenderer& renderer = impl_->current();
+    return impl_->rendered ? renderer.drawnDots() : 0;
 }
 
+std::vector<PenLayer> Renderer::writeVector(const std::string& path, const Page& page) const {
+    ink::OffscreenRenderer& renderer = impl_->current();
+    if (!impl_->rendered) throw Error("Renderer::writeVector: no frame of the drawing's points rendered yet");
+    return writeVectorDrawing(path, renderer.vectorDrawing(), page);
+}
+
+// As Renderer::Impl: made again for the drawing's new sets after Drawing::refine, before the next record.
 struct FrameRecorder::Impl {
     Drawing::Impl& drawing;
-    ink::PointRenderer renderer;
+    VkFormat format;
+    uint32_t frames;
+    uint64_t generation;
+    std::unique_ptr<ink::PointRenderer> renderer;
     ink::RenderStyle style;
     bool restyle = true;
-    Impl(Drawing::Impl& d, VkFormat format, uint32_t frames, const ink::RenderStyle& s)
-        : drawing(d), renderer(d.scene.ctx, d.scene.pointers(), format, frames, d.scene.strokes.get()), style(s) {}
+    std::vector<bool> recorded;  // a slot's frame recorded since the renderer was made for the drawing's sets
+    Impl(Drawing::Impl& d, VkFormat f, uint32_t n, const ink::RenderStyle& s)
+        : drawing(d), format(f), frames(n), generation(d.generation), renderer(make()), style(s), recorded(n) {}
+    std::unique_ptr<ink::PointRenderer> make() const {
+        return std::make_unique<ink::PointRenderer>(drawing.scene.ctx, drawing.scene.pointers(), format, frames,
+                                                    drawing.scene.strokes.get());
+    }
+    ink::PointRenderer& current() {
+        if (generation != drawing.generation) {
+            vkDeviceWaitIdle(drawing.scene.ctx.device);  // frames submitted since refine() still read the old
+            renderer.reset();
+            renderer = make();
+            generation = drawing.generation;
+            restyle = true;
+            recorded.assign(frames, false);
+        }
+        return *renderer;
+    }
 };
 
 FrameRecorder::FrameRecorder(const Drawing& drawing, VkFormat colorFormat, uint32_t framesInFlight, const Look& look) {
-    impl_ = std::make_unique<Impl>(drawing.impl(), colorFormat, std::max(1u, framesInFlight), toStyle(look));
+    impl_ = std::make_unique<Impl>(*drawing.impl_, colorFormat, std::max(1u, framesInFlight), toStyle(look));
 }
 
 FrameRecorder::~FrameRecorder() = default;
@@ -385,26 +457,32 @@ void FrameRecorder::setLook(const Look& look) {
 }
 
 void FrameRecorder::record(VkCommandBuffer cmd, const Camera& camera, const FrameTarget& target, uint32_t frame) {
-    if (frame >= impl_->renderer.framesInFlight())
-        throw Error("frame " + std::to_string(frame) + " is not one of the " +
-                    std::to_string(impl_->renderer.framesInFlight()) + " frames in flight");
+    if (frame >= impl_->frames)
+        throw Error("frame " + std::to_string(frame) + " is not one of the " + std::to_string(impl_->frames) +
+                    " frames in flight");
+    ink::PointRenderer& renderer = impl_->current();
     if (impl_->style.up != ink::UpAxis(int(camera.up))) {
         impl_->style.up = ink::UpAxis(int(camera.up));
         impl_->restyle = true;
     }
     if (impl_->restyle) {
-        impl_->renderer.setStyle(cmd, impl_->style, 1.0f);
+        renderer.setStyle(cmd, impl_->style, 1.0f);
         impl_->restyle = false;
     }
     impl_->drawing.traceFor(toCamera(camera));  // waits for the device when the eye moved
-    impl_->renderer.recordFrame(cmd, toCamera(camera), target, frame);
+    renderer.recordFrame(cmd, toCamera(camera), target, frame);
+    impl_->recorded[frame] = true;
 }
 
 std::vector<PenLayer> FrameRecorder::writeVector(const std::string& path, uint32_t frame, const Page& page) const {
-    if (frame >= impl_->renderer.framesInFlight())
-        throw Error("frame " + std::to_string(frame) + " is not one of the " +
-                    std::to_string(impl_->renderer.framesInFlight()) + " frames in flight");
-    return writeVectorDrawing(path, impl_->renderer.vectorDrawing(frame), page);
+    if (frame >= impl_->frames)
+        throw Error("frame " + std::to_string(frame) + " is not one of the " + std::to_string(impl_->frames) +
+                    " frames in flight");
+    ink::PointRenderer& renderer = impl_->current();
+    if (!impl_->recorded[frame])
+        throw Error("FrameRecorder::writeVector: frame " + std::to_string(frame) +
+                    " has recorded no frame of the drawing's points yet");
+    return writeVectorDrawing(path, renderer.vectorDrawing(frame), page);
 }
 
 }  // namespace inkwell

@@ -278,9 +278,8 @@ void createContext(Context& ctx, const ContextOptions& options) {
     v13.synchronization2 = VK_TRUE;
     v13.maintenance4 = VK_TRUE;
     v13.dynamicRendering = VK_TRUE;
-    VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &v13};
-    v12.hostQueryReset = VK_TRUE;
-    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
+    // Nothing of Vulkan 1.2's: query pools are reset on the device (vkCmdResetQueryPool), not with hostQueryReset.
+    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v13};
     features.features.shaderFloat64 = ctx.float64 ? VK_TRUE : VK_FALSE;
     features.features.shaderUniformBufferArrayDynamicIndexing = ctx.float64 ? VK_TRUE : VK_FALSE;
 

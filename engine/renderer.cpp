@@ -327,8 +327,10 @@ void checkOffscreenSize(const Context& ctx, uint32_t width, uint32_t height, uin
     const std::string what = "image size " + std::to_string(width) + "x" + std::to_string(height) + " with " +
                              std::to_string(supersample) + "x supersampling";
     uint32_t maxSide = std::min(ctx.properties.limits.maxImageDimension2D, 16384u);
-    if (width == 0 || height == 0 || width * supersample > maxSide || height * supersample > maxSide)
-        throw Error(what + " is outside 1.." + std::to_string(maxSide / supersample) + " pixels a side");
+    // In 64 bits: a huge supersampling wrapped around 2³² to a small (or 0×0) image.
+    if (width == 0 || height == 0 || supersample == 0 || uint64_t(width) * supersample > maxSide ||
+        uint64_t(height) * supersample > maxSide)
+        throw Error(what + " is outside 1.." + std::to_string(maxSide / std::max(1u, supersample)) + " pixels a side");
     VkDeviceSize bytes = depthGridBytes({width * supersample, height * supersample});
     VkDeviceSize limit = ctx.properties.limits.maxStorageBufferRange;
     if (bytes > limit)

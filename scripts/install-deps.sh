@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs Inkwell's build and test dependencies from Debian 12 packages. Idempotent: installs only what is
-# missing. Needs root (apt-get); run it with sudo, or as root.
+# missing. Needs root (apt-get); run it with sudo, or as root. What the tests run besides the build: xvfb-run,
+# xauth and xdotool (the viewer tests), rsvg-convert (librsvg2-bin) and pdftoppm (poppler-utils) (the vector
+# tests), the validation layers (every gpu test), python3 (scripts/check-layering.py, test-gpu.sh, test-install.sh).
 set -euo pipefail
 
 packages=(
@@ -8,7 +10,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools glslang-tools spirv-tools
   libeigen3-dev libglm-dev libglfw3-dev doctest-dev libstb-dev libcli11-dev nlohmann-json3-dev
   libopenblas-dev libtinygltf-dev libnanoflann-dev libimgui-dev xvfb xauth xdotool imagemagick clang-format
-  librsvg2-bin poppler-utils
+  librsvg2-bin poppler-utils python3
 )
 
 missing=()

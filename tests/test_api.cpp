@@ -5,8 +5,10 @@
 
 #include "gpu_fixture.h"
 #include "render_style.h"
+#include "renderer.h"
 #include "resources.h"
 #include "shapes.h"
+#include "temp_dir.h"
 
 #include <doctest/doctest.h>
 
@@ -37,7 +39,8 @@ size_t inked(const inkwell::Image& image) {
 
 }  // namespace
 
-TEST_CASE("api: a fitted sphere evaluates as the sphere, and bad input is an inkwell::Error with a sentence") {
+TEST_CASE("api: a fitted sphere evaluates as the sphere, and bad input is an inkwell::Error with a sentence" *
+          doctest::test_suite("unit")) {
     std::vector<inkwell::Vec3> positions, normals;
     spherePoints(positions, normals);
     inkwell::Model model = inkwell::Model::fit(positions, normals);
@@ -68,7 +71,7 @@ TEST_CASE("api: a fitted sphere evaluates as the sphere, and bad input is an ink
                          inkwell::Error);
 }
 
-TEST_CASE("api: notes reach the Reporter, and nothing else is said") {
+TEST_CASE("api: notes reach the Reporter, and nothing else is said" * doctest::test_suite("unit")) {
     std::vector<std::string> notes;
     inkwell::Reporter reporter;
     reporter.note = [&](const std::string& line) { notes.push_back(line); };
@@ -78,17 +81,18 @@ TEST_CASE("api: notes reach the Reporter, and nothing else is said") {
     CHECK(model.report().controlPoints == 200);
     CHECK(model.report().inputPoints > 1000);
     // Saved and loaded back with a control-point count: ignored, with a note.
-    std::string path = (std::filesystem::temp_directory_path() / "inkwell-api-test.hrbf").string();
+    TempDir dir;
+    std::string path = dir / "model.hrbf";
     model.save(path);
     inkwell::Model loaded = inkwell::Model::load(path, options, reporter);
-    std::filesystem::remove(path);
     CHECK(loaded.report().controlPoints == 200);
     CHECK(loaded.value({0, 0.1, 0}) == model.value({0, 0.1, 0}));
     REQUIRE(!notes.empty());
     CHECK(notes.back().find("ignored") != std::string::npos);
 }
 
-TEST_CASE("api: an adopted device draws into the application's own image what the Renderer draws") {
+TEST_CASE("api: an adopted device draws into the application's own image what the Renderer draws" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;  // the application's instance and device, with validation
     inkwell::Device device(inkwell::AdoptedDevice{gpu.ctx.instance, gpu.ctx.physicalDevice, gpu.ctx.device,
                                                   gpu.ctx.queue, gpu.ctx.queueFamily});
@@ -113,8 +117,8 @@ TEST_CASE("api: an adopted device draws into the application's own image what th
     inkwell::Camera camera;
     camera.azimuthDeg = 70;
     inkwell::Image offscreen;
-    const std::string dir = std::filesystem::temp_directory_path().string();
-    const std::string svgRenderer = dir + "/inkwell-api-renderer.svg", svgRecorder = dir + "/inkwell-api-recorder.svg";
+    TempDir dir;
+    const std::string svgRenderer = dir / "renderer.svg", svgRecorder = dir / "recorder.svg";
     inkwell::Page page = inkwell::Page::named("100x100mm");
     page.marginMm = 5;
     {
@@ -127,7 +131,7 @@ TEST_CASE("api: an adopted device draws into the application's own image what th
         CHECK(layers[0].name == "stipple");
         CHECK(layers[0].paths > 100);
         CHECK(layers[0].travelAfterMm < layers[0].travelBeforeMm);
-        CHECK_THROWS_WITH_AS(renderer.writeVector(dir + "/inkwell-api.eps", page),
+        CHECK_THROWS_WITH_AS(renderer.writeVector(dir / "drawing.eps", page),
                              doctest::Contains("is not an .svg or .pdf file"), inkwell::Error);
         CHECK_THROWS_WITH_AS(inkwell::Page::named("huge"), doctest::Contains("page 'huge' is not"), inkwell::Error);
     }
@@ -170,8 +174,6 @@ TEST_CASE("api: an adopted device draws into the application's own image what th
         CHECK(textA.size() > 1000);
         CHECK(textA == textB);
         CHECK(textA.find("stroke=\"#1a3399\"") != std::string::npos);  // the ink's colour
-        std::filesystem::remove(svgRenderer);
-        std::filesystem::remove(svgRecorder);
     }
     ink::destroyBuffer(gpu.ctx, readback);
     ink::destroyImage(gpu.ctx, target);
@@ -183,7 +185,8 @@ TEST_CASE("api: an adopted device draws into the application's own image what th
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("api: a drawing's contour is the sphere's circle seen from the eye, and its hatching lies on the surface") {
+TEST_CASE("api: a drawing's contour is the sphere's circle seen from the eye, and its hatching lies on the surface" *
+          doctest::test_suite("gpu")) {
     std::vector<inkwell::Vec3> positions, normals;
     for (const Eigen::Vector3d& p : ink::spherePoints(300, 0.5).positions) {
         positions.push_back({p.x(), p.y(), p.z()});
@@ -245,4 +248,159 @@ TEST_CASE("api: a drawing's contour is the sphere's circle seen from the eye, an
     CHECK_THROWS_WITH_AS(inkwell::Renderer(drawing, 128, 128, look), "hiddenDotSize must be in (0, 64] pixels",
                          inkwell::Error);
     CHECK(device.validationErrors() == 0);
+}
+
+namespace {
+
+// Whether a public object hands out its internals (it must not: the API is what applications can rely on).
+template <class T>
+concept ExposesImpl = requires(const T& t) {
+    t.impl();
+};
+
+// The application's colour image and a host-visible copy of it, for frames a FrameRecorder records.
+struct AppTarget {
+    ink::Context& ctx;
+    uint32_t size;
+    ink::Image image;
+    ink::Buffer readback;
+    AppTarget(ink::Context& c, uint32_t s) : ctx(c), size(s) {
+        image = ink::createImage(ctx, size, size, VK_FORMAT_R8G8B8A8_UNORM,
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                 VK_IMAGE_ASPECT_COLOR_BIT);
+        readback = ink::createBuffer(ctx, VkDeviceSize(size) * size * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     ink::MemoryUse::Readback);
+    }
+    ~AppTarget() {
+        ink::destroyBuffer(ctx, readback);
+        ink::destroyImage(ctx, image);
+    }
+    // Records frame slot `frame` into one command buffer, submits it, waits, and reads the image back.
+    inkwell::Image record(inkwell::FrameRecorder& recorder, const inkwell::Camera& camera, uint32_t frame) {
+        ink::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+            inkwell::FrameTarget t{image.image,
+                                   image.view,
+                                   {size, size},
+                                   VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT};
+            recorder.record(cmd, camera, t, frame);
+            VkBufferImageCopy region{};
+            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.imageExtent = {size, size, 1};
+            vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1, &region);
+            ink::stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                              VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+        });
+        inkwell::Image out{size, size, std::vector<uint8_t>(size_t(size) * size * 4)};
+        std::memcpy(out.rgba.data(), readback.mapped, out.rgba.size());
+        return out;
+    }
+};
+
+}  // namespace
+
+TEST_CASE("api: the public objects hide their internals, and the version macros are the project's" *
+          doctest::test_suite("unit")) {
+    CHECK_FALSE(ExposesImpl<inkwell::Model>);
+    CHECK_FALSE(ExposesImpl<inkwell::Device>);
+    CHECK_FALSE(ExposesImpl<inkwell::Drawing>);
+    CHECK_FALSE(ExposesImpl<inkwell::Renderer>);
+    CHECK_FALSE(ExposesImpl<inkwell::FrameRecorder>);
+    CHECK(std::string(INKWELL_VERSION_STRING) == INKWELL_PROJECT_VERSION);  // CMakeLists.txt's project(VERSION)
+    CHECK(std::to_string(INKWELL_VERSION_MAJOR) + "." + std::to_string(INKWELL_VERSION_MINOR) + "." +
+              std::to_string(INKWELL_VERSION_PATCH) ==
+          INKWELL_PROJECT_VERSION);
+    static_assert(INKWELL_VERSION ==
+                  INKWELL_VERSION_MAJOR * 10000 + INKWELL_VERSION_MINOR * 100 + INKWELL_VERSION_PATCH);
+}
+
+TEST_CASE("api: Drawing::refine under a live Renderer and FrameRecorder: both draw the new sets, validation clean" *
+          doctest::test_suite("gpu")) {
+    GpuFixture gpu;
+    inkwell::Device device(inkwell::AdoptedDevice{gpu.ctx.instance, gpu.ctx.physicalDevice, gpu.ctx.device,
+                                                  gpu.ctx.queue, gpu.ctx.queueFamily});
+    std::vector<inkwell::Vec3> positions, normals;
+    spherePoints(positions, normals);
+    inkwell::DrawingOptions options;
+    options.levels = 3;
+    inkwell::Drawing drawing(device, inkwell::Model::fit(positions, normals), options);
+    const uint32_t size = 96;
+    inkwell::Look look;
+    look.supersample = 1;
+    inkwell::Camera camera;
+    inkwell::Renderer renderer(drawing, size, size, look);
+    inkwell::FrameRecorder recorder(drawing, VK_FORMAT_R8G8B8A8_UNORM, 1, look);
+    AppTarget app(gpu.ctx, size);
+    const inkwell::Image before = renderer.render(camera);
+    CHECK(app.record(recorder, camera, 0).rgba == before.rgba);
+    REQUIRE(drawing.sets() == 1);
+
+    // Two sets now, and more levels: the renderer and the recorder made before draw them, as new ones do.
+    options.levels = 4;
+    options.style = inkwell::Style::Both;
+    drawing.refine(options);
+    REQUIRE(drawing.sets() == 2);
+    CHECK(renderer.dotsDrawn() == 0);  // nothing drawn of the new sets yet
+    TempDir dir;
+    CHECK_THROWS_WITH_AS(renderer.writeVector(dir / "none.svg"), doctest::Contains("no frame"), inkwell::Error);
+    CHECK_FALSE(std::filesystem::exists(dir / "none.svg"));
+    const inkwell::Image after = renderer.render(camera);
+    CHECK(renderer.dotsDrawn() > 0);
+    CHECK(after.rgba != before.rgba);
+    CHECK(after.rgba == inkwell::Renderer(drawing, size, size, look).render(camera).rgba);
+    CHECK(app.record(recorder, camera, 0).rgba == after.rgba);
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("api: every Look value is checked, with one error naming the field and its range" *
+          doctest::test_suite("gpu")) {
+    inkwell::DeviceOptions validated;
+    validated.validation = true;
+    inkwell::Device device(validated);
+    std::vector<inkwell::Vec3> positions, normals;
+    spherePoints(positions, normals);
+    inkwell::DrawingOptions options;
+    options.levels = 1;
+    inkwell::Drawing drawing(device, inkwell::Model::fit(positions, normals), options);
+    struct Case {
+        void (*spoil)(inkwell::Look&);
+        const char* message;
+    };
+    const Case cases[] = {
+        {[](inkwell::Look& l) { l.dotSize = -1; }, "dotSize must be in (0, 64] pixels"},
+        {[](inkwell::Look& l) { l.dotSize = NAN; }, "dotSize must be in (0, 64] pixels"},
+        {[](inkwell::Look& l) { l.silhouetteSize = 100; }, "silhouetteSize must be in (0, 64] pixels"},
+        {[](inkwell::Look& l) { l.tau = 1; }, "tau must be in [0, 1)"},
+        {[](inkwell::Look& l) { l.toneGamma = -0.5f; }, "toneGamma must be in [0, 16]"},
+        {[](inkwell::Look& l) { l.inkDensity = INFINITY; }, "inkDensity must be in [0, 100]"},
+        {[](inkwell::Look& l) { l.ink[1] = 1.5f; }, "ink colour components must be in [0, 1]"},
+        {[](inkwell::Look& l) { l.paper[3] = -1; }, "paper colour components must be in [0, 1]"},
+        {[](inkwell::Look& l) {
+             l.light = {0, 0, 0};
+         },
+         "light must be a finite, non-zero vector"},
+        {[](inkwell::Look& l) {
+             l.light = {NAN, 1, 0};
+         },
+         "light must be a finite, non-zero vector"},
+        // 160 × 2²⁷ wrapped around 2³² to a 0×0 image.
+        {[](inkwell::Look& l) { l.supersample = 1u << 27; }, "supersample must be 1 to 4"},
+        {[](inkwell::Look& l) { l.supersample = 0; }, "supersample must be 1 to 4"},
+    };
+    for (const Case& c : cases) {
+        inkwell::Look look;
+        c.spoil(look);
+        CAPTURE(c.message);
+        CHECK_THROWS_WITH_AS(inkwell::Renderer(drawing, 160, 160, look), c.message, inkwell::Error);
+        CHECK_THROWS_WITH_AS(inkwell::FrameRecorder(drawing, VK_FORMAT_R8G8B8A8_UNORM, 1, look), c.message,
+                             inkwell::Error);
+        inkwell::Renderer renderer(drawing, 32, 32);
+        CHECK_THROWS_WITH_AS(renderer.setLook(look), c.message, inkwell::Error);
+    }
+    CHECK(device.validationErrors() == 0);
+    // The engine's own size check (the commands') counts in 64 bits: 160 × 2²⁷ supersampling is refused, not
+    // wrapped around to a 0×0 image.
+    GpuFixture gpu;
+    CHECK_THROWS_WITH_AS(ink::checkOffscreenSize(gpu.ctx, 160, 160, 1u << 27), doctest::Contains("is outside 1.."),
+                         inkwell::Error);
 }

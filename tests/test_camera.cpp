@@ -16,7 +16,8 @@ float largestDifference(const glm::mat4& a, const glm::mat4& b) {
 
 }  // namespace
 
-TEST_CASE("camera: a free orbit sees what the turntable sees below the poles, and tumbles over them smoothly") {
+TEST_CASE("camera: a free orbit sees what the turntable sees below the poles, and tumbles over them smoothly" *
+          doctest::test_suite("unit")) {
     for (ink::UpAxis up : {ink::UpAxis::PosY, ink::UpAxis::PosZ, ink::UpAxis::NegX}) {
         ink::Camera turntable;
         turntable.up = up;

@@ -11,6 +11,7 @@
 #include "scene.h"
 
 #include "run_command.h"
+#include "skip.h"
 
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
@@ -380,18 +381,30 @@ ink::RgbaImage flipped(const ink::RgbaImage& image, bool upsideDown) {
 
 }  // namespace
 
-TEST_CASE("capture: golden bunny-stipple (default camera) matches") { checkGolden(kBunnyStipple); }
+TEST_CASE("capture: golden bunny-stipple (default camera) matches" * doctest::test_suite("golden")) {
+    checkGolden(kBunnyStipple);
+}
 
-TEST_CASE("capture: golden bunny-direction (another angle) matches") { checkGolden(kBunnyDirection); }
+TEST_CASE("capture: golden bunny-direction (another angle) matches" * doctest::test_suite("golden")) {
+    checkGolden(kBunnyDirection);
+}
 
-TEST_CASE("capture: golden torus-hidden (oriented points, hidden lines) matches") { checkGolden(kTorusHidden); }
+TEST_CASE("capture: golden torus-hidden (oriented points, hidden lines) matches" * doctest::test_suite("golden")) {
+    checkGolden(kTorusHidden);
+}
 
-TEST_CASE("capture: golden torus-lines (contours, hatching and stipples) matches") { checkGolden(kTorusLines); }
+TEST_CASE("capture: golden torus-lines (contours, hatching and stipples) matches" * doctest::test_suite("golden")) {
+    checkGolden(kTorusLines);
+}
 
-TEST_CASE("capture: the hidden lines of the torus are faint added ink that the default tolerance notices") {
+TEST_CASE("capture: the hidden lines of the torus are faint added ink that the default tolerance notices" *
+          doctest::test_suite("gpu")) {
     // The grey hidden silhouettes are the smallest feature a golden holds (0.4% of the pixels): if the
     // tolerance let them go, it would let most regressions go.
-    if (updatingGoldens()) return;
+    if (updatingGoldens()) {
+        skipTest("updating the goldens");
+        return;
+    }
     GpuFixture gpu;
     ink::RgbaImage withHidden = renderScene(gpu.ctx, kTorusHidden);
     ink::RgbaImage withoutHidden = renderScene(
@@ -415,14 +428,19 @@ TEST_CASE("capture: the hidden lines of the torus are faint added ink that the d
     CHECK(most < ink::RenderStyle{}.hiddenInk.a + 0.05f);
 
     // On lavapipe: the golden, which holds them, fails against the render without them.
-    if (!isLavapipe(gpu.ctx)) return;
+    if (!isLavapipe(gpu.ctx)) {
+        skipTest(std::string("the golden holds lavapipe's pixels, this is ") + gpu.ctx.properties.deviceName +
+                 ": the comparison with it");
+        return;
+    }
     ink::RgbaImage golden = ink::readPng(goldenPath(kTorusHidden));
     ink::CompareResult result = ink::compareImages(golden, withoutHidden, ink::kCompareThreshold);
     INFO("golden against without: " << ink::describe(result));
     CHECK_FALSE(ink::withinTolerance(result, ink::kCompareMaxFraction));
 }
 
-TEST_CASE("capture: the drawing comparison passes other seeds' dots and fails broken drawings") {
+TEST_CASE("capture: the drawing comparison passes other seeds' dots and fails broken drawings" *
+          doctest::test_suite("gpu")) {
     // Run on this device against its own renders, so that it says the same on any device; the golden tests
     // apply it against lavapipe's pictures.
     GpuFixture gpu;
@@ -485,7 +503,7 @@ TEST_CASE("capture: the drawing comparison passes other seeds' dots and fails br
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("capture: compareImages counts pixels that differ by more than the threshold") {
+TEST_CASE("capture: compareImages counts pixels that differ by more than the threshold" * doctest::test_suite("unit")) {
     ink::RgbaImage a = solid(10, 10, 200), b = a;
     ink::CompareResult same = ink::compareImages(a, b, 8);
     CHECK(same.sameSize);
@@ -525,7 +543,7 @@ TEST_CASE("capture: compareImages counts pixels that differ by more than the thr
     CHECK(ink::diffImage(a, solid(12, 11, 200), 8).width == 12);
 }
 
-TEST_CASE("capture: two captures of the same frames pass compare, exit 0") {
+TEST_CASE("capture: two captures of the same frames pass compare, exit 0" * doctest::test_suite("cli")) {
     TempDir dir("twice");
     REQUIRE(run(kSmallCapture + "--frames 2 -o " + dir / "a").status == 0);
     REQUIRE(run(kSmallCapture + "--frames 2 -o " + dir / "b").status == 0);
@@ -536,7 +554,7 @@ TEST_CASE("capture: two captures of the same frames pass compare, exit 0") {
     }
 }
 
-TEST_CASE("capture: frames of different azimuth fail compare, exit 1, with a diff image") {
+TEST_CASE("capture: frames of different azimuth fail compare, exit 1, with a diff image" * doctest::test_suite("cli")) {
     TempDir dir("azimuth");
     REQUIRE(run(kSmallCapture + "--frames 4 -o " + dir / "c").status == 0);
     Run r = run("compare " + dir / "c/frame_0000.png " + dir / "c/frame_0001.png");
@@ -559,7 +577,7 @@ TEST_CASE("capture: frames of different azimuth fail compare, exit 1, with a dif
     CHECK(run("compare " + frames + " --max-fraction 1").status == 0);
 }
 
-TEST_CASE("capture: compare of a missing file or of a non-PNG exits 1 with one line") {
+TEST_CASE("capture: compare of a missing file or of a non-PNG exits 1 with one line" * doctest::test_suite("cli")) {
     TempDir dir("missing");
     ink::writePng(dir / "a.png", solid(4, 4, 255));
     Run r = run("compare " + dir / "a.png " + dir / "nope.png");
@@ -572,7 +590,7 @@ TEST_CASE("capture: compare of a missing file or of a non-PNG exits 1 with one l
     CHECK(text.output.rfind("inkwell: cannot read '", 0) == 0);
 }
 
-TEST_CASE("capture: compare of images of different sizes exits 1 with one line") {
+TEST_CASE("capture: compare of images of different sizes exits 1 with one line" * doctest::test_suite("cli")) {
     TempDir dir("sizes");
     ink::writePng(dir / "a.png", solid(4, 4, 255));
     ink::writePng(dir / "b.png", solid(4, 5, 255));
@@ -582,7 +600,8 @@ TEST_CASE("capture: compare of images of different sizes exits 1 with one line")
     CHECK_FALSE(fs::exists(dir / "b-diff.png"));
 }
 
-TEST_CASE("capture: the manifest lists N frames with distinct azimuths, and validation stays clean") {
+TEST_CASE("capture: the manifest lists N frames with distinct azimuths, and validation stays clean" *
+          doctest::test_suite("cli")) {
     TempDir dir("manifest");
     std::string out = dir / "new/frames";  // created, parents included
     Run r = run(kSmallCapture + "--frames 5 --orbit 90 --camera 10,20,1.8 --validation -o " + out);
@@ -613,7 +632,7 @@ TEST_CASE("capture: the manifest lists N frames with distinct azimuths, and vali
     CHECK(azimuths.size() == 5);
 }
 
-TEST_CASE("capture: frame 0 of a capture matches the bunny-stipple golden") {
+TEST_CASE("capture: frame 0 of a capture matches the bunny-stipple golden" * doctest::test_suite("golden")) {
     // The command and the in-process golden render the same scene: capture is a way to remake a golden.
     TempDir dir("golden");
     std::string golden = "capture " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 150 --levels 3 ";
@@ -626,13 +645,16 @@ TEST_CASE("capture: frame 0 of a capture matches the bunny-stipple golden") {
     DrawingComparison drawing = compareDrawings(ink::readPng(goldenPath(kBunnyStipple)), frame);
     INFO(describe(drawing));
     CHECK(drawingsMatch(drawing));
-    if (device.find("llvmpipe") == std::string::npos) return;
+    if (device.find("llvmpipe") == std::string::npos) {
+        skipTest("the golden holds lavapipe's pixels, this is " + device + ": `inkwell compare` against it");
+        return;
+    }
     Run r = run("compare " + goldenPath(kBunnyStipple) + " " + dir / "g/frame_0000.png");
     INFO(r.output);
     CHECK(r.status == 0);
 }
 
-TEST_CASE("capture: an output directory that cannot be created exits 1 with one line") {
+TEST_CASE("capture: an output directory that cannot be created exits 1 with one line" * doctest::test_suite("cli")) {
     TempDir dir("nodir");
     std::ofstream(dir / "file") << "x\n";
     Run r = run(kSmallCapture + "--frames 1 -o " + dir / "file/frames");

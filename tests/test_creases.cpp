@@ -46,7 +46,8 @@ struct Notes {
 
 }  // namespace
 
-TEST_CASE("creases: split vertices 1e-7 to 1e-3 apart fit, merged with averaged normals and a note") {
+TEST_CASE("creases: split vertices 1e-7 to 1e-3 apart fit, merged with averaged normals and a note" *
+          doctest::test_suite("unit")) {
     for (double offset : {1e-7, 1e-5, 1e-3}) {
         CAPTURE(offset);
         Notes notes;
@@ -70,7 +71,8 @@ TEST_CASE("creases: split vertices 1e-7 to 1e-3 apart fit, merged with averaged 
     }
 }
 
-TEST_CASE("creases: points far apart are left alone; normals that cancel are dropped, with a note") {
+TEST_CASE("creases: points far apart are left alone; normals that cancel are dropped, with a note" *
+          doctest::test_suite("unit")) {
     ink::OrientedPoints apart = splitCylinder(40, 8, 0.05);
     size_t count = apart.positions.size();
     CHECK(ink::mergeNearPoints(apart, 1e-3).merged == 0);

@@ -58,7 +58,7 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 
 }  // namespace
 
-TEST_CASE("fit: the bunny with 684 control points interpolates its points and normals") {
+TEST_CASE("fit: the bunny with 684 control points interpolates its points and normals" * doctest::test_suite("unit")) {
     ink::Model m = ink::loadModel(kBunny, {684, ink::FitMethod::Global});
     CHECK(m.fit.controlPoints == 684);
     CHECK(m.surface.normals.size() == 684);
@@ -67,7 +67,8 @@ TEST_CASE("fit: the bunny with 684 control points interpolates its points and no
     CHECK(m.fit.maxNormalAngleDeg < 0.01);
 }
 
-TEST_CASE("fit: farthest-point sampling through fitModel picks the same centres every time") {
+TEST_CASE("fit: farthest-point sampling through fitModel picks the same centres every time" *
+          doctest::test_suite("unit")) {
     ink::OrientedPoints points = ink::loadPoints(kBunny);
     ink::Model a = ink::fitModel(points, {150, ink::FitMethod::Global}),
                b = ink::fitModel(points, {150, ink::FitMethod::Global});
@@ -76,7 +77,7 @@ TEST_CASE("fit: farthest-point sampling through fitModel picks the same centres 
     for (size_t j = 0; j < a.surface.size(); ++j) CHECK(sameBits(a.surface.centers[j], b.surface.centers[j]));
 }
 
-TEST_CASE("fit: the zero set follows a rigid motion and a uniform scale of the input") {
+TEST_CASE("fit: the zero set follows a rigid motion and a uniform scale of the input" * doctest::test_suite("unit")) {
     // The cubic kernel with a linear term is covariant under similarities: for x' = s R x + t the fit to
     // the moved points is f'(x') = s f(x) (up to rounding), so signs agree and |f|/‖∇f‖ scales by s.
     // Each model normalizes by its own bounding box, and those differ: compare in input units. The centres
@@ -119,7 +120,7 @@ TEST_CASE("fit: the zero set follows a rigid motion and a uniform scale of the i
     CHECK(worst < 1e-8);  // measured 3e-11
 }
 
-TEST_CASE("fit: a .hrbf file round-trips bit for bit and evaluates identically") {
+TEST_CASE("fit: a .hrbf file round-trips bit for bit and evaluates identically" * doctest::test_suite("unit")) {
     ink::Model fitted = ink::fitModel(bunnySubset(120), {0, ink::FitMethod::Global});
     const ink::Surface& hs = fitted.surface;
     const ink::Hrbf& h = hs.global;
@@ -179,7 +180,7 @@ TEST_CASE("fit: a .hrbf file round-trips bit for bit and evaluates identically")
     std::filesystem::remove(again);
 }
 
-TEST_CASE("fit: the .hrbf reader refuses bad files with one-line messages") {
+TEST_CASE("fit: the .hrbf reader refuses bad files with one-line messages" * doctest::test_suite("unit")) {
     auto parse = [](const std::string& text) { return ink::parseHrbf(text, "m.surface"); };
     auto refused = [&](const std::string& text, const std::string& message) {
         INFO("file: " << text);
@@ -261,7 +262,7 @@ TEST_CASE("fit: the .hrbf reader refuses bad files with one-line messages") {
     CHECK_THROWS_WITH_AS(ink::loadModel("/nonexistent/x.HRBF", {}), doctest::Contains("cannot open"), ink::Error);
 }
 
-TEST_CASE("fit: a singular system is refused with a message, not NaNs") {
+TEST_CASE("fit: a singular system is refused with a message, not NaNs" * doctest::test_suite("unit")) {
     using doctest::Contains;
     ink::OrientedPoints points = bunnySubset(40);
     ink::Frame frame = ink::Frame::unitDiagonal(points.positions);

@@ -20,7 +20,8 @@ ink::Model bunny(size_t controlPoints) {
 
 }  // namespace
 
-TEST_CASE("gpu: seeds projected on the device match the CPU evaluation, with zero validation errors") {
+TEST_CASE("gpu: seeds projected on the device match the CPU evaluation, with zero validation errors" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::Model model = bunny(200);
     ink::RefineOptions options;
@@ -44,7 +45,7 @@ TEST_CASE("gpu: seeds projected on the device match the CPU evaluation, with zer
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("gpu: the bunny renders as dots on white paper") {
+TEST_CASE("gpu: the bunny renders as dots on white paper" * doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::Model model = bunny(200);
     ink::RefineOptions options;
@@ -66,7 +67,8 @@ TEST_CASE("gpu: the bunny renders as dots on white paper") {
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("gpu: each pixel takes the ink once — paper, ink or hidden ink over paper — and frames repeat exactly") {
+TEST_CASE("gpu: each pixel takes the ink once — paper, ink or hidden ink over paper — and frames repeat exactly" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::Model model = ink::fitModel(ink::torusPoints(24, 12), {});
     ink::RefineOptions options;

@@ -27,7 +27,7 @@ double angleDeg(const Vector3d& a, const Vector3d& b) {
 
 }  // namespace
 
-TEST_CASE("hrbf: the fit interpolates points and normals on a sphere") {
+TEST_CASE("hrbf: the fit interpolates points and normals on a sphere" * doctest::test_suite("unit")) {
     std::vector<Vector3d> p, n;
     ellipsoid(60, p, n, {0.4, 0.4, 0.4});
     ink::FitStats stats;
@@ -48,7 +48,8 @@ TEST_CASE("hrbf: the fit interpolates points and normals on a sphere") {
     CHECK(h.eval(Vector3d(1, 0, 0), g) > 0);
 }
 
-TEST_CASE("hrbf: between control points an ellipsoid fit stays close to the true surface") {
+TEST_CASE("hrbf: between control points an ellipsoid fit stays close to the true surface" *
+          doctest::test_suite("unit")) {
     std::vector<Vector3d> p, n;
     ellipsoid(300, p, n);
     ink::Hrbf h = ink::fitHrbf(p, n);
@@ -62,7 +63,7 @@ TEST_CASE("hrbf: between control points an ellipsoid fit stays close to the true
     }
 }
 
-TEST_CASE("hrbf: gradient and Hessian agree with finite differences of f") {
+TEST_CASE("hrbf: gradient and Hessian agree with finite differences of f" * doctest::test_suite("unit")) {
     std::vector<Vector3d> p, n;
     ellipsoid(40, p, n);
     ink::Hrbf h = ink::fitHrbf(p, n);
@@ -82,7 +83,8 @@ TEST_CASE("hrbf: gradient and Hessian agree with finite differences of f") {
     }
 }
 
-TEST_CASE("hrbf: principal curvatures of a sphere and of an ellipsoid with unequal axes match the analytic ones") {
+TEST_CASE("hrbf: principal curvatures of a sphere and of an ellipsoid with unequal axes match the analytic ones" *
+          doctest::test_suite("unit")) {
     SUBCASE("sphere of radius 0.4: both 1/0.4") {
         std::vector<Vector3d> p, n;
         ellipsoid(200, p, n, {0.4, 0.4, 0.4});
@@ -138,7 +140,8 @@ TEST_CASE("hrbf: principal curvatures of a sphere and of an ellipsoid with unequ
     }
 }
 
-TEST_CASE("model: fitModel normalizes, reports in normalized units, and refuses too few points") {
+TEST_CASE("model: fitModel normalizes, reports in normalized units, and refuses too few points" *
+          doctest::test_suite("unit")) {
     ink::OrientedPoints pts;
     std::vector<Vector3d> p, n;
     ellipsoid(100, p, n);

@@ -94,7 +94,8 @@ std::string sphereXyzn(double radius, double centre, int count) {
 
 // ---- Item 6: hostile .hrbf files --------------------------------------------------------------------------
 
-TEST_CASE("inputs: a .hrbf whose coefficients overflow grad f is refused, not believed (sample, validate)") {
+TEST_CASE("inputs: a .hrbf whose coefficients overflow grad f is refused, not believed (sample, validate)" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     // 1e300 coefficients: ‖∇f‖ overflows, so |f|/‖∇f‖ = 0 passed and every candidate was kept.
     std::string model = dir.write("huge.hrbf",
@@ -105,7 +106,8 @@ TEST_CASE("inputs: a .hrbf whose coefficients overflow grad f is refused, not be
     CHECK_FALSE(fs::exists(dir / "out.ply"));
 }
 
-TEST_CASE("inputs: --seeds grid on a model whose centres coincide is refused (no NaN cast to an integer)") {
+TEST_CASE("inputs: --seeds grid on a model whose centres coincide is refused (no NaN cast to an integer)" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     // f = z: consistent at both centres, which are the same point.
     std::string model = dir.write("same.hrbf",
@@ -117,7 +119,8 @@ TEST_CASE("inputs: --seeds grid on a model whose centres coincide is refused (no
 
 // ---- Item 7: decompression bombs; printable messages ---------------------------------------------------
 
-TEST_CASE("inputs: a PNG claiming 8000x8000 pixels is refused from its header, before decoding") {
+TEST_CASE("inputs: a PNG claiming 8000x8000 pixels is refused from its header, before decoding" *
+          doctest::test_suite("cli")) {
     std::string bomb = pngHeader(8000, 8000);
     CHECK_THROWS_WITH_AS(ink::readPngFromMemory(bomb, "bomb.png"),
                          doctest::Contains("cannot read 'bomb.png' as PNG: 8000x8000 pixels (244 MiB decoded) from "
@@ -133,7 +136,8 @@ TEST_CASE("inputs: a PNG claiming 8000x8000 pixels is refused from its header, b
     refused("compare " + a + " " + b, {"8000x8000 pixels", "decompression bomb"});
 }
 
-TEST_CASE("inputs: PNG messages are printable ASCII whatever the file name or the bytes") {
+TEST_CASE("inputs: PNG messages are printable ASCII whatever the file name or the bytes" *
+          doctest::test_suite("unit")) {
     TempDir dir;
     std::string name = dir / "caf\xe9\xff.png";
     std::ofstream(name, std::ios::binary) << "\x89PNG\r\n\x1a\nnot really";
@@ -148,7 +152,8 @@ TEST_CASE("inputs: PNG messages are printable ASCII whatever the file name or th
     }
 }
 
-TEST_CASE("inputs: every PNG seed and regression decodes or throws a printable ink::Error naming the file") {
+TEST_CASE("inputs: every PNG seed and regression decodes or throws a printable ink::Error naming the file" *
+          doctest::test_suite("unit")) {
     size_t files = 0;
     for (const char* root : {INKWELL_SOURCE_DIR "/tests/regressions/png", INKWELL_SOURCE_DIR "/fuzz/corpus/png"}) {
         for (const auto& entry : fs::directory_iterator(root)) {
@@ -177,7 +182,8 @@ TEST_CASE("inputs: every PNG seed and regression decodes or throws a printable i
 
 // ---- Item 8: presets checked like the command line ------------------------------------------------------
 
-TEST_CASE("inputs: a preset's values are checked for type, size and range, naming the file and the key") {
+TEST_CASE("inputs: a preset's values are checked for type, size and range, naming the file and the key" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     const std::vector<std::tuple<std::string, std::string>> cases = {
         {R"({"light": [1]})", "\"light\" must be an array of 3 numbers"},
@@ -216,7 +222,8 @@ TEST_CASE("inputs: a preset's values are checked for type, size and range, namin
 
 // ---- Item 10: options checked before any work -----------------------------------------------------------
 
-TEST_CASE("inputs: --rho, --control-points, --passes and --grid are refused before the fit") {
+TEST_CASE("inputs: --rho, --control-points, --passes and --grid are refused before the fit" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     const std::string sample = "sample " + kBunny + " --backend cpu --levels 1 --points " + (dir / "out.ply") + " ";
     for (const char* rho : {"nan", "-1", "1e9", "0", "inf"})
@@ -228,7 +235,8 @@ TEST_CASE("inputs: --rho, --control-points, --passes and --grid are refused befo
     CHECK_FALSE(fs::exists(dir / "out.ply"));
 }
 
-TEST_CASE("inputs: --style parts, pen and hidden-line options are refused before the fit, naming what is wrong") {
+TEST_CASE("inputs: --style parts, pen and hidden-line options are refused before the fit, naming what is wrong" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     const std::string render = "render " + kBunny + " -o " + (dir / "out.png") + " ";
     refused(render + "--style contours+cubist", {"style 'contours+cubist': 'cubist' is not stipple"});
@@ -250,7 +258,8 @@ TEST_CASE("inputs: --style parts, pen and hidden-line options are refused before
 
 // ---- Item 9: the CPU backend's limit ----------------------------------------------------------------------
 
-TEST_CASE("inputs: the CPU backend refuses more points than the device would (4,194,304), before refining") {
+TEST_CASE("inputs: the CPU backend refuses more points than the device would (4,194,304), before refining" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     refused("sample " + kBunny + " --backend cpu --levels 8 --points " + (dir / "out.ply"),
             {"at most 4194304 fit", "use --levels"});
@@ -259,7 +268,8 @@ TEST_CASE("inputs: the CPU backend refuses more points than the device would (4,
 
 // ---- Item 5: numbers at extreme scales ---------------------------------------------------------------------
 
-TEST_CASE("inputs: duplicate merging far from the origin stays linear (cells relative to the data's box)") {
+TEST_CASE("inputs: duplicate merging far from the origin stays linear (cells relative to the data's box)" *
+          doctest::test_suite("unit")) {
     std::mt19937 random(7);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     ink::OrientedPoints points;
@@ -281,7 +291,8 @@ TEST_CASE("inputs: duplicate merging far from the origin stays linear (cells rel
     CHECK(seconds < 2.0);  // quadratic before: 5e9 distance checks
 }
 
-TEST_CASE("inputs: sample keeps the input's precision: spheres at 1e7, of radius 1e300 and of 1e-300") {
+TEST_CASE("inputs: sample keeps the input's precision: spheres at 1e7, of radius 1e300 and of 1e-300" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     struct Case {
         double radius, centre;
@@ -316,7 +327,7 @@ TEST_CASE("inputs: sample keeps the input's precision: spheres at 1e7, of radius
 
 // ---- Item 10: non-regular inputs, OBJ blanks ---------------------------------------------------------------
 
-TEST_CASE("inputs: a symlink to /dev/zero is refused before it is read") {
+TEST_CASE("inputs: a symlink to /dev/zero is refused before it is read" * doctest::test_suite("unit")) {
     TempDir dir;
     for (const char* name : {"zero.obj", "zero.hrbf", "zero.png"}) {
         fs::create_symlink("/dev/zero", dir.path / name);
@@ -333,7 +344,8 @@ TEST_CASE("inputs: a symlink to /dev/zero is refused before it is read") {
     }
 }
 
-TEST_CASE("inputs: OBJ treats a form feed, vertical tab or carriage return after 'v' or 'f' as a blank") {
+TEST_CASE("inputs: OBJ treats a form feed, vertical tab or carriage return after 'v' or 'f' as a blank" *
+          doctest::test_suite("unit")) {
     for (const char* blank : {"\f", "\v"}) {
         std::string b = blank;
         std::string obj =

@@ -75,7 +75,7 @@ ink::ContourStats contourOf(const ink::Model& m, float azimuth, float elevation)
     return stats;
 }
 
-TEST_CASE("contours: fitted meshes have their true cusps only (issue 24)") {
+TEST_CASE("contours: fitted meshes have their true cusps only (issue 24)" * doctest::test_suite("unit")) {
     // A 64 × 32 torus mesh of 2,048 vertices: its contour has no cusp at these views; the fit to its vertices and
     // all its flat face samples gave 21,906 cusps and 409,614 vertices (65 s).
     TempDir dir;
@@ -112,7 +112,7 @@ TEST_CASE("contours: fitted meshes have their true cusps only (issue 24)") {
     CHECK(s.curves >= 3);
 }
 
-TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of the analytic one, in few pieces") {
+TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of the analytic one, in few pieces" * doctest::test_suite("unit")) {
     const ink::Model& m = torus();
     const double scale = m.surface.frame.scale;
     const Vector3d centre = m.surface.frame.toNormalized(Vector3d::Zero());
@@ -262,7 +262,8 @@ std::pair<double, double> spacingVariation(const std::vector<ink::PenStroke>& st
 
 }  // namespace
 
-TEST_CASE("hatching: the bunny's strokes at 1024² are long, evenly spaced, and no stroke enters a contour's halo") {
+TEST_CASE("hatching: the bunny's strokes at 1024² are long, evenly spaced, and no stroke enters a contour's halo" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::LineOptions lines;
     lines.contours = lines.hatching = true;
@@ -366,7 +367,8 @@ TEST_CASE("hatching: the bunny's strokes at 1024² are long, evenly spaced, and 
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("contours: each frame decides on the device which contour segments are hidden, as ray casting does") {
+TEST_CASE("contours: each frame decides on the device which contour segments are hidden, as ray casting does" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::LineOptions lines;
     lines.contours = true;
@@ -439,7 +441,8 @@ TEST_CASE("contours: each frame decides on the device which contour segments are
 #include <fstream>
 #include <sstream>
 
-TEST_CASE("lines: render -o out.svg writes the pen lines as polylines in their own layers") {
+TEST_CASE("lines: render -o out.svg writes the pen lines as polylines in their own layers" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     const std::string svg = dir / "pen.svg";
     Run r = runInkwell("render " INKWELL_SOURCE_DIR

@@ -5,6 +5,7 @@
 #include "files.h"
 #include "image.h"
 #include "run_command.h"
+#include "skip.h"
 #include "temp_dir.h"
 
 #include <doctest/doctest.h>
@@ -71,7 +72,7 @@ struct FullDisk {
 
 }  // namespace
 
-TEST_CASE("outputs: a failed write or close says why, and /dev/full is a full disk") {
+TEST_CASE("outputs: a failed write or close says why, and /dev/full is a full disk" * doctest::test_suite("unit")) {
     int fd = ::open("/dev/full", O_WRONLY);
     REQUIRE(fd >= 0);
     std::string bytes(100000, 'x');
@@ -79,7 +80,8 @@ TEST_CASE("outputs: a failed write or close says why, and /dev/full is a full di
                          "cannot write 'out.png': No space left on device", ink::Error);
 }
 
-TEST_CASE("outputs: only regular files are replaced; a symbolic link is written through") {
+TEST_CASE("outputs: only regular files are replaced; a symbolic link is written through" *
+          doctest::test_suite("unit")) {
     TempDir dir;
     std::string fifo = dir / "fifo.png";
     REQUIRE(::mkfifo(fifo.c_str(), 0644) == 0);
@@ -101,7 +103,7 @@ TEST_CASE("outputs: only regular files are replaced; a symbolic link is written 
     CHECK(noTemporaries(dir.path));
 }
 
-TEST_CASE("outputs: a 250-character file name is written (the temporary name is short)") {
+TEST_CASE("outputs: a 250-character file name is written (the temporary name is short)" * doctest::test_suite("unit")) {
     TempDir dir;
     std::string name = std::string(245, 'n') + ".json";
     REQUIRE(name.size() == 250);
@@ -110,7 +112,7 @@ TEST_CASE("outputs: a 250-character file name is written (the temporary name is 
     CHECK(noTemporaries(dir.path));
 }
 
-TEST_CASE("outputs: a batch commits all of its outputs or none") {
+TEST_CASE("outputs: a batch commits all of its outputs or none" * doctest::test_suite("unit")) {
     TempDir dir;
     std::string a = dir.write("a.txt", "old a");
     {
@@ -135,7 +137,8 @@ TEST_CASE("outputs: a batch commits all of its outputs or none") {
     CHECK(noTemporaries(dir.path));
 }
 
-TEST_CASE("outputs: SIGTERM and SIGINT during a write remove the registered temporaries") {
+TEST_CASE("outputs: SIGTERM and SIGINT during a write remove the registered temporaries" *
+          doctest::test_suite("unit")) {
     for (int sig : {SIGTERM, SIGINT}) {
         TempDir dir;
         pid_t child = ::fork();
@@ -162,7 +165,7 @@ TEST_CASE("outputs: SIGTERM and SIGINT during a write remove the registered temp
     }
 }
 
-TEST_CASE("outputs: SIGTERM removes a registered directory of temporaries with the files in it (issue 29)") {
+TEST_CASE("outputs: SIGTERM removes a registered directory of temporaries with the files in it (issue 29)" * doctest::test_suite("unit")) {
     TempDir dir;
     pid_t child = ::fork();
     REQUIRE(child >= 0);
@@ -189,7 +192,7 @@ TEST_CASE("outputs: SIGTERM removes a registered directory of temporaries with t
     CHECK(fs::is_empty(dir.path));
 }
 
-TEST_CASE("outputs: a FIFO or a symbolic link given to a command") {
+TEST_CASE("outputs: a FIFO or a symbolic link given to a command" * doctest::test_suite("cli")) {
     TempDir dir;
     std::string fifo = dir / "out.hrbf";
     REQUIRE(::mkfifo(fifo.c_str(), 0644) == 0);
@@ -208,7 +211,7 @@ TEST_CASE("outputs: a FIFO or a symbolic link given to a command") {
     CHECK(noTemporaries(dir.path));
 }
 
-TEST_CASE("outputs: an output that is an input is refused before any work") {
+TEST_CASE("outputs: an output that is an input is refused before any work" * doctest::test_suite("cli")) {
     TempDir dir;
     std::string model = dir.write("x.obj", slurp(kBunny));
     Run r = runInkwell("render " + model + kSmall + "-o " + model);
@@ -242,7 +245,7 @@ TEST_CASE("outputs: an output that is an input is refused before any work") {
     CHECK(noTemporaries(dir.path));
 }
 
-TEST_CASE("outputs: a 250-character output name works for a command") {
+TEST_CASE("outputs: a 250-character output name works for a command" * doctest::test_suite("cli")) {
     TempDir dir;
     std::string name = dir / (std::string(245, 'h') + ".hrbf");
     Run r = runInkwell("fit " + kBunny + kFit + "-o " + name + " --stats " + (dir / (std::string(245, 's') + ".json")));
@@ -251,11 +254,12 @@ TEST_CASE("outputs: a 250-character output name works for a command") {
     CHECK(noTemporaries(dir.path));
 }
 
-TEST_CASE("outputs: a full disk is exit 1 with the reason, and leaves no output, not even the first of two") {
+TEST_CASE("outputs: a full disk is exit 1 with the reason, and leaves no output, not even the first of two" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     FullDisk full(dir, "full");
     if (!full.mounted) {
-        MESSAGE("skipped: needs root to mount a small tmpfs");
+        skipTest("needs root to mount a small tmpfs");
         return;
     }
     Run r = runInkwell("render -q " + kBunny + kFit + kSmall + "-o " + full.path + "/out.png");

@@ -1,5 +1,6 @@
 #include "common.h"
 #include "points.h"
+#include "temp_dir.h"
 
 #include <doctest/doctest.h>
 
@@ -69,7 +70,7 @@ f 4 1 5 8
 
 // --- OBJ -------------------------------------------------------------------------------------------------
 
-TEST_CASE("points: obj with vn uses the given normals, averaged per vertex") {
+TEST_CASE("points: obj with vn uses the given normals, averaged per vertex" * doctest::test_suite("unit")) {
     OrientedPoints p =
         obj("# two triangles sharing an edge, with different normals\n"
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
@@ -85,7 +86,7 @@ TEST_CASE("points: obj with vn uses the given normals, averaged per vertex") {
     CHECK(near(p.positions[3], {1, 1, 0}));
 }
 
-TEST_CASE("points: obj without normals gets area-weighted vertex normals") {
+TEST_CASE("points: obj without normals gets area-weighted vertex normals" * doctest::test_suite("unit")) {
     SUBCASE("cube corners point diagonally outward") {
         OrientedPoints p = obj(kCube);
         REQUIRE(p.positions.size() == 8);
@@ -108,7 +109,7 @@ TEST_CASE("points: obj without normals gets area-weighted vertex normals") {
     }
 }
 
-TEST_CASE("points: computed normals do not depend on the model's scale") {
+TEST_CASE("points: computed normals do not depend on the model's scale" * doctest::test_suite("unit")) {
     for (const char* scale : {"1e-9", "1", "1e120"}) {
         std::string s = scale;
         OrientedPoints p = obj("v 0 0 0\nv " + s + " 0 0\nv 0 " + s + " 0\nf 1 2 3\n");
@@ -124,7 +125,7 @@ TEST_CASE("points: computed normals do not depend on the model's scale") {
         Error);
 }
 
-TEST_CASE("points: obj polygons, negative indices, unreferenced vertices") {
+TEST_CASE("points: obj polygons, negative indices, unreferenced vertices" * doctest::test_suite("unit")) {
     // A pentagon in the xy plane by relative indices, plus a vertex no face uses.
     OrientedPoints p =
         obj("v 9 9 9\n"
@@ -146,20 +147,20 @@ TEST_CASE("points: obj polygons, negative indices, unreferenced vertices") {
           3);
 }
 
-TEST_CASE("points: obj point cloud pairs v with vn in order") {
+TEST_CASE("points: obj point cloud pairs v with vn in order" * doctest::test_suite("unit")) {
     OrientedPoints p = obj("v 0 0 0\nvn 0 0 3\nv 1 0 0 # a comment\nvn 1 0 0\n");
     REQUIRE(p.positions.size() == 2);
     CHECK(near(p.normals[0], {0, 0, 1}));
     CHECK(near(p.normals[1], {1, 0, 0}));
 }
 
-TEST_CASE("points: obj keeps double precision and accepts CRLF") {
+TEST_CASE("points: obj keeps double precision and accepts CRLF" * doctest::test_suite("unit")) {
     OrientedPoints p = obj("v 0.123456789012345 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n");
     REQUIRE(p.positions.size() == 3);
     CHECK(p.positions[0].x() == 0.123456789012345);
 }
 
-TEST_CASE("points: bad obj input") {
+TEST_CASE("points: bad obj input" * doctest::test_suite("unit")) {
     auto bad = [](const std::string& text, const char* words) {
         CHECK_THROWS_WITH_AS(obj(text), doctest::Contains(words), Error);
     };
@@ -192,7 +193,7 @@ TEST_CASE("points: bad obj input") {
 
 // --- PLY -------------------------------------------------------------------------------------------------
 
-TEST_CASE("points: ply ascii with normals") {
+TEST_CASE("points: ply ascii with normals" * doctest::test_suite("unit")) {
     OrientedPoints p =
         ply("ply\nformat ascii 1.0\ncomment made by hand\nobj_info nothing\n"
             "element vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
@@ -205,7 +206,7 @@ TEST_CASE("points: ply ascii with normals") {
     CHECK(near(p.normals[1], {-1, 0, 0}));
 }
 
-TEST_CASE("points: ply ascii with faces only, extra property and extra element skipped") {
+TEST_CASE("points: ply ascii with faces only, extra property and extra element skipped" * doctest::test_suite("unit")) {
     OrientedPoints p =
         ply("ply\r\nformat ascii 1.0\r\n"
             "element vertex 5\r\nproperty double z\r\nproperty uchar red\r\nproperty double x\r\nproperty "
@@ -222,7 +223,7 @@ TEST_CASE("points: ply ascii with faces only, extra property and extra element s
     for (const Vector3d& n : p.normals) CHECK(near(n, {0, 0, 1}));
 }
 
-TEST_CASE("points: ply binary little endian, float, with normals") {
+TEST_CASE("points: ply binary little endian, float, with normals" * doctest::test_suite("unit")) {
     std::string header =
         "ply\nformat binary_little_endian 1.0\nelement vertex 2\n"
         "property float32 x\nproperty float32 y\nproperty float32 z\nproperty int16 extra\n"
@@ -239,7 +240,7 @@ TEST_CASE("points: ply binary little endian, float, with normals") {
     CHECK(near(p.normals[1], {1, 0, 0}));
 }
 
-TEST_CASE("points: ply binary big endian, double, faces only") {
+TEST_CASE("points: ply binary big endian, double, faces only" * doctest::test_suite("unit")) {
     std::string header =
         "ply\nformat binary_big_endian 1.0\ncomment quad\nelement vertex 4\n"
         "property double x\nproperty double y\nproperty double z\nproperty list ushort char tags\n"
@@ -273,7 +274,7 @@ const char* kAsciiNormalsHeader =
 
 }  // namespace
 
-TEST_CASE("points: bad ply input") {
+TEST_CASE("points: bad ply input" * doctest::test_suite("unit")) {
     auto bad = [](const std::string& bytes, const char* words) {
         CHECK_THROWS_WITH_AS(ply(bytes), doctest::Contains(words), Error);
     };
@@ -370,7 +371,7 @@ TEST_CASE("points: bad ply input") {
 
 // --- Oriented point text ---------------------------------------------------------------------------------
 
-TEST_CASE("points: oriented point text with comments and blank lines") {
+TEST_CASE("points: oriented point text with comments and blank lines" * doctest::test_suite("unit")) {
     OrientedPoints p =
         pts("# x y z nx ny nz\n"
             "\n"
@@ -385,7 +386,7 @@ TEST_CASE("points: oriented point text with comments and blank lines") {
     CHECK(near(p.normals[2], {0, -1, 0}));
 }
 
-TEST_CASE("points: bad oriented point text") {
+TEST_CASE("points: bad oriented point text" * doctest::test_suite("unit")) {
     auto bad = [](const std::string& text, const char* words) {
         CHECK_THROWS_WITH_AS(pts(text), doctest::Contains(words), Error);
     };
@@ -400,11 +401,11 @@ TEST_CASE("points: bad oriented point text") {
     bad(std::string("1 2 3 0 0 1\n\0\n", 14), "line 2: binary data");
 }
 
-TEST_CASE("points: parsePoints refuses an unknown format") {
+TEST_CASE("points: parsePoints refuses an unknown format" * doctest::test_suite("unit")) {
     CHECK_THROWS_WITH_AS(parsePoints("", "3ds", "x.3ds"), doctest::Contains("unknown point format '3ds'"), Error);
 }
 
-TEST_CASE("points: garbage input only ever throws ink::Error") {
+TEST_CASE("points: garbage input only ever throws ink::Error" * doctest::test_suite("unit")) {
     std::mt19937 rng(12345);
     std::string valid = binaryTriangleHeader();
     Bytes b{false, valid};
@@ -464,7 +465,7 @@ OrientedPoints cloud(std::vector<Vector3d> positions) {
 
 }  // namespace
 
-TEST_CASE("points: mergeDuplicates keeps the first of each cluster, in order") {
+TEST_CASE("points: mergeDuplicates keeps the first of each cluster, in order" * doctest::test_suite("unit")) {
     SUBCASE("exact duplicates") {
         OrientedPoints p = cloud({{0, 0, 0}, {1, 0, 0}, {0, 0, 0}, {-0.0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {1, 1e-15, 0}});
         CHECK(ink::mergeDuplicates(p, 0) == 3);
@@ -521,7 +522,7 @@ TEST_CASE("points: mergeDuplicates keeps the first of each cluster, in order") {
     }
 }
 
-TEST_CASE("points: farthestPointSample") {
+TEST_CASE("points: farthestPointSample" * doctest::test_suite("unit")) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(-1, 1);
     std::vector<Vector3d> v;
@@ -555,7 +556,7 @@ TEST_CASE("points: farthestPointSample") {
 
 // --- Files -----------------------------------------------------------------------------------------------
 
-TEST_CASE("points: loadPoints") {
+TEST_CASE("points: loadPoints" * doctest::test_suite("unit")) {
     SUBCASE("missing file") {
         CHECK_THROWS_WITH_AS(ink::loadPoints("/nonexistent/dir/x.obj"),
                              doctest::Contains("cannot open '/nonexistent/dir/x.obj': No such file or directory"),
@@ -569,7 +570,8 @@ TEST_CASE("points: loadPoints") {
         CHECK_THROWS_WITH_AS(ink::loadPoints("model"), doctest::Contains("no file extension"), Error);
     }
     SUBCASE("a file, case-insensitive extension, and a directory") {
-        std::string path = std::string("/tmp/inkwell_test_points_") + std::to_string(std::random_device()()) + ".XYZN";
+        TempDir tmp;
+        std::string path = tmp / "points.XYZN";
         std::FILE* f = std::fopen(path.c_str(), "wb");
         REQUIRE(f);
         std::fputs("0 0 0 0 0 1\n", f);

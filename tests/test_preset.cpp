@@ -4,7 +4,7 @@
 
 #include <doctest/doctest.h>
 
-TEST_CASE("preset: what presetJson writes, parsePreset reads back to the same values") {
+TEST_CASE("preset: what presetJson writes, parsePreset reads back to the same values" * doctest::test_suite("unit")) {
     app::Preset p;
     p.style = "both";
     p.direction = "curvature-max";
@@ -50,7 +50,7 @@ TEST_CASE("preset: what presetJson writes, parsePreset reads back to the same va
     CHECK(app::presetJson(app::Preset{}) == "{}\n");
 }
 
-TEST_CASE("preset: the pen lines' keys are written and read back") {
+TEST_CASE("preset: the pen lines' keys are written and read back" * doctest::test_suite("unit")) {
     app::Preset p;
     p.style = "stipple+contours+hatching";
     p.contourWidth = 2.5f;
@@ -70,7 +70,8 @@ TEST_CASE("preset: the pen lines' keys are written and read back") {
 }
 
 // The viewer's copy and paste of the camera (docs/viewer.md).
-TEST_CASE("camera text: the JSON the viewer copies reads back to the same camera and the same text") {
+TEST_CASE("camera text: the JSON the viewer copies reads back to the same camera and the same text" *
+          doctest::test_suite("unit")) {
     app::CameraText c;
     c.azimuthDeg = -123.45f;
     c.elevationDeg = 101.5f;  // over the pole: a free orbit
@@ -110,7 +111,7 @@ TEST_CASE("camera text: the JSON the viewer copies reads back to the same camera
     CHECK(f.up == "z");
 }
 
-TEST_CASE("camera text: what is not a camera is refused, saying why") {
+TEST_CASE("camera text: what is not a camera is refused, saying why" * doctest::test_suite("unit")) {
     auto why = [](const std::string& text) {
         try {
             app::parseCameraText(text);

@@ -36,7 +36,8 @@ std::pair<double, double> floatError(const ink::Surface& s, const std::vector<Ve
 
 }  // namespace
 
-TEST_CASE("pu: the bunny and a torus interpolate every point in float: under 1e-6 of the diagonal and 0.01 degree") {
+TEST_CASE("pu: the bunny and a torus interpolate every point in float: under 1e-6 of the diagonal and 0.01 degree" *
+          doctest::test_suite("unit")) {
     ink::Model bunny = ink::loadModel(kBunny, {});
     REQUIRE(bunny.surface.method == ink::FitMethod::PartitionOfUnity);
     // The faces are sampled, and the samples fitted only where the 1,839 vertices alone miss them (measured: 632
@@ -71,7 +72,8 @@ TEST_CASE("pu: the bunny and a torus interpolate every point in float: under 1e-
     CHECK(worst < 1e-4);  // between samples 1/40 of a turn apart: measured 6e-6
 }
 
-TEST_CASE("pu: the blend's gradient and Hessian are the derivatives of F, also where the far field takes over") {
+TEST_CASE("pu: the blend's gradient and Hessian are the derivatives of F, also where the far field takes over" *
+          doctest::test_suite("unit")) {
     ink::Model m = ink::loadModel(kBunny, {500});
     const ink::Surface& s = m.surface;
     const double h = 1e-6;
@@ -99,7 +101,8 @@ TEST_CASE("pu: the blend's gradient and Hessian are the derivatives of F, also w
     CHECK(s.f(Vector3d(-3, 0, 1)) > 0);
 }
 
-TEST_CASE("pu: a version 2 .hrbf file round-trips bit for bit; version 1 files still load") {
+TEST_CASE("pu: a version 2 .hrbf file round-trips bit for bit; version 1 files still load" *
+          doctest::test_suite("unit")) {
     TempDir dir;
     ink::Model fitted = ink::loadModel(kBunny, {800});
     std::string path = dir / "bunny.hrbf";

@@ -213,7 +213,7 @@ const char* kCubeOff = R"(OFF
 
 }  // namespace
 
-TEST_CASE("readers: stl ascii and binary, corners welded, normals from the winding") {
+TEST_CASE("readers: stl ascii and binary, corners welded, normals from the winding" * doctest::test_suite("unit")) {
     SUBCASE("ascii tetrahedron: exact normals despite zero facet normals") {
         checkTetra(parsePoints(asciiStl(tetraTriangles()), "stl", "t.stl"));
     }
@@ -260,7 +260,7 @@ TEST_CASE("readers: stl ascii and binary, corners welded, normals from the windi
     }
 }
 
-TEST_CASE("readers: off and its variants") {
+TEST_CASE("readers: off and its variants" * doctest::test_suite("unit")) {
     SUBCASE("OFF cube: comments, blank lines, quads") { checkCube(parsePoints(kCubeOff, "off", "c.off")); }
     SUBCASE("counts on the header line, CRLF, no edge count") {
         std::string s = "OFF 4 4\r\n";
@@ -319,7 +319,7 @@ TEST_CASE("readers: off and its variants") {
     }
 }
 
-TEST_CASE("readers: xyz and pwn are oriented point text, with an optional count line") {
+TEST_CASE("readers: xyz and pwn are oriented point text, with an optional count line" * doctest::test_suite("unit")) {
     OrientedPoints p = parsePoints("2\n0 0 0 0 0 1\n1 0 0 0 2 0\n", "xyz", "p.xyz");
     REQUIRE(p.positions.size() == 2);
     CHECK(near(p.normals[1], Vector3d(0, 1, 0)));
@@ -331,7 +331,7 @@ TEST_CASE("readers: xyz and pwn are oriented point text, with an optional count 
     bad("2\n0 0 0 0 0 1\n", "pts", "line 1: expected 6 numbers (x y z nx ny nz), found 1 fields");
 }
 
-TEST_CASE("readers: glTF and glb") {
+TEST_CASE("readers: glTF and glb" * doctest::test_suite("unit")) {
     SUBCASE(".glb with a node translation and scale: the positions move") {
         OrientedPoints p = parsePoints(
             glb(tetraJson("\"translation\": [10, 0, 0], \"scale\": [2, 2, 2]", ""), tetraBuffer()), "glb", "t.glb");
@@ -419,7 +419,8 @@ TEST_CASE("readers: glTF and glb") {
     }
 }
 
-TEST_CASE("readers: ply header lines writers add are passed over with a note, garbage is not") {
+TEST_CASE("readers: ply header lines writers add are passed over with a note, garbage is not" *
+          doctest::test_suite("unit")) {
     std::string body =
         "element vertex 1\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\n"
         "property float ny\nproperty float nz\nend_header\n0 0 0 0 0 1\n";
@@ -435,7 +436,8 @@ TEST_CASE("readers: ply header lines writers add are passed over with a note, ga
     bad("ply\nformat ascii 1.0\nelment vertex 1\n" + body, "ply", "header line 3: unknown header keyword 'elment'");
 }
 
-TEST_CASE("readers: every fuzz seed and regression of the new readers parses or throws ink::Error naming the file") {
+TEST_CASE("readers: every fuzz seed and regression of the new readers parses or throws ink::Error naming the file" *
+          doctest::test_suite("unit")) {
     size_t files = 0;
     for (const char* root : {INKWELL_SOURCE_DIR "/tests/regressions", INKWELL_SOURCE_DIR "/fuzz/corpus"}) {
         for (const char* format : {"off", "stl", "glb"}) {
@@ -464,7 +466,7 @@ TEST_CASE("readers: every fuzz seed and regression of the new readers parses or 
     CHECK(files >= 15);
 }
 
-TEST_CASE("readers: each new format fits and renders through the command line") {
+TEST_CASE("readers: each new format fits and renders through the command line" * doctest::test_suite("cli")) {
     TempDir dir;
     std::string tetraOff = "OFF\n4 4 6\n";
     for (const Vector3d& v : kTetra)
@@ -499,7 +501,8 @@ TEST_CASE("readers: each new format fits and renders through the command line") 
     }
 }
 
-TEST_CASE("readers: a PLY header of a million elements is read in one pass (it was quadratic: 100 s for 200,000)") {
+TEST_CASE("readers: a PLY header of a million elements is read in one pass (it was quadratic: 100 s for 200,000)" *
+          doctest::test_suite("unit")) {
     // Each element is checked against the names before it with a set; a scan of the earlier ones would take an
     // hour here and CTest's timeout would fail the test.
     std::string ply =

@@ -4,6 +4,7 @@
 #include "model.h"
 #include "refine.h"
 #include "renderer.h"
+#include "skip.h"
 
 #include <doctest/doctest.h>
 
@@ -74,7 +75,8 @@ std::pair<Refined, double> compareWithCpu(GpuFixture& gpu, const ink::Surface& h
 
 }  // namespace
 
-TEST_CASE("refine: every kept point of every level is on the surface with a unit normal along grad f") {
+TEST_CASE("refine: every kept point of every level is on the surface with a unit normal along grad f" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {120});
     for (auto style : {ink::SampleStyle::Stipple, ink::SampleStyle::Direction}) {
@@ -107,7 +109,7 @@ TEST_CASE("refine: every kept point of every level is on the surface with a unit
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("refine: identical runs give identical bytes, and the seed changes them") {
+TEST_CASE("refine: identical runs give identical bytes, and the seed changes them" * doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {80});
     ink::RefineOptions options;
@@ -123,7 +125,7 @@ TEST_CASE("refine: identical runs give identical bytes, and the seed changes the
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("refine: counts per level match the CPU reference and points agree") {
+TEST_CASE("refine: counts per level match the CPU reference and points agree" * doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {100});
     for (auto direction : {ink::DirectionField::Axis, ink::DirectionField::CurvatureMax}) {
@@ -138,13 +140,21 @@ TEST_CASE("refine: counts per level match the CPU reference and points agree") {
     gpu.requireNoValidationErrors();
 }
 
-// hrbf.glsl shares the centres across a subgroup, a chunk at a time, from 64 KiB blocks of 1024 centres: a
-// model with a second block and a last chunk that is not full must still match the CPU reference.
-TEST_CASE("refine: more than 1024 centres, not a multiple of the subgroup size, match the CPU reference") {
+// hrbf.glsl (the global fit's evaluation, refine_global.comp) shares the centres across a subgroup, a chunk at
+// a time, from 64 KiB blocks of 1024 centres: a model with a second block and a last chunk that is not full
+// must still match the CPU reference. The global fit: the partition of unity's patches (pu_hrbf.glsl) hold
+// far fewer centres each, so with it this case would never reach a second block.
+TEST_CASE("refine: more than 1024 centres, not a multiple of the subgroup size, match the CPU reference" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
+    if (!gpu.ctx.float64) {
+        skipTest(std::string(gpu.ctx.properties.deviceName) + " lacks shaderFloat64, which the global fit needs");
+        return;
+    }
     ink::OrientedPoints pts = torus(60, 19);  // 1140 = 1024 + 116 centres: 1140 mod 8 = 4, 1140 mod 16 = 4
     ink::ModelOptions fitOptions;
     fitOptions.controlPoints = pts.positions.size();
+    fitOptions.method = ink::FitMethod::Global;
     ink::Model model = ink::fitModel(pts, fitOptions);
     REQUIRE(model.surface.size() == 1140);
     ink::RefineOptions options;
@@ -155,7 +165,8 @@ TEST_CASE("refine: more than 1024 centres, not a multiple of the subgroup size, 
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("refine: stippling a torus puts points within 1% of its size of the true surface") {
+TEST_CASE("refine: stippling a torus puts points within 1% of its size of the true surface" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::Model model = ink::fitModel(torus(24, 12), {});
     ink::RefineOptions options;
@@ -174,7 +185,7 @@ TEST_CASE("refine: stippling a torus puts points within 1% of its size of the tr
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("refine: grid seeds project onto the surface") {
+TEST_CASE("refine: grid seeds project onto the surface" * doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::Model model = ink::fitModel(torus(24, 12), {});
     ink::RefineOptions options;
@@ -191,7 +202,7 @@ TEST_CASE("refine: grid seeds project onto the surface") {
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("refine: requests that cannot fit are refused with the numbers") {
+TEST_CASE("refine: requests that cannot fit are refused with the numbers" * doctest::test_suite("unit")) {
     ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {50});
     ink::RefineOptions options;
     options.levels = 16;
@@ -205,7 +216,8 @@ TEST_CASE("refine: requests that cannot fit are refused with the numbers") {
         ink::Error);
 }
 
-TEST_CASE("refine: the portable CPU kernel (what ARM64 runs) gives the AVX2 kernel's points, to rounding") {
+TEST_CASE("refine: the portable CPU kernel (what ARM64 runs) gives the AVX2 kernel's points, to rounding" *
+          doctest::test_suite("unit")) {
     ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {150});
     ink::RefineOptions options;
     options.levels = 3;
@@ -225,7 +237,8 @@ TEST_CASE("refine: the portable CPU kernel (what ARM64 runs) gives the AVX2 kern
     CHECK(double(same) / double(best.size()) > 0.999);
 }
 
-TEST_CASE("refine: the partition of unity in float matches the CPU reference, the Hessian's directions too") {
+TEST_CASE("refine: the partition of unity in float matches the CPU reference, the Hessian's directions too" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {400});
     REQUIRE(model.surface.method == ink::FitMethod::PartitionOfUnity);
@@ -249,7 +262,8 @@ TEST_CASE("refine: the partition of unity in float matches the CPU reference, th
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("refine: without shaderFloat64 the partition of unity refines and draws; the global fit says what it needs") {
+TEST_CASE("refine: without shaderFloat64 the partition of unity refines and draws; the global fit says what it needs" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu(false);
     REQUIRE_FALSE(gpu.ctx.float64);
     ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {300});
@@ -270,9 +284,13 @@ TEST_CASE("refine: without shaderFloat64 the partition of unity refines and draw
                          ink::Error);
 }
 
-TEST_CASE("refine: the report's global fit still refines in double where the device has shaderFloat64") {
+TEST_CASE("refine: the report's global fit still refines in double where the device has shaderFloat64" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
-    if (!gpu.ctx.float64) return;  // nothing to test on such a device (the test above covers the refusal)
+    if (!gpu.ctx.float64) {  // the test above covers the refusal on such a device
+        skipTest(std::string(gpu.ctx.properties.deviceName) + " lacks shaderFloat64");
+        return;
+    }
     ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {300, ink::FitMethod::Global});
     ink::RefineOptions options;
     options.levels = 2;

@@ -131,7 +131,7 @@ const std::string kCapture = "capture " + kBunny + " --control-points 100 --leve
 
 // ---- 1. Deep JSON ---------------------------------------------------------------------------------------
 
-TEST_CASE("robust: glTF JSON nested 20,000 deep is refused before any parser recurses (issue 29)") {
+TEST_CASE("robust: glTF JSON nested 20,000 deep is refused before any parser recurses (issue 29)" * doctest::test_suite("cli")) {
     std::string deep = ", \"extras\": " + std::string(20000, '[') + std::string(20000, ']');
     const std::string message = "glTF JSON: arrays and objects nest more than 64 levels deep";
     refusedGlb(tetraJson("", deep), tetraBuffer(), message);
@@ -147,7 +147,7 @@ TEST_CASE("robust: glTF JSON nested 20,000 deep is refused before any parser rec
 
 // ---- 2. The .hrbf grid ----------------------------------------------------------------------------------
 
-TEST_CASE("robust: a .hrbf whose patches would make billions of grid entries is bounded and refused (issue 29)") {
+TEST_CASE("robust: a .hrbf whose patches would make billions of grid entries is bounded and refused (issue 29)" * doctest::test_suite("cli")) {
     // 5,600 large and 5,600 tiny patches: 1.2e10 entries at the median's cell, which wrapped in 32 bits.
     std::string bytes = gridBomb(5600, 5600);
     CHECK_THROWS_WITH_AS(ink::parseHrbf(bytes, "grid.hrbf"), doctest::Contains("grid.hrbf: "), Error);
@@ -166,7 +166,7 @@ TEST_CASE("robust: a .hrbf whose patches would make billions of grid entries is 
     CHECK(found >= 5601);  // the large patches and the tiny one there
 }
 
-TEST_CASE("robust: a patch of more than 1024 nodes is refused on load (issue 29)") {
+TEST_CASE("robust: a patch of more than 1024 nodes is refused on load (issue 29)" * doctest::test_suite("cli")) {
     std::string s =
         "inkwell-hrbf 2\npoints 2\nframe 0 0 0 1\ntau 0.5\ncoarse 2\nlinear 0 0 0 0\n"
         "0 0 0 1 0 0 0 0 0 0\n0.5 0 0 1 0 0 0 0 0 0\npatches 1\n0 0 0 1 0 0 0 0 1025\nnodes 1025\n";
@@ -177,7 +177,7 @@ TEST_CASE("robust: a patch of more than 1024 nodes is refused on load (issue 29)
                          Error);
 }
 
-TEST_CASE("robust: a .hrbf over the size limit is refused unread, with the limit the documents give (issue 29)") {
+TEST_CASE("robust: a .hrbf over the size limit is refused unread, with the limit the documents give (issue 29)" * doctest::test_suite("cli")) {
     TempDir dir;
     std::string path = dir / "huge.hrbf";
     { std::ofstream(path) << "inkwell-hrbf 1\n"; }
@@ -195,7 +195,7 @@ TEST_CASE("robust: a .hrbf over the size limit is refused unread, with the limit
 
 // ---- 3. Resources out of proportion to the file ----------------------------------------------------------
 
-TEST_CASE("robust: glTF primitives reusing one large index accessor count their indices (issue 29)") {
+TEST_CASE("robust: glTF primitives reusing one large index accessor count their indices (issue 29)" * doctest::test_suite("cli")) {
     // 2,500 primitives, each the same 60,000 indices: 150 million corners from a file of 200 KB.
     std::string bin;
     for (float c : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put(bin, c);
@@ -211,7 +211,7 @@ TEST_CASE("robust: glTF primitives reusing one large index accessor count their 
     refusedGlb(json, bin, "glTF: the scene instances more than");
 }
 
-TEST_CASE("robust: 330,000 empty glTF materials are dropped, 600,000 nodes refused (issue 29)") {
+TEST_CASE("robust: 330,000 empty glTF materials are dropped, 600,000 nodes refused (issue 29)" * doctest::test_suite("cli")) {
     std::string materials = ", \"materials\": [{}";
     for (int i = 1; i < 330000; ++i) materials += ",{}";
     materials += "]";
@@ -227,7 +227,7 @@ TEST_CASE("robust: 330,000 empty glTF materials are dropped, 600,000 nodes refus
                "scenes, nodes, meshes, primitives, accessors, buffer views and buffers; the limit is 500000");
 }
 
-TEST_CASE("robust: one external glTF buffer file named by two buffers is refused (issue 29)") {
+TEST_CASE("robust: one external glTF buffer file named by two buffers is refused (issue 29)" * doctest::test_suite("cli")) {
     TempDir dir;
     std::string bin = tetraBuffer();
     bin += bin;
@@ -239,7 +239,7 @@ TEST_CASE("robust: one external glTF buffer file named by two buffers is refused
     CHECK_THROWS_WITH_AS(ink::loadPoints(path), doctest::Contains("is named by more than one buffer"), Error);
 }
 
-TEST_CASE("robust: compare refuses PNGs over 8192^2 pixels from their headers (issue 29)") {
+TEST_CASE("robust: compare refuses PNGs over 8192^2 pixels from their headers (issue 29)" * doctest::test_suite("cli")) {
     // A 1-bit 16384x16384 PNG header (its data is never reached).
     auto header = [](uint32_t w, uint32_t h) {
         std::string s = "\x89PNG\r\n\x1a\n";
@@ -310,7 +310,7 @@ TEST_CASE(
     CHECK(!fs::exists(dir / "c2"));
 }
 
-TEST_CASE("robust: a failing re-capture leaves the old capture, a shorter one removes its stale frames (issue 29)") {
+TEST_CASE("robust: a failing re-capture leaves the old capture, a shorter one removes its stale frames (issue 29)" * doctest::test_suite("cli")) {
     TempDir dir;
     std::string cap = dir / "cap";
     REQUIRE(run(dir, kCapture + "--frames 3 -o " + cap).status == 0);
@@ -346,7 +346,7 @@ TEST_CASE("robust: a failing re-capture leaves the old capture, a shorter one re
 
 // ---- 6. Misleading success -------------------------------------------------------------------------------
 
-TEST_CASE("robust: a page with no room for the pen, and a pen under a micrometre, are refused (issue 29)") {
+TEST_CASE("robust: a page with no room for the pen, and a pen under a micrometre, are refused (issue 29)" * doctest::test_suite("cli")) {
     ink::VectorDrawing d;
     d.width = 200;
     d.height = 100;
@@ -403,7 +403,7 @@ TEST_CASE(
 
 // ---- 7. Noise ---------------------------------------------------------------------------------------------
 
-TEST_CASE("robust: 10,000 unknown PLY header lines make 4 notes, not 10,000 (issue 29)") {
+TEST_CASE("robust: 10,000 unknown PLY header lines make 4 notes, not 10,000 (issue 29)" * doctest::test_suite("cli")) {
     std::string ply = "ply\nformat ascii 1.0\n";
     for (int i = 0; i < 10000; ++i) ply += "Created by SomeScanner " + std::to_string(i) + "\n";
     ply +=
@@ -418,7 +418,7 @@ TEST_CASE("robust: 10,000 unknown PLY header lines make 4 notes, not 10,000 (iss
     CHECK(notes[3] == "w.ply: and 9997 more unknown header lines ignored");
 }
 
-TEST_CASE("robust: a preset's invalid UTF-8 byte is escaped in its message, never echoed (issue 29)") {
+TEST_CASE("robust: a preset's invalid UTF-8 byte is escaped in its message, never echoed (issue 29)" * doctest::test_suite("cli")) {
     std::string bytes = "{\"style\": \"\xff\"}";
     std::string message;
     try {

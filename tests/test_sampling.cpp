@@ -122,7 +122,8 @@ double angle(const Vector3d& a, const Vector3d& b) { return std::atan2(a.cross(b
 
 }  // namespace
 
-TEST_CASE("sampling: OBJ polygons are fan-triangulated in the numbering of the vertices kept") {
+TEST_CASE("sampling: OBJ polygons are fan-triangulated in the numbering of the vertices kept" *
+          doctest::test_suite("unit")) {
     // Vertex 1 is used by no face and dropped; a quad and a pentagon, one with a normal given.
     OrientedPoints p = parsePoints(R"(v 9 9 9
 v 0 0 0
@@ -149,7 +150,8 @@ f 3//1 6 7 8 4
     }
 }
 
-TEST_CASE("sampling: OFF and PLY faces, with and without normals, unused vertices dropped") {
+TEST_CASE("sampling: OFF and PLY faces, with and without normals, unused vertices dropped" *
+          doctest::test_suite("unit")) {
     const std::vector<Corners> quad = {{v(0, 0, 0), v(1, 0, 0), v(1, 1, 0)}, {v(0, 0, 0), v(1, 1, 0), v(0, 1, 0)}};
     SUBCASE("OFF: vertex 0 unused") {
         checkTriangles(parsePoints("OFF\n5 1 0\n7 7 7\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 1 2 3 4\n", "off", "t.off"), quad);
@@ -185,7 +187,8 @@ TEST_CASE("sampling: OFF and PLY faces, with and without normals, unused vertice
     }
 }
 
-TEST_CASE("sampling: STL triangles after welding; a vertex only zero-area triangles use goes with them") {
+TEST_CASE("sampling: STL triangles after welding; a vertex only zero-area triangles use goes with them" *
+          doctest::test_suite("unit")) {
     // Two triangles of a square, and a sliver whose third corner lies on an edge and is used by nothing else.
     std::string stl = "solid t\n";
     auto facet = [&](const Corners& c) {
@@ -230,7 +233,8 @@ std::string glb(std::string json, std::string bin) {
 
 }  // namespace
 
-TEST_CASE("sampling: glTF triangles of meshes with and without normals, node transforms applied") {
+TEST_CASE("sampling: glTF triangles of meshes with and without normals, node transforms applied" *
+          doctest::test_suite("unit")) {
     // Mesh 0: a quad with NORMAL (4 vertices, 6 indices), under a node that translates by (0, 0, 5) and mirrors x.
     // Mesh 1: a triangle without normals (3 vertices, no indices) instanced twice: scaled by 2, and translated.
     // Mesh 0 comes twice too (nodes 0 and 3), so the given part's offsets are exercised.
@@ -271,7 +275,8 @@ TEST_CASE("sampling: glTF triangles of meshes with and without normals, node tra
     }
 }
 
-TEST_CASE("sampling: merging duplicates renumbers the triangles and drops the collapsed ones") {
+TEST_CASE("sampling: merging duplicates renumbers the triangles and drops the collapsed ones" *
+          doctest::test_suite("unit")) {
     OrientedPoints m;
     for (Vector3d p : {v(0, 0, 0), v(1, 0, 0), v(1, 1, 0), v(1, 0, 0), v(0, 1, 0), v(1e-12, 1, 0)}) {
         m.positions.push_back(p);
@@ -302,7 +307,7 @@ TEST_CASE("sampling: merging duplicates renumbers the triangles and drops the co
     }
 }
 
-TEST_CASE("sampling: the count asked for, on the faces, deterministic for a seed") {
+TEST_CASE("sampling: the count asked for, on the faces, deterministic for a seed" * doctest::test_suite("unit")) {
     OrientedPoints m = octahedron();
     for (size_t count : {size_t(1), size_t(7), size_t(1000), size_t(12345)}) {
         OrientedPoints s = ink::sampleFaces(m, count, 1);
@@ -332,7 +337,7 @@ TEST_CASE("sampling: the count asked for, on the faces, deterministic for a seed
     CHECK(worstDistance < 1e-12);
 }
 
-TEST_CASE("sampling: on a smooth mesh the samples lie on the curved PN patch, where the corners' normals say") {
+TEST_CASE("sampling: on a smooth mesh the samples lie on the curved PN patch, where the corners' normals say" * doctest::test_suite("unit")) {
     // The octahedron subdivided three times onto the unit sphere (512 triangles, normals the positions): a
     // sample on the flat triangle is up to the sagitta inside the sphere with a normal that disagrees with its
     // position; on the PN patch it is nearly on the sphere, with nearly the sphere's normal.
@@ -371,7 +376,7 @@ TEST_CASE("sampling: on a smooth mesh the samples lie on the curved PN patch, wh
     CHECK(worstAngle * 180 / M_PI < 1.0);
 }
 
-TEST_CASE("sampling: each triangle gets its share of the area, spread evenly over it") {
+TEST_CASE("sampling: each triangle gets its share of the area, spread evenly over it" * doctest::test_suite("unit")) {
     std::vector<double> scales = {1, 0.5, 3, 0.1, 2, 1.7, 0.01};
     OrientedPoints m = separateTriangles(scales);
     double total = 0;
@@ -411,7 +416,8 @@ TEST_CASE("sampling: each triangle gets its share of the area, spread evenly ove
     CHECK(std::abs(double(corner16) - 1000) < 20);
 }
 
-TEST_CASE("sampling: zero-area triangles get nothing; vertex normals that cancel give the face normal") {
+TEST_CASE("sampling: zero-area triangles get nothing; vertex normals that cancel give the face normal" *
+          doctest::test_suite("unit")) {
     OrientedPoints m = separateTriangles({1, 1});
     // Triangle 1 collapsed onto a line, and a third with two corners in one place.
     m.positions[5] = 0.5 * (m.positions[3] + m.positions[4]);
@@ -449,7 +455,8 @@ TEST_CASE("sampling: zero-area triangles get nothing; vertex normals that cancel
     CHECK(faceNormals > 50);
 }
 
-TEST_CASE("sampling: the count follows the area and the long thin triangles, within the cap") {
+TEST_CASE("sampling: the count follows the area and the long thin triangles, within the cap" *
+          doctest::test_suite("unit")) {
     // The unit cube (area 6, diagonal √3): a spacing of 1% of the diagonal over the area.
     OrientedPoints cube;
     for (int i = 0; i < 8; ++i) {

@@ -63,14 +63,16 @@ void checkAgainstCpu(GpuFixture& gpu, const ink::Surface& hrbf) {
 
 }  // namespace
 
-TEST_CASE("select: the device selects exactly the CPU reference's stipples, in the same order and ranks") {
+TEST_CASE("select: the device selects exactly the CPU reference's stipples, in the same order and ranks" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
     checkAgainstCpu(gpu, ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {300}).surface);
     checkAgainstCpu(gpu, torusModel().surface);
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("select: on a torus the stipples and every prefix of their ranking are evenly spaced") {
+TEST_CASE("select: on a torus the stipples and every prefix of their ranking are evenly spaced" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::Model torus = torusModel();
     const double area = torusArea(torus);
@@ -99,7 +101,8 @@ TEST_CASE("select: on a torus the stipples and every prefix of their ranking are
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("select: the refinement writes no point twice, with the report's two passes too") {
+TEST_CASE("select: the refinement writes no point twice, with the report's two passes too" *
+          doctest::test_suite("unit")) {
     ink::Model torus = torusModel();
     for (ink::Distribution d : {ink::Distribution::BlueNoise, ink::Distribution::Refinement}) {
         ink::RefineOptions options;
@@ -114,7 +117,7 @@ TEST_CASE("select: the refinement writes no point twice, with the report's two p
     }
 }
 
-TEST_CASE("select: the same input selects the same stipples, bit for bit") {
+TEST_CASE("select: the same input selects the same stipples, bit for bit" * doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::Model bunny = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {200});
     ink::RefineOptions options;
@@ -129,7 +132,7 @@ TEST_CASE("select: the same input selects the same stipples, bit for bit") {
     gpu.requireNoValidationErrors();
 }
 
-TEST_CASE("select: the two sides of a thin part do not suppress each other") {
+TEST_CASE("select: the two sides of a thin part do not suppress each other" * doctest::test_suite("unit")) {
     // Two sheets 1e-4 apart (far below the stipple spacing) facing away from each other, like the two sides of
     // a thin plate, then the same sheets facing the same way.
     ink::Surface hrbf;
@@ -162,7 +165,8 @@ TEST_CASE("select: the two sides of a thin part do not suppress each other") {
     CHECK(together[0] + together[1] < 0.6 * double(apart[0] + apart[1]));  // one surface: one set of stipples
 }
 
-TEST_CASE("select: the dots of a frame stay on the same points when the camera orbits by 1 degree") {
+TEST_CASE("select: the dots of a frame stay on the same points when the camera orbits by 1 degree" *
+          doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::Model bunny = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {300});
     ink::RefineOptions options;
@@ -222,7 +226,7 @@ std::vector<Eigen::Vector2d> findDots(const ink::RgbaImage& image) {
 
 }  // namespace
 
-TEST_CASE("select: drawn dots in an evenly toned region are evenly spaced") {
+TEST_CASE("select: drawn dots in an evenly toned region are evenly spaced" * doctest::test_suite("gpu")) {
     GpuFixture gpu;
     ink::Model sphere = ink::fitModel(ink::spherePoints(1000), {});
     Refinement refined(gpu.ctx, sphere.surface, ink::RefineOptions{});

@@ -187,7 +187,8 @@ const std::string kBunny = INKWELL_SOURCE_DIR "/assets/bunny.obj";
 
 }  // namespace
 
-TEST_CASE("vector: ordering keeps every path, reverses polylines only whole, and cuts random travel by far") {
+TEST_CASE("vector: ordering keeps every path, reverses polylines only whole, and cuts random travel by far" *
+          doctest::test_suite("unit")) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(0, 200);
     std::vector<ink::PlotPath> paths;
@@ -234,7 +235,8 @@ TEST_CASE("vector: ordering keeps every path, reverses polylines only whole, and
     CHECK(same);
 }
 
-TEST_CASE("vector: 2-opt undoes a crossing greedy leaves, and touching strokes merge into one path") {
+TEST_CASE("vector: 2-opt undoes a crossing greedy leaves, and touching strokes merge into one path" *
+          doctest::test_suite("unit")) {
     // Four short strokes on a line, given out of order: ordered, they are drawn end to end, and the strokes that
     // touch (the ends coincide) become one path.
     auto line = [](double x0, double x1) {
@@ -253,7 +255,8 @@ TEST_CASE("vector: 2-opt undoes a crossing greedy leaves, and touching strokes m
     CHECK(paths[0].length() == doctest::Approx(30.0));
 }
 
-TEST_CASE("vector: strokes split by visibility into their layer and the hidden layer below") {
+TEST_CASE("vector: strokes split by visibility into their layer and the hidden layer below" *
+          doctest::test_suite("unit")) {
     ink::VectorDrawing d;
     d.width = d.height = 100;
     d.layer("stipple", {0, 0, 0, 1});
@@ -272,7 +275,8 @@ TEST_CASE("vector: strokes split by visibility into their layer and the hidden l
     CHECK(d.layers[0].lines[0] == std::vector<glm::vec2>{{10, 0}, {20, 0}, {30, 0}});
 }
 
-TEST_CASE("vector: the layout fits the view in the margins, sizes circles to the dots and drops what leaves it") {
+TEST_CASE("vector: the layout fits the view in the margins, sizes circles to the dots and drops what leaves it" *
+          doctest::test_suite("unit")) {
     ink::VectorDrawing d;
     d.width = 200;
     d.height = 100;  // wide: a landscape page
@@ -320,7 +324,8 @@ TEST_CASE("vector: the layout fits the view in the margins, sizes circles to the
                          "page 'A9' is not A3, A4, A5, letter or WxHmm with sides of 10 to 5000 mm", ink::Error);
 }
 
-TEST_CASE("vector: render writes the frame's marks as SVG and PDF that independent renderers draw as the PNG") {
+TEST_CASE("vector: render writes the frame's marks as SVG and PDF that independent renderers draw as the PNG" *
+          doctest::test_suite("cli")) {
     TempDir dir("inkwell-vector");
     // One frame, three outputs; the page has the image's shape and no margin, so drawn at the PNG's size the
     // page is the image. 2 pixels a millimetre: the 2-pixel dots are 1 mm, filled by a 0.5 mm pen.
@@ -376,7 +381,8 @@ TEST_CASE("vector: render writes the frame's marks as SVG and PDF that independe
     CHECK(dh.fraction <= 0.02);
 }
 
-TEST_CASE("vector: the default bunny's SVG: layers, mm, no zero-length path, inside the margins, ordered, same bytes") {
+TEST_CASE("vector: the default bunny's SVG: layers, mm, no zero-length path, inside the margins, ordered, same bytes" *
+          doctest::test_suite("cli")) {
     TempDir dir("inkwell-vector");
     // The default drawing of the bunny: its default fit (fitted once here) and every default of render.
     REQUIRE(runInkwell("fit " + kBunny + " -o " + dir / "bunny.hrbf").status == 0);
@@ -427,7 +433,7 @@ TEST_CASE("vector: the default bunny's SVG: layers, mm, no zero-length path, ins
     CHECK(unordered["vector"]["layers"][0]["travel_after_mm"].get<double>() == doctest::Approx(before));
 }
 
-TEST_CASE("vector: ticks, pages and bad options") {
+TEST_CASE("vector: ticks, pages and bad options" * doctest::test_suite("cli")) {
     TempDir dir("inkwell-vector");
     const std::string command = "render " + kBunny + " --control-points 100 --levels 2 --size 300 200 ";
     Run r = runInkwell(command + "--dot-style tick --page A3 --margin 20 --pen-width 0.5 -o " + dir / "t.svg");

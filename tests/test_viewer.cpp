@@ -30,10 +30,10 @@ Run view(const std::string& args, int firstDisplay) {
                  INKWELL_BINARY " view " + args);
 }
 
+// A file in this process's own temporary directory (removed at exit): tests run in parallel.
 std::string tempPng(const char* name) {
-    std::string path = (std::filesystem::temp_directory_path() / name).string();
-    std::filesystem::remove(path);
-    return path;
+    static TempDir dir("inkwell-viewer");
+    return dir / name;
 }
 
 const char* kBunny = INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 150 --levels 2";
@@ -68,7 +68,8 @@ Ink countInk(const ink::RgbaImage& image) {
 
 }  // namespace
 
-TEST_CASE("viewer: five validated frames of the bunny, the last saved as a framed drawing") {
+TEST_CASE("viewer: five validated frames of the bunny, the last saved as a framed drawing" *
+          doctest::test_suite("viewer")) {
     std::string shot = tempPng("inkwell-viewer-bunny.png");
     Run r = view(std::string(kBunny) + " --frames 5 --screenshot " + shot + " --validation", 140);
     INFO(r.output);
@@ -89,7 +90,8 @@ TEST_CASE("viewer: five validated frames of the bunny, the last saved as a frame
     CHECK(ink.centreY == doctest::Approx(0.5).epsilon(0.3));
 }
 
-TEST_CASE("viewer: --size sets the window, and the window shows what render draws, colours included") {
+TEST_CASE("viewer: --size sets the window, and the window shows what render draws, colours included" *
+          doctest::test_suite("viewer")) {
     // A coloured ink catches a swapchain in BGRA order saved without swizzling; one sample per pixel in both.
     std::string shot = tempPng("inkwell-viewer-size.png"), offscreen = tempPng("inkwell-viewer-render.png");
     std::string style = std::string(kBunny) + " --size 640 480 --ink '#c03020'";
@@ -122,7 +124,8 @@ TEST_CASE("viewer: --size sets the window, and the window shows what render draw
     CHECK(different <= inked / 20);  // the same renderer, camera and style: at most a few edge pixels differ
 }
 
-TEST_CASE("viewer: --vector saves the window's marks as an SVG that draws as its screenshot") {
+TEST_CASE("viewer: --vector saves the window's marks as an SVG that draws as its screenshot" *
+          doctest::test_suite("viewer")) {
     // A page of the window's shape without margins, at 2 pixels a millimetre: drawn at the window's size by
     // rsvg-convert, the SVG is the screenshot (the same frame) after a 1-pixel blur.
     std::string shot = tempPng("inkwell-viewer-vector.png"), svg = tempPng("inkwell-viewer-vector.svg");
@@ -214,7 +217,8 @@ wait $pid; echo "exit $?" >> log.txt
     return runShell("cat '" + (dir / "log.txt") + "'").output;
 }
 
-TEST_CASE("viewer: settings typed into the panel show in its saved PNG and the screenshot, the panel never does") {
+TEST_CASE("viewer: settings typed into the panel show in its saved PNG and the screenshot, the panel never does" *
+          doctest::test_suite("viewer")) {
     if (std::system("command -v xdotool > /dev/null 2>&1") != 0)
         FAIL("xdotool is not installed: the panel test needs it (apt-get install xdotool)");
     TempDir dir("inkwell-viewer-panel");
@@ -293,7 +297,8 @@ size_t differentPixels(const ink::RgbaImage& a, const ink::RgbaImage& b) {
     return n;
 }
 
-TEST_CASE("viewer: the camera copied and pasted through the clipboard, and pen lines ticked in the panel") {
+TEST_CASE("viewer: the camera copied and pasted through the clipboard, and pen lines ticked in the panel" *
+          doctest::test_suite("viewer")) {
     if (std::system("command -v xdotool > /dev/null 2>&1") != 0)
         FAIL("xdotool is not installed: the panel test needs it (apt-get install xdotool)");
     TempDir dir("inkwell-viewer-camera");
@@ -354,7 +359,7 @@ at 300 300; sleep 1; hold s; await 'saved inkwell-view-3.png')",
     CHECK(differentPixels(lined, lines) <= inkedPixels(lines) / 20);
 }
 
-TEST_CASE("viewer: without a display it says so in one line and exits 1") {
+TEST_CASE("viewer: without a display it says so in one line and exits 1" * doctest::test_suite("viewer")) {
     Run r = shell("env -u DISPLAY -u WAYLAND_DISPLAY " INKWELL_BINARY " view " INKWELL_SOURCE_DIR "/assets/bunny.obj");
     CHECK(r.status == 1);
     CHECK(r.output ==

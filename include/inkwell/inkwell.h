@@ -17,6 +17,7 @@
 #pragma once
 
 #include "inkwell/error.h"
+#include "inkwell/version.h"
 
 #include <vulkan/vulkan.h>
 
@@ -75,10 +76,9 @@ public:
     double value(const Vec3& x) const;
     Vec3 gradient(const Vec3& x) const;
 
-    struct Impl;
-    const Impl& impl() const { return *impl_; }
-
 private:
+    struct Impl;
+    friend class Drawing;
     explicit Model(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
     std::shared_ptr<const Impl> impl_;
 };
@@ -110,8 +110,8 @@ struct DeviceOptions {
     std::function<void(bool error, const std::string& message)> validationMessage;
 };
 
-// A device the application made and keeps. It must be Vulkan 1.3 with synchronization2, dynamicRendering,
-// maintenance4 and hostQueryReset enabled (and shaderFloat64 for FitMethod::Global models), and subgroup
+// A device the application made and keeps. It must be Vulkan 1.3 with synchronization2, dynamicRendering and
+// maintenance4 enabled (and shaderFloat64 for FitMethod::Global models), and subgroup
 // basic/vote/ballot/arithmetic/shuffle operations in compute; the queue's family must do graphics and compute. Inkwell
 // makes only its own command pool, buffers and pipelines on it, and waits for the queue when the Device goes.
 struct AdoptedDevice {
@@ -136,10 +136,9 @@ public:
     std::string name() const;           // "llvmpipe (LLVM 15.0.6, 256 bits)"
     uint32_t validationErrors() const;  // counted since creation (with DeviceOptions::validation)
 
-    struct Impl;
-    Impl& impl() const { return *impl_; }
-
 private:
+    struct Impl;
+    friend class Drawing;
     std::unique_ptr<Impl> impl_;
 };
 
@@ -197,7 +196,9 @@ public:
     Drawing(Drawing&&) noexcept;
     Drawing& operator=(Drawing&&) noexcept;
 
-    // Replaces the sets (another style, more levels); waits for the device to be idle.
+    // Replaces the sets (another style, more levels); waits for the device to be idle. Renderers and frame
+    // recorders of this drawing stay valid: each draws the new sets from its next render() or record() (a
+    // FrameRecorder's command buffers recorded before refine() must be recorded again, not resubmitted).
     void refine(const DrawingOptions& options, const Reporter& reporter = {});
     size_t sets() const;
     // The points set `set` draws (reads them back), and the same written as binary PLY with rank and level.
@@ -208,10 +209,10 @@ public:
     std::vector<Polyline> hatching() const;
     std::vector<Polyline> contours(const Camera& camera) const;
 
-    struct Impl;
-    Impl& impl() const { return *impl_; }
-
 private:
+    struct Impl;
+    friend class Renderer;
+    friend class FrameRecorder;
     std::unique_ptr<Impl> impl_;
 };
 
@@ -232,31 +233,32 @@ struct Camera {
     bool freeOrbit = false;
 };
 
-// How the points become ink.
+// How the points become ink. Renderer, FrameRecorder and setLook check every value against the range given
+// here (the command line's) and throw an inkwell::Error naming the field and its range.
 struct Look {
-    Color ink{0, 0, 0, 1};
+    Color ink{0, 0, 0, 1};  // components in [0, 1]
     Color paper{1, 1, 1, 1};
-    float dotSize = 2.0f;         // diameter in output pixels
-    float silhouetteSize = 2.4f;  // silhouette dots (|n·v| < tau)
-    float tau = 0.1f;
-    float toneGamma = 1.5f;    // tone curve exponent; 0 draws every front dot
-    float inkDensity = 1.0f;   // scales how many dots the tone draws
-    bool hiddenLines = false;  // occluded silhouettes and contours drawn faint
-    bool dots = true;          // off: only pen lines are drawn (the dots still hide what is behind the surface)
-    float penWidth = 2.0f;     // contour pen width in output pixels
-    float hatchWidth = 1.0f;   // hatching pen width, tapering at the strokes' ends
-    float halo = 4.0f;         // paper kept clear each side of an interior contour (Brazil et al. 2011)
-    // With hiddenLines: the hidden silhouette dots' diameter and the hidden contours' pen width in output pixels,
-    // and how much of the ink they take over the paper (0.45: a grey; --hidden-dot-size, --hidden-contour-width,
-    // --hidden-opacity).
+    float dotSize = 2.0f;         // diameter in output pixels, (0, 64]
+    float silhouetteSize = 2.4f;  // silhouette dots (|n·v| < tau), (0, 64]
+    float tau = 0.1f;             // [0, 1)
+    float toneGamma = 1.5f;       // tone curve exponent, [0, 16]; 0 draws every front dot
+    float inkDensity = 1.0f;      // scales how many dots the tone draws, [0, 100]
+    bool hiddenLines = false;     // occluded silhouettes and contours drawn faint
+    bool dots = true;             // off: only pen lines are drawn (the dots still hide what is behind the surface)
+    float penWidth = 2.0f;        // contour pen width in output pixels, (0, 32]
+    float hatchWidth = 1.0f;      // hatching pen width, tapering at the strokes' ends, (0, 32]
+    float halo = 4.0f;            // paper kept clear each side of an interior contour (Brazil et al. 2011), [0, 32]
+    // With hiddenLines: the hidden silhouette dots' diameter (0, 64] and the hidden contours' pen width (0, 32] in
+    // output pixels, and how much of the ink they take over the paper, [0, 1] (0.45: a grey; --hidden-dot-size,
+    // --hidden-contour-width, --hidden-opacity).
     float hiddenDotSize = 1.4f;
     float hiddenPenWidth = 1.2f;
     float hiddenOpacity = 0.45f;
     // Towards the light, x right, y up, z to the viewer, as seen from the default camera; fixed to the model
-    // as the camera moves, unless lightFollowsCamera.
+    // as the camera moves, unless lightFollowsCamera. Finite and not zero.
     std::array<float, 3> light{-0.5f, 0.6f, 0.65f};
     bool lightFollowsCamera = false;
-    uint32_t supersample = 2;  // Renderer only: draw this many times larger and filter down
+    uint32_t supersample = 2;  // Renderer only: draw this many times larger and filter down, 1 to 4
 };
 
 struct Image {
