@@ -39,6 +39,7 @@ struct Options {
     std::string backend = "gpu";
     bool fidelity = false;  // sample: measure the refined points against the input mesh
     std::string keepLevels = "all";
+    bool presetLevels = false;  // the preset set "levels"
     std::vector<double> axis;
     std::string direction = "axis", seeds = "control", sampling = "stipple", styleName = "stipple";
     std::string distribution = "blue-noise";

@@ -149,7 +149,11 @@ static int runRender(Options& o, const std::vector<std::string>& outputs) {
     Session session(o);
     ink::checkOffscreenSize(session.ctx, o.size[0], o.size[1], std::max(1u, o.render.supersample));
     Scene scene(session.ctx, o);
-    scene.traceContours(cameraFrom(o));
+    try {
+        scene.traceContours(cameraFrom(o));
+    } catch (const ink::Error& e) {
+        throw ink::Error(o.model + ": " + e.what());
+    }
     ink::RgbaImage image;
     ink::VectorDrawing marks;
     const bool vectors = std::any_of(outputs.begin(), outputs.end(), ink::isVectorPath);

@@ -1,6 +1,8 @@
 // Contour and hatching strokes (lines.h), traced on the CPU in object space.
 #include "lines.h"
 
+#include "common.h"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -143,7 +145,10 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, c
     PointHash traced(4.0 * step), tried(3.0 * step);
     std::vector<PenStroke> pieces;
     uint32_t curveId = 0;
-    for (const auto& [nv, index] : order) {
+    Progress progress("contours", order.size());
+    for (size_t k = 0; k < order.size(); ++k) {
+        progress.update(k);
+        const uint32_t index = order[k].second;
         Vector3d x0 = seeds[index].position;
         // Most seeds lie beside a traced curve, or beside a seed that led nowhere.
         if (traced.near(x0, seeds[index].normal, 4.0 * step) || tried.near(x0, seeds[index].normal, 3.0 * step))
@@ -189,8 +194,11 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, c
                     return;
                 }
                 Vector3d n = e.gradF.normalized();
-                if (traced.near(y, n, 0.5 * step, curveId, 0, 1e30)) return;  // ran into another curve
-                traced.add(y, n, curveId, arc);
+                // Ran into another curve, or into itself more than 20 steps back along it (arcs are signed: the
+                // backward march counts down from the seed): a curve that missed its own start would otherwise go
+                // round again until maxVertices.
+                if (traced.near(y, n, 0.5 * step, curveId, sign * arc, 20 * step)) return;
+                traced.add(y, n, curveId, sign * arc);
                 out.push_back(y);
                 previous = t;
                 x = y;
@@ -202,10 +210,21 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, c
         std::vector<Vector3d> curve(backward.rbegin(), backward.rend());
         curve.push_back(x0);
         curve.insert(curve.end(), forward.begin(), forward.end());
-        if (curve.size() < 4) {
+        double loop = 0;
+        for (size_t i = 1; i < curve.size(); ++i) loop += (curve[i] - curve[i - 1]).norm();
+        if (curve.size() < 4 || (closed && loop < options.minLoopLength)) {
+            s.smallLoops += curve.size() >= 4;
             traced.truncate(hashStart);
             continue;
         }
+        if (s.vertices + curve.size() > options.maxTotalVertices || secondsSince(start) > options.maxSeconds)
+            throw Error("the contour of this view passed " +
+                        (s.vertices + curve.size() > options.maxTotalVertices
+                             ? std::to_string(options.maxTotalVertices) + " vertices"
+                             : std::to_string(int(options.maxSeconds)) + " seconds of tracing") +
+                        " after " + std::to_string(s.curves) + " curves and " + std::to_string(s.cusps) +
+                        " cusps: the surface is too rough to draw lines on (a noisy fit?); draw dots instead, or "
+                        "fit fewer points (--control-points)");
         traced.add(x0, seeds[index].normal, curveId, 0);
         ++s.curves;
         s.closedCurves += closed;

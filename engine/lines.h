@@ -39,15 +39,23 @@ struct ContourOptions {
     double step = 0.003;
     double seedBand = 0.12;         // samples with |n·v| below this (v the unit view vector) seed curves
     uint32_t maxVertices = 100000;  // per curve
+    // All curves together: past this the tracing stops with an ink::Error (a smooth model's contour at 1024² has a
+    // few thousand; hundreds of thousands mean a surface too rough to draw lines on).
+    size_t maxTotalVertices = 300000;
+    double maxSeconds = 30;  // likewise past this much tracing time
+    // Closed curves shorter than this (normalized units; about 10 pixels at the default view) are dropped: the
+    // contour of a bump too small to read, which the pen would draw as a blot.
+    double minLoopLength = 0.012;
 };
 
 struct ContourStats {
     size_t seedsTried = 0, curves = 0, closedCurves = 0, pieces = 0, cusps = 0, vertices = 0;
+    size_t smallLoops = 0;  // closed curves under minLoopLength, dropped
     double seconds = 0;
 };
 
 // `eye` in normalized coordinates. Pieces come out in tracing order; a closed curve without cusps is one
-// closed stroke.
+// closed stroke. Throws ink::Error when the curves pass maxTotalVertices. Reports progress over the seeds.
 std::vector<PenStroke> traceContours(const Surface& hrbf, const Eigen::Vector3d& eye,
                                      const std::vector<SurfaceSample>& seeds, const ContourOptions& options = {},
                                      ContourStats* stats = nullptr);

@@ -341,7 +341,8 @@ PuSeams measureSeams(const PuHrbf& model, size_t maxSamples) {
             model.eval(at, g, &H);
             return Matrix3d(H / g.norm());
         };
-        const Matrix3d ends = 0.5 * (shape(patch.center + patch.radius * p0) + shape(patch.center + patch.radius * nearest));
+        const Matrix3d ends =
+            0.5 * (shape(patch.center + patch.radius * p0) + shape(patch.center + patch.radius * nearest));
         const Matrix3d mid = hessian / gn;
         rough.push_back(tangentNorm(mid - ends, n) / (0.5 * (tangentNorm(mid, n) + tangentNorm(ends, n)) + 1.0));
     }

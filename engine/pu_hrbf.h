@@ -78,7 +78,7 @@ struct PuOptions {
 // (P HF P − P Σ W_i Hf_i P) / ‖∇F‖ against the patches' own, by its largest tangent eigenvalue.
 struct PuSeams {
     size_t samples = 0;
-    double normalDegMedian = 0, normalDegP95 = 0;  // the seams' tilt of the normal, degrees
+    double normalDegMedian = 0, normalDegP95 = 0;            // the seams' tilt of the normal, degrees
     double curvatureRatioMedian = 0, curvatureRatioP95 = 0;  // |κ| of the seams over |κ| of the patches
     // The roughness inside: ‖S(mid) − (S(a) + S(b))/2‖ / (mean ‖S‖ + 1), S the shape operator, between
     // neighbouring data points a and b (1 in normalized units: a surface curving like a ball of the diagonal).

@@ -153,7 +153,8 @@ OrientedPoints flatSamples(const OrientedPoints& mesh, size_t count, uint32_t se
     std::vector<double> areas;
     for (const ink::Triangle& t : mesh.triangles)
         areas.push_back(
-            0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm());
+            0.5 *
+            (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm());
     std::discrete_distribution<size_t> pick(areas.begin(), areas.end());
     std::uniform_real_distribution<double> unit(0, 1);
     OrientedPoints out;
@@ -161,7 +162,8 @@ OrientedPoints flatSamples(const OrientedPoints& mesh, size_t count, uint32_t se
         const ink::Triangle& t = mesh.triangles[pick(rng)];
         double a = unit(rng), b = unit(rng);
         if (a + b > 1) a = 1 - a, b = 1 - b;
-        out.positions.push_back((1 - a - b) * mesh.positions[t[0]] + a * mesh.positions[t[1]] + b * mesh.positions[t[2]]);
+        out.positions.push_back((1 - a - b) * mesh.positions[t[0]] + a * mesh.positions[t[1]] +
+                                b * mesh.positions[t[2]]);
         out.normals.push_back(
             ((1 - a - b) * mesh.normals[t[0]] + a * mesh.normals[t[1]] + b * mesh.normals[t[2]]).normalized());
     }
@@ -180,7 +182,7 @@ TEST_CASE("fidelity: the shares and distances of known point sets" * doctest::te
         CHECK(f.coverage == 1.0);
         CHECK(f.accuracy == 1.0);
         CHECK(f.accuracyMax < 1e-12);
-        CHECK(f.coverageMax < 0.005);
+        CHECK(f.coverageMax < 0.006);  // random, not stratified: holes a little wider than sampleFaces' 0.005
     }
     SUBCASE("the surface moved out by 2% of the diagonal: no point within 1%, all within 2%") {
         // Points pushed along the vertex-interpolated normals leave the smooth parts by exactly 2%; near the

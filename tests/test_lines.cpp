@@ -112,7 +112,8 @@ TEST_CASE("contours: fitted meshes have their true cusps only (issue 24)" * doct
     CHECK(s.curves >= 3);
 }
 
-TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of the analytic one, in few pieces" * doctest::test_suite("unit")) {
+TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of the analytic one, in few pieces" *
+          doctest::test_suite("unit")) {
     const ink::Model& m = torus();
     const double scale = m.surface.frame.scale;
     const Vector3d centre = m.surface.frame.toNormalized(Vector3d::Zero());

@@ -165,7 +165,8 @@ TEST_CASE("outputs: SIGTERM and SIGINT during a write remove the registered temp
     }
 }
 
-TEST_CASE("outputs: SIGTERM removes a registered directory of temporaries with the files in it (issue 29)" * doctest::test_suite("unit")) {
+TEST_CASE("outputs: SIGTERM removes a registered directory of temporaries with the files in it (issue 29)" *
+          doctest::test_suite("unit")) {
     TempDir dir;
     pid_t child = ::fork();
     REQUIRE(child >= 0);

@@ -337,7 +337,8 @@ TEST_CASE("sampling: the count asked for, on the faces, deterministic for a seed
     CHECK(worstDistance < 1e-12);
 }
 
-TEST_CASE("sampling: on a smooth mesh the samples lie on the curved PN patch, where the corners' normals say" * doctest::test_suite("unit")) {
+TEST_CASE("sampling: on a smooth mesh the samples lie on the curved PN patch, where the corners' normals say" *
+          doctest::test_suite("unit")) {
     // The octahedron subdivided three times onto the unit sphere (512 triangles, normals the positions): a
     // sample on the flat triangle is up to the sagitta inside the sphere with a normal that disagrees with its
     // position; on the PN patch it is nearly on the sphere, with nearly the sphere's normal.
@@ -370,7 +371,7 @@ TEST_CASE("sampling: on a smooth mesh the samples lie on the curved PN patch, wh
         worstAngle = std::max(worstAngle, angle(s.normals[i], s.positions[i]));
     }
     // The flat triangles reach 1 − cos(edge/2) ≈ 0.0096 inside the sphere (edges of about 0.39); measured on the
-    // patches: 4.4e-4 and 0.43°.
+    // patches: 4.4e-4 and 0.43° (with corner normals averaged from the faces instead of the given ones: 3.2e-3, 2.7°).
     INFO("radius " << worstRadius << ", angle " << worstAngle * 180 / M_PI << " deg");
     CHECK(worstRadius < 0.001);
     CHECK(worstAngle * 180 / M_PI < 1.0);
@@ -434,25 +435,20 @@ TEST_CASE("sampling: zero-area triangles get nothing; vertex normals that cancel
     CHECK(ink::faceSampleCount(flat) == 0);
     CHECK(ink::faceSampleCount(OrientedPoints{}) == 0);
 
-    // Corners 0 and 2 face +x, corner 1 -x: they cancel where b1 = 1/2. The face is the z = 0 plane, wound
-    // counter-clockwise from +z, and the corners' sum (+x) says nothing about its side: the winding's +z.
+    // Corners 0 and 2 face +x, corner 1 -x: normals in the triangle's plane, 90° from its face, say nothing of the
+    // smooth surface through it: every corner takes the face's normal, so every sample lies on the flat triangle
+    // with it. The face is the z = 0 plane, wound counter-clockwise from +z, and the corners' sum (+x) says
+    // nothing about its side: the winding's +z.
     OrientedPoints sheet;
     sheet.positions = {v(0, 0, 0), v(1, 0, 0), v(0, 1, 0)};
     sheet.normals = {v(1, 0, 0), v(-1, 0, 0), v(1, 0, 0)};
     sheet.triangles = {{0, 1, 2}};
     OrientedPoints t = ink::sampleFaces(sheet, 20000, 1);
-    size_t faceNormals = 0;
+    REQUIRE(t.positions.size() == 20000);
     for (size_t i = 0; i < t.positions.size(); ++i) {
-        CHECK(std::abs(t.normals[i].norm() - 1) < 1e-12);
-        double b1 = t.positions[i].x();  // the barycentric weight of corner 1
-        if (std::abs(1 - 2 * b1) < 0.009) {
-            CHECK(t.normals[i] == v(0, 0, 1));
-            ++faceNormals;
-        } else if (std::abs(1 - 2 * b1) > 0.011) {
-            CHECK(std::abs(t.normals[i].x()) == doctest::Approx(1));
-        }
+        CHECK(std::abs(t.positions[i].z()) < 1e-12);
+        CHECK((t.normals[i] - v(0, 0, 1)).norm() < 1e-12);
     }
-    CHECK(faceNormals > 50);
 }
 
 TEST_CASE("sampling: the count follows the area and the long thin triangles, within the cap" *
