@@ -131,7 +131,8 @@ const std::string kCapture = "capture " + kBunny + " --control-points 100 --leve
 
 // ---- 1. Deep JSON ---------------------------------------------------------------------------------------
 
-TEST_CASE("robust: glTF JSON nested 20,000 deep is refused before any parser recurses (issue 29)" * doctest::test_suite("cli")) {
+TEST_CASE("robust: glTF JSON nested 20,000 deep is refused before any parser recurses (issue 29)" *
+          doctest::test_suite("cli")) {
     std::string deep = ", \"extras\": " + std::string(20000, '[') + std::string(20000, ']');
     const std::string message = "glTF JSON: arrays and objects nest more than 64 levels deep";
     refusedGlb(tetraJson("", deep), tetraBuffer(), message);
@@ -147,7 +148,8 @@ TEST_CASE("robust: glTF JSON nested 20,000 deep is refused before any parser rec
 
 // ---- 2. The .hrbf grid ----------------------------------------------------------------------------------
 
-TEST_CASE("robust: a .hrbf whose patches would make billions of grid entries is bounded and refused (issue 29)" * doctest::test_suite("cli")) {
+TEST_CASE("robust: a .hrbf whose patches would make billions of grid entries is bounded and refused (issue 29)" *
+          doctest::test_suite("cli")) {
     // 5,600 large and 5,600 tiny patches: 1.2e10 entries at the median's cell, which wrapped in 32 bits.
     std::string bytes = gridBomb(5600, 5600);
     CHECK_THROWS_WITH_AS(ink::parseHrbf(bytes, "grid.hrbf"), doctest::Contains("grid.hrbf: "), Error);
@@ -177,7 +179,8 @@ TEST_CASE("robust: a patch of more than 1024 nodes is refused on load (issue 29)
                          Error);
 }
 
-TEST_CASE("robust: a .hrbf over the size limit is refused unread, with the limit the documents give (issue 29)" * doctest::test_suite("cli")) {
+TEST_CASE("robust: a .hrbf over the size limit is refused unread, with the limit the documents give (issue 29)" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     std::string path = dir / "huge.hrbf";
     { std::ofstream(path) << "inkwell-hrbf 1\n"; }
@@ -195,7 +198,8 @@ TEST_CASE("robust: a .hrbf over the size limit is refused unread, with the limit
 
 // ---- 3. Resources out of proportion to the file ----------------------------------------------------------
 
-TEST_CASE("robust: glTF primitives reusing one large index accessor count their indices (issue 29)" * doctest::test_suite("cli")) {
+TEST_CASE("robust: glTF primitives reusing one large index accessor count their indices (issue 29)" *
+          doctest::test_suite("cli")) {
     // 2,500 primitives, each the same 60,000 indices: 150 million corners from a file of 200 KB.
     std::string bin;
     for (float c : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put(bin, c);
@@ -211,7 +215,8 @@ TEST_CASE("robust: glTF primitives reusing one large index accessor count their 
     refusedGlb(json, bin, "glTF: the scene instances more than");
 }
 
-TEST_CASE("robust: 330,000 empty glTF materials are dropped, 600,000 nodes refused (issue 29)" * doctest::test_suite("cli")) {
+TEST_CASE("robust: 330,000 empty glTF materials are dropped, 600,000 nodes refused (issue 29)" *
+          doctest::test_suite("cli")) {
     std::string materials = ", \"materials\": [{}";
     for (int i = 1; i < 330000; ++i) materials += ",{}";
     materials += "]";
@@ -227,7 +232,8 @@ TEST_CASE("robust: 330,000 empty glTF materials are dropped, 600,000 nodes refus
                "scenes, nodes, meshes, primitives, accessors, buffer views and buffers; the limit is 500000");
 }
 
-TEST_CASE("robust: one external glTF buffer file named by two buffers is refused (issue 29)" * doctest::test_suite("cli")) {
+TEST_CASE("robust: one external glTF buffer file named by two buffers is refused (issue 29)" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     std::string bin = tetraBuffer();
     bin += bin;
@@ -239,7 +245,8 @@ TEST_CASE("robust: one external glTF buffer file named by two buffers is refused
     CHECK_THROWS_WITH_AS(ink::loadPoints(path), doctest::Contains("is named by more than one buffer"), Error);
 }
 
-TEST_CASE("robust: compare refuses PNGs over 8192^2 pixels from their headers (issue 29)" * doctest::test_suite("cli")) {
+TEST_CASE("robust: compare refuses PNGs over 8192^2 pixels from their headers (issue 29)" *
+          doctest::test_suite("cli")) {
     // A 1-bit 16384x16384 PNG header (its data is never reached).
     auto header = [](uint32_t w, uint32_t h) {
         std::string s = "\x89PNG\r\n\x1a\n";
@@ -259,7 +266,8 @@ TEST_CASE("robust: compare refuses PNGs over 8192^2 pixels from their headers (i
 // ---- 4. glTF buffers through symbolic links ------------------------------------------------------------
 
 TEST_CASE(
-    "robust: a glTF buffer that is a link, or behind a linked directory, to a file outside is refused (issue 29)") {
+    "robust: a glTF buffer that is a link, or behind a linked directory, to a file outside is refused (issue 29)" *
+    doctest::test_suite("cli")) {
     TempDir dir;
     fs::create_directories(dir.path / "outside");
     fs::create_directories(dir.path / "model");
@@ -290,7 +298,8 @@ TEST_CASE(
 
 TEST_CASE(
     "robust: capture never writes through a frame that is a link to its input, nor over a frame with --stats (issue "
-    "29)") {
+    "29)" *
+    doctest::test_suite("cli")) {
     TempDir dir;
     std::string model = dir.write("bunny.obj", slurp(kBunny));
     fs::create_directories(dir.path / "cap");
@@ -310,7 +319,8 @@ TEST_CASE(
     CHECK(!fs::exists(dir / "c2"));
 }
 
-TEST_CASE("robust: a failing re-capture leaves the old capture, a shorter one removes its stale frames (issue 29)" * doctest::test_suite("cli")) {
+TEST_CASE("robust: a failing re-capture leaves the old capture, a shorter one removes its stale frames (issue 29)" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     std::string cap = dir / "cap";
     REQUIRE(run(dir, kCapture + "--frames 3 -o " + cap).status == 0);
@@ -346,7 +356,8 @@ TEST_CASE("robust: a failing re-capture leaves the old capture, a shorter one re
 
 // ---- 6. Misleading success -------------------------------------------------------------------------------
 
-TEST_CASE("robust: a page with no room for the pen, and a pen under a micrometre, are refused (issue 29)" * doctest::test_suite("cli")) {
+TEST_CASE("robust: a page with no room for the pen, and a pen under a micrometre, are refused (issue 29)" *
+          doctest::test_suite("cli")) {
     ink::VectorDrawing d;
     d.width = 200;
     d.height = 100;
@@ -366,7 +377,8 @@ TEST_CASE("robust: a page with no room for the pen, and a pen under a micrometre
 
 TEST_CASE(
     "robust: glTF indices beyond 2^31, to missing objects, and negative offsets are refused, not truncated (issue "
-    "29)") {
+    "29)" *
+    doctest::test_suite("cli")) {
     std::string json = tetraJson();
     std::string bin = tetraBuffer();
     refusedGlb(replaced(json, R"("bufferView": 0, "componentType": 5126)",
@@ -418,7 +430,8 @@ TEST_CASE("robust: 10,000 unknown PLY header lines make 4 notes, not 10,000 (iss
     CHECK(notes[3] == "w.ply: and 9997 more unknown header lines ignored");
 }
 
-TEST_CASE("robust: a preset's invalid UTF-8 byte is escaped in its message, never echoed (issue 29)" * doctest::test_suite("cli")) {
+TEST_CASE("robust: a preset's invalid UTF-8 byte is escaped in its message, never echoed (issue 29)" *
+          doctest::test_suite("cli")) {
     std::string bytes = "{\"style\": \"\xff\"}";
     std::string message;
     try {
