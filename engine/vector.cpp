@@ -258,9 +258,15 @@ Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& o) {
         }
         // Pen lines as a plotter wants them: retraced stretches dropped, ends merged, then simplified (the
         // joints may leave points in line). Dots are not merged: that would draw lines from dot to dot.
-        out.retraced = o.retrace > 0 ? dropRetraced(lines, std::max(o.retrace * w, kResolution)) : 0;
+        const double retrace = std::max(o.retrace * w, kResolution);
+        out.retraced = o.retrace > 0 ? dropRetraced(lines, retrace) : 0;
         if (o.order) out.merged = mergeEnds(lines, o.merge * w, kResolution);
         simplifyPaths(lines, o.simplify * w, kResolution);
+        // Simplified lines move by up to the tolerance, and a merge may put a copy first: once more.
+        if (o.retrace > 0) {
+            out.retraced += dropRetraced(lines, retrace);
+            if (o.order) out.merged += mergeEnds(lines, o.merge * w, kResolution);
+        }
         out.paths.insert(out.paths.end(), std::make_move_iterator(lines.begin()), std::make_move_iterator(lines.end()));
         if (out.paths.empty()) continue;
         if (o.order) orderPaths(out.paths, home);
