@@ -6,6 +6,7 @@
 #include "spacing.h"
 
 #include <unistd.h>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -144,7 +145,23 @@ void addVectorOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--dot-style", o.dotStyle, "SVG/PDF stipples: small closed circles or short ticks")
         ->check(CLI::IsMember({"circle", "tick"}))
         ->capture_default_str();
-    cmd->add_flag("!--no-order", p.order, "SVG/PDF: keep the paths in the device's order (no travel ordering)");
+    cmd->add_flag("!--no-order", p.order,
+                  "SVG/PDF: keep the paths in the device's order (no travel ordering, no end-to-end merging)");
+    cmd->add_option("--simplify", p.simplify,
+                    "SVG/PDF pen lines: simplification tolerance, a fraction of --pen-width (0: none)")
+        ->capture_default_str();
+    cmd->add_option(
+           "--retrace", p.retrace,
+           "SVG/PDF pen lines: a stretch this close (fraction of --pen-width) to one drawn is dropped (0: none)")
+        ->capture_default_str();
+    cmd->add_option("--merge", p.merge, "SVG/PDF pen lines: join ends this close, a fraction of --pen-width (0: none)")
+        ->capture_default_str();
+    cmd->add_option("--plot-speed", p.drawSpeed, "Plot-time estimate (--stats): pen-down speed, mm/s")
+        ->capture_default_str();
+    cmd->add_option("--travel-speed", p.travelSpeed, "Plot-time estimate (--stats): pen-up speed, mm/s")
+        ->capture_default_str();
+    cmd->add_option("--lift-time", p.liftSeconds, "Plot-time estimate (--stats): seconds a pen lift takes")
+        ->capture_default_str();
 }
 
 static glm::vec4 parseColour(const std::string& text, const char* what) {
@@ -316,6 +333,14 @@ void finishOptions(Options& o) {
         o.page.orientation = !explicitSize     ? ink::Orientation::Auto
                              : page.x > page.y ? ink::Orientation::Landscape
                                                : ink::Orientation::Portrait;
+    if (!(o.page.simplify >= 0 && o.page.simplify <= 1)) throw ink::Error("--simplify must be in [0, 1] pen widths");
+    if (!(o.page.retrace >= 0 && o.page.retrace <= 1)) throw ink::Error("--retrace must be in [0, 1] pen widths");
+    if (!(o.page.merge >= 0 && o.page.merge <= 2)) throw ink::Error("--merge must be in [0, 2] pen widths");
+    if (!(o.page.drawSpeed > 0 && o.page.drawSpeed <= 10000))
+        throw ink::Error("--plot-speed must be in (0, 10000] mm/s");
+    if (!(o.page.travelSpeed > 0 && o.page.travelSpeed <= 10000))
+        throw ink::Error("--travel-speed must be in (0, 10000] mm/s");
+    if (!(o.page.liftSeconds >= 0 && o.page.liftSeconds <= 60)) throw ink::Error("--lift-time must be in [0, 60] s");
     if (!(o.page.penWidth >= ink::kMinPenWidth && o.page.penWidth <= ink::kMaxPenWidth))
         throw ink::Error("--pen-width must be in [0.001, 10] mm (kMinPenWidth: the files give a micrometre)");
     // The view fits within the margins; it must be wider and taller than the pen (layoutPlot checks the view
@@ -509,14 +534,57 @@ void noteRings(const ink::Plot& plot) {
 
 json plotJson(const ink::Plot& plot) {
     json layers = json::array();
-    for (const ink::PlotLayer& l : plot.layers)
+    double seconds = 0;
+    std::vector<glm::vec3> inks;
+    for (const ink::PlotLayer& l : plot.layers) {
         layers.push_back({{"pen", l.pen},
                           {"name", l.name},
                           {"paths", l.paths.size()},
+                          {"paths_before", l.pathsBefore},
+                          {"vertices", l.vertices},
+                          {"vertices_before", l.verticesBefore},
+                          {"merged", l.merged},
+                          {"retraced_mm", l.retraced},
                           {"travel_before_mm", l.travelBefore},
                           {"travel_after_mm", l.travelAfter},
-                          {"pen_down_mm", l.penDown}});
-    return {{"page_mm", {plot.width, plot.height}}, {"pen_width_mm", plot.penWidth}, {"layers", layers}};
+                          {"pen_down_mm", l.penDown},
+                          {"lifts", l.lifts},
+                          {"plot_seconds", l.plotSeconds}});
+        seconds += l.plotSeconds;
+        if (std::find(inks.begin(), inks.end(), l.color) == inks.end()) inks.push_back(l.color);
+    }
+    return {{"page_mm", {plot.width, plot.height}},
+            {"pen_width_mm", plot.penWidth},
+            {"pens", plot.layers.size()},
+            {"inks", inks.size()},
+            {"plot_seconds", seconds},
+            {"time_model",
+             {{"pen_down_mm_per_s", plot.drawSpeed},
+              {"pen_up_mm_per_s", plot.travelSpeed},
+              {"seconds_per_lift", plot.liftSeconds}}},
+            {"layers", layers}};
+}
+
+// "42 s", "12 min 5 s", "2 h 3 min".
+static std::string duration(double seconds) {
+    const long long s = std::llround(seconds);
+    char text[64];
+    if (s < 60)
+        std::snprintf(text, sizeof text, "%lld s", s);
+    else if (s < 3600)
+        std::snprintf(text, sizeof text, "%lld min %lld s", s / 60, s % 60);
+    else
+        std::snprintf(text, sizeof text, "%lld h %lld min", s / 3600, s / 60 % 60);
+    return text;
+}
+
+void printPlot(const ink::Plot& plot) {
+    for (const ink::PlotLayer& l : plot.layers)
+        std::printf(
+            "  pen %u (%s): %zu paths (%zu given), pen-up travel %.0f mm (%.0f mm unordered), pen down %.0f "
+            "mm, %zu lifts, about %s to plot\n",
+            l.pen, l.name.c_str(), l.paths.size(), l.pathsBefore, l.travelAfter, l.travelBefore, l.penDown, l.lifts,
+            duration(l.plotSeconds).c_str());
 }
 
 json linesJson(const ink::Scene& scene) {

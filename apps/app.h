@@ -108,8 +108,12 @@ ink::Plot writeVectorView(const ink::PointRenderer& renderer, uint32_t frame, co
                           const ink::PageOptions& page);
 // Notes the layers whose dots are wider than two pen widths (they plot as rings).
 void noteRings(const ink::Plot& plot);
-// A plot's layers: pen, name, paths, pen-up travel before and after ordering and pen-down length in mm.
+// A plot's layers: pen, name, paths and vertices before and after simplifying and merging, pen-up travel
+// before and after ordering, pen-down length in mm, lifts and the estimated plot time; the pens and the time
+// model.
 json plotJson(const ink::Plot& plot);
+// One line a pen on stdout: paths, pen-up travel, pen-down length, lifts and the estimated plot time.
+void printPlot(const ink::Plot& plot);
 // The pen lines traced: strokes, vertices, lengths and times.
 json linesJson(const ink::Scene& scene);
 // Spacing of a ranked point set: the whole set and its prefixes 1/2, 1/4, 1/8, the area estimated from it.

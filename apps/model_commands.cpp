@@ -198,10 +198,7 @@ static int runRender(Options& o, const std::vector<std::string>& outputs) {
     for (const std::string& out : outputs) names += (names.empty() ? "" : ", ") + out;
     std::printf("%s: %zu control points, %llu points, %.2f s -> %s\n", o.model.c_str(), scene.model.fit.controlPoints,
                 (unsigned long long)points, secondsSince(start), names.c_str());
-    if (plot)
-        for (const ink::PlotLayer& l : plot->layers)
-            std::printf("  pen %u (%s): %zu paths, pen-up travel %.0f mm (%.0f mm unordered), pen down %.0f mm\n",
-                        l.pen, l.name.c_str(), l.paths.size(), l.travelAfter, l.travelBefore, l.penDown);
+    if (plot) printPlot(*plot);
     return 0;
 }
 

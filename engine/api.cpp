@@ -336,7 +336,8 @@ std::vector<PenLayer> writeVectorDrawing(const std::string& path, const ink::Vec
     ink::writePlot(path, plot);
     std::vector<PenLayer> layers;
     for (const ink::PlotLayer& l : plot.layers)
-        layers.push_back({l.pen, l.name, l.paths.size(), l.travelBefore, l.travelAfter, l.penDown});
+        layers.push_back(
+            {l.pen, l.name, l.paths.size(), l.travelBefore, l.travelAfter, l.penDown, l.lifts, l.plotSeconds});
     return layers;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <unordered_map>
 
 namespace ink {
 
@@ -32,6 +33,7 @@ namespace {
 
 constexpr int kNeighbours = 8;  // candidates a path end tries in 2-opt
 constexpr int kMaxPasses = 16;
+constexpr uint32_t kFullTwoOpt = 1000;  // up to this many paths, 2-opt tries every move
 
 // A uniform grid over points, about two a cell, for nearest-point queries. Points are removed as they are
 // used; the grid is rebuilt coarser when few remain, so that a query never walks a mostly empty grid.
@@ -244,42 +246,69 @@ void orderPaths(std::vector<PlotPath>& paths, glm::dvec2 home) {
             reversed[p] ^= 1u;
         }
     };
-    // Passes until one gains less than a thousandth of the travel (later passes find little).
-    for (int pass = 0; pass < kMaxPasses; ++pass) {
-        bool improved = false;
-        double gained = 0;
-        for (int64_t i = -1; i + 1 < int64_t(n); ++i) {
-            for (int side = 0; side < 2; ++side) {
-                // side 0: new link end(i) → an end nearby; side 1: new link start(i + 1) → a start nearby.
-                uint32_t from =
-                    side == 0 ? (i < 0 ? UINT32_MAX : endId(order[size_t(i)])) : startId(order[size_t(i + 1)]);
-                if (from == UINT32_MAX) continue;
-                for (int k = 0; k < kNeighbours; ++k) {
-                    uint32_t id = neighbours[size_t(from) * kNeighbours + size_t(k)];
-                    if (id == UINT32_MAX) break;
-                    uint32_t q = id >> 1;
-                    int64_t j = position[q];
-                    const bool circle = paths[q].circle();  // its one end is both
-                    if (side == 0 && id != endId(q) && !circle) continue;
-                    if (side == 1) {
-                        if (id != startId(q) && !circle) continue;
-                        j -= 1;
-                    }
-                    if (j == i) continue;
-                    int64_t lo = std::min(i, j), hi = std::max(i, j);
-                    const double g = gain(lo, hi);
-                    if (g > 1e-9) {
-                        gained += g;
-                        apply(lo, hi);
-                        improved = true;
-                        break;
+    auto improve = [&] {
+        // Passes until one gains less than a thousandth of the travel (later passes find little).
+        for (int pass = 0; pass < kMaxPasses; ++pass) {
+            bool improved = false;
+            double gained = 0;
+            for (int64_t i = -1; i + 1 < int64_t(n); ++i) {
+                for (int side = 0; side < 2; ++side) {
+                    // side 0: new link end(i) → an end nearby; side 1: new link start(i + 1) → a start nearby.
+                    uint32_t from =
+                        side == 0 ? (i < 0 ? UINT32_MAX : endId(order[size_t(i)])) : startId(order[size_t(i + 1)]);
+                    if (from == UINT32_MAX) continue;
+                    for (int k = 0; k < kNeighbours; ++k) {
+                        uint32_t id = neighbours[size_t(from) * kNeighbours + size_t(k)];
+                        if (id == UINT32_MAX) break;
+                        uint32_t q = id >> 1;
+                        int64_t j = position[q];
+                        const bool circle = paths[q].circle();  // its one end is both
+                        if (side == 0 && id != endId(q) && !circle) continue;
+                        if (side == 1) {
+                            if (id != startId(q) && !circle) continue;
+                            j -= 1;
+                        }
+                        if (j == i) continue;
+                        int64_t lo = std::min(i, j), hi = std::max(i, j);
+                        const double g = gain(lo, hi);
+                        if (g > 1e-9) {
+                            gained += g;
+                            apply(lo, hi);
+                            improved = true;
+                            break;
+                        }
                     }
                 }
             }
+            if (!improved || gained < 1e-3 * travelOf()) break;
         }
-        if (!improved || gained < 1e-3 * travelOf()) break;
+        // Few paths: passes of every 2-opt move (all pairs), until none gains.
+        if (n > kFullTwoOpt) return;
+        for (int pass = 0; pass < 4 * kMaxPasses; ++pass) {
+            bool improved = false;
+            for (int64_t lo = -1; lo + 1 < int64_t(n); ++lo)
+                for (int64_t hi = lo + 1; hi < int64_t(n); ++hi)
+                    if (gain(lo, hi) > 1e-9) {
+                        apply(lo, hi);
+                        improved = true;
+                    }
+            if (!improved) break;
+        }
+    };
+    improve();
+    // Few paths: also improved from the order given (a tracer's order, chain after chain, can beat greedy's);
+    // the shorter wins.
+    if (n <= kFullTwoOpt) {
+        const std::vector<uint32_t> greedyOrder = order;
+        const std::vector<uint8_t> greedyReversed = reversed;
+        const double greedyTravel = travelOf();
+        for (uint32_t i = 0; i < n; ++i) order[i] = i, position[i] = i, reversed[i] = 0;
+        improve();
+        if (!(travelOf() < greedyTravel)) order = greedyOrder, reversed = greedyReversed;
     }
 
+    // Never longer than the order given (greedy can lose on an input already in a good order).
+    if (travelOf() > travel(paths, home)) return;
     std::vector<PlotPath> out;
     out.reserve(n);
     for (uint32_t p : order) {
@@ -301,6 +330,293 @@ void mergeTouching(std::vector<PlotPath>& paths, double tolerance) {
         out.push_back(std::move(p));
     }
     paths = std::move(out);
+}
+
+}  // namespace ink
+
+namespace ink {
+
+namespace {
+
+// A hash grid of cells `cell` wide: ids by cell, looked up by key (never iterated: the results depend only on
+// the input).
+class HashGrid {
+public:
+    explicit HashGrid(double cell) : cell_(cell) {}
+    glm::i64vec2 cellOf(glm::dvec2 p) const { return glm::i64vec2(glm::floor(p / cell_)); }
+    void insert(glm::i64vec2 c, uint32_t id) { cells_[key(c)].push_back(id); }
+    const std::vector<uint32_t>* at(glm::i64vec2 c) const {
+        auto it = cells_.find(key(c));
+        return it == cells_.end() ? nullptr : &it->second;
+    }
+
+private:
+    static uint64_t key(glm::i64vec2 c) { return (uint64_t(c.x) << 32) ^ (uint64_t(c.y) & 0xffffffffu); }
+    double cell_;
+    std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+};
+
+double segmentDistance(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b, double* t = nullptr) {
+    const glm::dvec2 d = b - a;
+    const double len2 = glm::dot(d, d);
+    const double u = len2 > 0 ? std::clamp(glm::dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
+    if (t) *t = u;
+    return glm::distance(p, a + d * u);
+}
+
+}  // namespace
+
+size_t simplifyPaths(std::vector<PlotPath>& paths, double tolerance, double resolution) {
+    size_t removed = 0;
+    std::vector<PlotPath> out;
+    out.reserve(paths.size());
+    std::vector<uint8_t> keep;
+    std::vector<std::pair<size_t, size_t>> stack;
+    for (PlotPath& p : paths) {
+        if (p.circle()) {
+            out.push_back(std::move(p));
+            continue;
+        }
+        const size_t given = p.points.size();
+        std::vector<glm::dvec2> pts;
+        pts.reserve(given);
+        for (glm::dvec2 q : p.points)
+            if (pts.empty() || glm::distance(pts.back(), q) >= resolution) pts.push_back(q);
+        if (pts.size() > 2 && tolerance > 0) {
+            keep.assign(pts.size(), 0);
+            keep.front() = keep.back() = 1;
+            stack.assign(1, {0, pts.size() - 1});
+            while (!stack.empty()) {
+                auto [i, j] = stack.back();
+                stack.pop_back();
+                double worst = -1;
+                size_t at = i;
+                for (size_t k = i + 1; k < j; ++k) {
+                    const double d = segmentDistance(pts[k], pts[i], pts[j]);
+                    if (d > worst) worst = d, at = k;
+                }
+                if (worst > tolerance) {
+                    keep[at] = 1;
+                    if (at - i > 1) stack.push_back({i, at});
+                    if (j - at > 1) stack.push_back({at, j});
+                }
+            }
+            size_t kept = 0;
+            for (size_t k = 0; k < pts.size(); ++k)
+                if (keep[k]) pts[kept++] = pts[k];
+            pts.resize(kept);
+        }
+        p.points = std::move(pts);
+        if (p.points.size() < 2 || p.length() < resolution) {
+            removed += given;
+            continue;
+        }
+        removed += given - p.points.size();
+        out.push_back(std::move(p));
+    }
+    paths = std::move(out);
+    return removed;
+}
+
+double dropRetraced(std::vector<PlotPath>& paths, double tolerance) {
+    if (!(tolerance > 0)) return 0;
+    // Kept stretches (each within one segment), found by samples at most `tolerance` apart inserted in a grid
+    // of cells 2·tolerance wide: a stretch within `tolerance` of a point has a sample within 1.5·tolerance of
+    // it, in the point's cell or one next to it.
+    struct Piece {
+        glm::dvec2 a, b;
+        uint32_t path;
+        double arc;  // arc length along its polyline at a
+    };
+    std::vector<Piece> pieces;
+    HashGrid grid(2 * tolerance);
+    auto insert = [&](const Piece& piece) {
+        const uint32_t id = uint32_t(pieces.size());
+        pieces.push_back(piece);
+        const double len = glm::distance(piece.a, piece.b);
+        const int steps = std::max(1, int(std::ceil(len / tolerance)));
+        glm::i64vec2 last(INT64_MIN);
+        for (int k = 0; k <= steps; ++k) {
+            const glm::i64vec2 c = grid.cellOf(glm::mix(piece.a, piece.b, double(k) / steps));
+            if (c != last) grid.insert(c, id);
+            last = c;
+        }
+    };
+    const double cosParallel = std::cos(30.0 * M_PI / 180.0);
+    // Whether point q (at arc length s along path `path`, heading `dir`) lies on a kept stretch: within
+    // `tolerance`, near parallel, and of another path or far along this one.
+    auto covered = [&](glm::dvec2 q, glm::dvec2 dir, uint32_t path, double s) {
+        const glm::i64vec2 c = grid.cellOf(q);
+        for (int64_t y = c.y - 1; y <= c.y + 1; ++y)
+            for (int64_t x = c.x - 1; x <= c.x + 1; ++x) {
+                const std::vector<uint32_t>* cell = grid.at({x, y});
+                if (!cell) continue;
+                for (uint32_t id : *cell) {
+                    const Piece& piece = pieces[id];
+                    double t;
+                    if (segmentDistance(q, piece.a, piece.b, &t) > tolerance) continue;
+                    const glm::dvec2 d = piece.b - piece.a;
+                    const double len = glm::length(d);
+                    if (!(len > 0) || std::abs(glm::dot(d, dir)) < cosParallel * len) continue;
+                    if (piece.path == path && std::abs(piece.arc + t * len - s) <= 3 * tolerance) continue;
+                    return true;
+                }
+            }
+        return false;
+    };
+
+    double dropped = 0;
+    const double step = 0.5 * tolerance;
+    std::vector<PlotPath> out;
+    out.reserve(paths.size());
+    std::vector<uint8_t> cover;
+    for (uint32_t pi = 0; pi < uint32_t(paths.size()); ++pi) {
+        PlotPath& p = paths[pi];
+        if (p.circle()) {
+            out.push_back(std::move(p));
+            continue;
+        }
+        // Each segment in sub-pieces at most `step` long, each covered or not (by its midpoint), against the
+        // stretches kept before this segment.
+        struct Sub {
+            size_t segment;
+            double t0, t1;
+            bool covered;
+        };
+        std::vector<Sub> subs;
+        std::vector<double> arcs(p.points.size(), 0);
+        for (size_t i = 1; i < p.points.size(); ++i)
+            arcs[i] = arcs[i - 1] + glm::distance(p.points[i - 1], p.points[i]);
+        // Each segment's uncovered sub-pieces join the grid once it is tested (a straight segment cannot
+        // cover itself); short covered runs kept below are not inserted (they lie on kept stretches anyway).
+        for (size_t i = 0; i + 1 < p.points.size(); ++i) {
+            const glm::dvec2 a = p.points[i], b = p.points[i + 1];
+            const double len = arcs[i + 1] - arcs[i];
+            if (!(len > 0)) continue;
+            const glm::dvec2 dir = (b - a) / len;
+            const int n = std::max(1, int(std::ceil(len / step)));
+            const size_t first = subs.size();
+            for (int k = 0; k < n; ++k) {
+                const double t0 = double(k) / n, t1 = double(k + 1) / n, tm = 0.5 * (t0 + t1);
+                subs.push_back({i, t0, t1, covered(glm::mix(a, b, tm), dir, pi, arcs[i] + tm * len)});
+            }
+            // The segment's uncovered runs are kept for what follows.
+            for (size_t k = first; k < subs.size();) {
+                if (subs[k].covered) {
+                    ++k;
+                    continue;
+                }
+                size_t e = k;
+                while (e + 1 < subs.size() && !subs[e + 1].covered) ++e;
+                insert({glm::mix(a, b, subs[k].t0), glm::mix(a, b, subs[e].t1), pi, arcs[i] + subs[k].t0 * len});
+                k = e + 1;
+            }
+        }
+        // Covered runs shorter than 2·tolerance stay (a crossing, a closed curve's joint).
+        bool anyCut = false;
+        for (size_t k = 0; k < subs.size();) {
+            if (!subs[k].covered) {
+                ++k;
+                continue;
+            }
+            size_t e = k;
+            double len = 0;
+            for (; e < subs.size() && subs[e].covered; ++e)
+                len += (subs[e].t1 - subs[e].t0) * (arcs[subs[e].segment + 1] - arcs[subs[e].segment]);
+            if (len < 2 * tolerance)
+                for (size_t j = k; j < e; ++j) subs[j].covered = false;
+            else
+                anyCut = true;
+            k = e;
+        }
+        if (!anyCut) {
+            out.push_back(std::move(p));
+            continue;
+        }
+        // The uncovered runs as polylines: the run's start, the original points inside it, its end.
+        auto at = [&](size_t segment, double t) { return glm::mix(p.points[segment], p.points[segment + 1], t); };
+        for (size_t k = 0; k < subs.size();) {
+            size_t e = k;
+            const bool cut = subs[k].covered;
+            double len = 0;
+            for (; e < subs.size() && subs[e].covered == cut; ++e)
+                len += (subs[e].t1 - subs[e].t0) * (arcs[subs[e].segment + 1] - arcs[subs[e].segment]);
+            if (cut || len < tolerance) {
+                dropped += len;
+            } else {
+                PlotPath run;
+                run.points.push_back(at(subs[k].segment, subs[k].t0));
+                for (size_t j = k + 1; j < e; ++j)
+                    if (subs[j].segment != subs[j - 1].segment) run.points.push_back(p.points[subs[j].segment]);
+                run.points.push_back(at(subs[e - 1].segment, subs[e - 1].t1));
+                out.push_back(std::move(run));
+            }
+            k = e;
+        }
+    }
+    paths = std::move(out);
+    return dropped;
+}
+
+size_t mergeEnds(std::vector<PlotPath>& paths, double tolerance, double resolution) {
+    if (!(tolerance > 0)) return 0;
+    const uint32_t n = uint32_t(paths.size());
+    // Path end 2p is path p's start, 2p + 1 its end; circles take no part.
+    HashGrid grid(tolerance);
+    for (uint32_t p = 0; p < n; ++p)
+        if (!paths[p].circle()) {
+            grid.insert(grid.cellOf(paths[p].start()), 2 * p);
+            grid.insert(grid.cellOf(paths[p].end()), 2 * p + 1);
+        }
+    std::vector<uint8_t> used(n, 0);
+    // The nearest end of a free path within `tolerance` of q (ties: the lower id); UINT32_MAX when none.
+    auto nearest = [&](glm::dvec2 q) {
+        uint32_t best = UINT32_MAX;
+        double bestD = tolerance;
+        const glm::i64vec2 c = grid.cellOf(q);
+        for (int64_t y = c.y - 1; y <= c.y + 1; ++y)
+            for (int64_t x = c.x - 1; x <= c.x + 1; ++x)
+                if (const std::vector<uint32_t>* cell = grid.at({x, y}))
+                    for (uint32_t id : *cell) {
+                        if (used[id >> 1]) continue;
+                        const uint32_t p = id >> 1;
+                        const double d = glm::distance(q, (id & 1u) ? paths[p].end() : paths[p].start());
+                        if (d > tolerance) continue;
+                        if (best == UINT32_MAX || d < bestD || (d == bestD && id < best)) bestD = d, best = id;
+                    }
+        return best;
+    };
+    size_t joins = 0;
+    std::vector<PlotPath> out;
+    out.reserve(paths.size());
+    for (uint32_t p = 0; p < n; ++p) {
+        if (used[p]) continue;
+        used[p] = 1;
+        PlotPath chain = std::move(paths[p]);
+        if (!chain.circle()) {
+            // Grown at its end, then (reversed) at what was its start; a closed polyline is left closed.
+            for (int side = 0; side < 2; ++side) {
+                if (side == 1) chain.reverse();
+                for (;;) {
+                    if (glm::distance(chain.points.front(), chain.points.back()) < resolution) break;
+                    const uint32_t id = nearest(chain.points.back());
+                    if (id == UINT32_MAX) break;
+                    const uint32_t q = id >> 1;
+                    used[q] = 1;
+                    PlotPath& next = paths[q];
+                    if (id & 1u) next.reverse();
+                    auto from = next.points.begin();
+                    if (glm::distance(chain.points.back(), *from) < resolution) ++from;
+                    chain.points.insert(chain.points.end(), from, next.points.end());
+                    ++joins;
+                }
+            }
+            chain.reverse();  // back the way the first path was given
+        }
+        out.push_back(std::move(chain));
+    }
+    paths = std::move(out);
+    return joins;
 }
 
 }  // namespace ink

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <iterator>
 
 namespace ink {
 
@@ -174,6 +175,12 @@ Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& o) {
         throw Error(text);
     }
     if (!(o.margin >= 0)) throw Error("the margin must not be negative");
+    if (!(o.drawSpeed > 0 && o.travelSpeed > 0 && o.liftSeconds >= 0 && std::isfinite(o.drawSpeed) &&
+          std::isfinite(o.travelSpeed) && std::isfinite(o.liftSeconds)))
+        throw Error("plot speeds must be positive and the lift time not negative");
+    if (!(o.simplify >= 0 && o.simplify <= 1 && o.retrace >= 0 && o.retrace <= 1 && o.merge >= 0 && o.merge <= 2))
+        throw Error(
+            "the simplification (0-1), retrace (0-1) and merge (0-2) tolerances are fractions of the pen width");
     glm::dvec2 page(o.width, o.height);
     const bool landscape =
         o.orientation == Orientation::Auto ? drawing.width > drawing.height : o.orientation == Orientation::Landscape;
@@ -202,6 +209,9 @@ Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& o) {
     plot.width = page.x;
     plot.height = page.y;
     plot.penWidth = w;
+    plot.drawSpeed = o.drawSpeed;
+    plot.travelSpeed = o.travelSpeed;
+    plot.liftSeconds = o.liftSeconds;
     for (const VectorLayer& layer : drawing.layers) {
         PlotLayer out;
         out.name = layer.name;
@@ -231,18 +241,44 @@ Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& o) {
             out.paths.push_back(std::move(p));
         }
         const glm::dvec2 inset(std::min(0.5 * w, 0.5 * (hi.x - lo.x)), std::min(0.5 * w, 0.5 * (hi.y - lo.y)));
+        std::vector<PlotPath> lines;
         for (const auto& line : layer.lines) {
             std::vector<glm::dvec2> mm;
             for (glm::vec2 p : line) mm.push_back(lo + glm::dvec2(p) * scale);
-            addClipped(mm, lo + inset, hi - inset, out.paths);
+            addClipped(mm, lo + inset, hi - inset, lines);
         }
-        if (out.paths.empty()) continue;
+        if (out.paths.empty() && lines.empty()) continue;
         const glm::dvec2 home(0, 0);  // a plotter's home: the page's top-left corner
-        out.travelBefore = travel(out.paths, home);
+        {
+            std::vector<PlotPath> given = out.paths;
+            given.insert(given.end(), lines.begin(), lines.end());
+            out.travelBefore = travel(given, home);
+            out.pathsBefore = given.size();
+            for (const PlotPath& p : given) out.verticesBefore += p.circle() ? 1 : p.points.size();
+        }
+        // Pen lines as a plotter wants them: retraced stretches dropped, ends merged, then simplified (the
+        // joints may leave points in line). Dots are not merged: that would draw lines from dot to dot.
+        const double retrace = std::max(o.retrace * w, kResolution);
+        out.retraced = o.retrace > 0 ? dropRetraced(lines, retrace) : 0;
+        if (o.order) out.merged = mergeEnds(lines, o.merge * w, kResolution);
+        simplifyPaths(lines, o.simplify * w, kResolution);
+        // Simplified lines move by up to the tolerance, and a merge may put a copy first: once more.
+        if (o.retrace > 0) {
+            out.retraced += dropRetraced(lines, retrace);
+            if (o.order) out.merged += mergeEnds(lines, o.merge * w, kResolution);
+        }
+        out.paths.insert(out.paths.end(), std::make_move_iterator(lines.begin()), std::make_move_iterator(lines.end()));
+        if (out.paths.empty()) continue;
         if (o.order) orderPaths(out.paths, home);
         mergeTouching(out.paths, kResolution);
         out.travelAfter = travel(out.paths, home);
-        for (const PlotPath& p : out.paths) out.penDown += p.length();
+        for (const PlotPath& p : out.paths) {
+            out.penDown += p.length();
+            out.vertices += p.circle() ? 1 : p.points.size();
+        }
+        out.lifts = out.paths.size();
+        out.plotSeconds =
+            out.penDown / o.drawSpeed + out.travelAfter / o.travelSpeed + double(out.lifts) * o.liftSeconds;
         out.pen = uint32_t(plot.layers.size() + 1);
         plot.layers.push_back(std::move(out));
     }

@@ -58,7 +58,13 @@ struct PageOptions {
     double margin = 15;                           // mm on every side
     double penWidth = 0.3;                        // mm: every path's stroke width
     DotStyle dotStyle = DotStyle::Circle;
-    bool order = true;  // order each layer's paths for short pen-up travel
+    bool order = true;  // order each layer's paths for short pen-up travel (and merge polylines end to end)
+    // Pen lines before they are written, as fractions of the pen width: simplified (Ramer–Douglas–Peucker) to
+    // `simplify`, stretches retraced within `retrace` of one already drawn dropped, ends within `merge` joined
+    // (with `order` only). Dots are left as they are.
+    double simplify = 0.2, retrace = 0.25, merge = 0.5;
+    // The plot-time model: pen-down and pen-up (travel) speeds, mm/s, and the time of one lift (up and down).
+    double drawSpeed = 25, travelSpeed = 75, liftSeconds = 0.15;
 };
 
 // "A4", "A3", "letter" (any case) or "WxHmm" (e.g. "300x200mm"); throws ink::Error naming the text.
@@ -70,6 +76,13 @@ struct PlotLayer {
     glm::vec3 color{0};  // the layer's colour blended over the paper
     std::vector<PlotPath> paths;
     double travelBefore = 0, travelAfter = 0, penDown = 0;  // mm; travel from the page's top-left corner
+    // Before the pen lines were simplified, merged and ordered (the marks as clipped, in the device's order),
+    // and as written.
+    size_t pathsBefore = 0, verticesBefore = 0, vertices = 0;
+    size_t merged = 0;       // end-to-end joins
+    double retraced = 0;     // pen-down length dropped as retraced, mm
+    size_t lifts = 0;        // pen lifts: one a path
+    double plotSeconds = 0;  // penDown / drawSpeed + travelAfter / travelSpeed + lifts · liftSeconds
     // Circles more than two pen widths across: the pen leaves paper inside them (a ring, not a dot); and the
     // widest dot, mm.
     size_t rings = 0;
@@ -79,13 +92,16 @@ struct PlotLayer {
 // A drawing laid out on a page: every path in millimetres from the page's top-left corner.
 struct Plot {
     double width = 0, height = 0, penWidth = 0;
-    std::vector<PlotLayer> layers;  // the non-empty ones
+    double drawSpeed = 0, travelSpeed = 0, liftSeconds = 0;  // the time model (PageOptions)
+    std::vector<PlotLayer> layers;                           // the non-empty ones
 };
 
 // Lays `drawing` out on the page: a dot becomes a circle whose stroke covers the dot (radius (d − w)/2 for a
 // dot d mm wide and a pen w mm wide, at least kMinRadius) or a tick (a 45° stroke (d − w) long, at least
 // 2·kMinRadius); polylines are clipped to the view; marks whose ink would leave the view are dropped; each
-// layer's paths are then ordered (options.order) and touching polylines merged. Throws ink::Error for a
+// layer's polylines are simplified, their retraced stretches dropped and (options.order) their ends merged
+// (PageOptions::simplify, retrace, merge), then the layer's paths are ordered (options.order), touching
+// polylines joined and the plot time estimated. Throws ink::Error for a
 // page whose margins leave no room for the pen (the view, scaled into the margins, must be wider and taller
 // than the pen) or a pen width outside [kMinPenWidth, kMaxPenWidth] mm.
 Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& options);

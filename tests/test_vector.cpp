@@ -255,6 +255,118 @@ TEST_CASE("vector: 2-opt undoes a crossing greedy leaves, and touching strokes m
     CHECK(paths[0].length() == doctest::Approx(30.0));
 }
 
+TEST_CASE("vector: pen lines are simplified, their retraced stretches dropped and their ends merged" *
+          doctest::test_suite("unit")) {
+    auto path = [](std::vector<glm::dvec2> points) {
+        ink::PlotPath p;
+        p.points = std::move(points);
+        return p;
+    };
+    ink::PlotPath dot;
+    dot.points = {{50, 50}};
+    dot.radius = 0.2;
+    // Simplification: points in line go, a repeated point goes, a zig-zag within the tolerance goes, a corner
+    // stays, a zero-length path goes, a circle is left alone.
+    std::vector<ink::PlotPath> paths{path({{0, 0}, {1, 0}, {2, 0}, {2, 0}, {3, 0}, {4, 0}}),   // 6 points → 2
+                                     path({{0, 1}, {1, 1.01}, {2, 0.99}, {3, 1.02}, {4, 1}}),  // 5 → 2
+                                     path({{0, 2}, {1, 2}, {2, 2}, {2, 3}, {2, 4}}),           // 5 → 3 (the corner)
+                                     path({{5, 5}, {5, 5.0001}}),                              // zero length: dropped
+                                     dot};
+    CHECK(ink::simplifyPaths(paths, 0.06, 1e-3) == 4 + 3 + 2 + 2);
+    REQUIRE(paths.size() == 4);
+    CHECK(paths[0].points == std::vector<glm::dvec2>{{0, 0}, {4, 0}});
+    CHECK(paths[1].points == std::vector<glm::dvec2>{{0, 1}, {4, 1}});
+    CHECK(paths[2].points == std::vector<glm::dvec2>{{0, 2}, {2, 2}, {2, 4}});
+    CHECK(paths[3].circle());
+
+    // Retraced: a stroke that doubles back on itself keeps its way out (and a stub under a pen width); a second
+    // copy of a stroke, drawn the other way with other points, goes; a stroke across both stays whole, and so
+    // does a closed square.
+    const double tol = 0.075;  // a quarter of a 0.3 mm pen
+    paths = {path({{0, 0}, {10, 0}, {0, 0}}),
+             path({{0, 5}, {10, 5}}),
+             path({{10, 5}, {5, 5.01}, {0, 5}}),
+             path({{5, -5}, {5, 10}}),
+             path({{20, 0}, {30, 0}, {30, 10}, {20, 10}, {20, 0}}),
+             dot};
+    const double dropped = ink::dropRetraced(paths, tol);
+    REQUIRE(paths.size() == 5);
+    CHECK(paths[0].points.front() == glm::dvec2(0, 0));
+    CHECK(paths[0].length() > 10);
+    CHECK(paths[0].length() < 10 + 2 * tol);
+    CHECK(paths[1].points == std::vector<glm::dvec2>{{0, 5}, {10, 5}});
+    CHECK(paths[2].points == std::vector<glm::dvec2>{{5, -5}, {5, 10}});
+    CHECK(paths[3].points.size() == 5);
+    CHECK(paths[4].circle());
+    CHECK(dropped == doctest::Approx(10 - (paths[0].length() - 10) + 10.00001).epsilon(1e-3));
+
+    // Merged end to end within the tolerance, reversing where needed: three strokes on a line (gaps 0.05 and
+    // 0.1 mm, the middle one given backwards) become one; a stroke 10 mm away stays, and so does the dot.
+    paths = {path({{0, 20}, {10, 20}}), path({{20, 20}, {10.05, 20}}), path({{-10, 20}, {-0.1, 20}}),
+             path({{30, 20}, {40, 20}}), dot};
+    CHECK(ink::mergeEnds(paths, 0.15, 1e-3) == 2);
+    REQUIRE(paths.size() == 3);
+    CHECK(paths[0].points == std::vector<glm::dvec2>{{-10, 20}, {-0.1, 20}, {0, 20}, {10, 20}, {10.05, 20}, {20, 20}});
+    CHECK(paths[1].points == std::vector<glm::dvec2>{{30, 20}, {40, 20}});
+    CHECK(paths[2].circle());
+    CHECK(ink::simplifyPaths(paths, 0.06, 1e-3) == 4);  // the joints in line
+    CHECK(paths[0].points == std::vector<glm::dvec2>{{-10, 20}, {20, 20}});
+}
+
+TEST_CASE("vector: ordering never lengthens the pen-up travel of the order given" * doctest::test_suite("unit")) {
+    // Random strokes, and strokes already in a good order (a row drawn left to right): ordered travel is never
+    // longer than the given order's.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0, 100);
+    for (int trial = 0; trial < 20; ++trial) {
+        std::vector<ink::PlotPath> paths;
+        const int n = 2 + trial * 7;
+        for (int i = 0; i < n; ++i) {
+            ink::PlotPath p;
+            glm::dvec2 a(u(rng), u(rng));
+            p.points = {a, a + glm::dvec2(u(rng), u(rng)) * 0.05};
+            paths.push_back(p);
+        }
+        if (trial % 2) {
+            for (int i = 0; i < n; ++i) paths[size_t(i)].points = {{3.0 * i, 0}, {3.0 * i + 2, 0}};
+        }
+        const double before = ink::travel(paths, {0, 0});
+        ink::orderPaths(paths, {0, 0});
+        CAPTURE(trial);
+        CHECK(ink::travel(paths, {0, 0}) <= before + 1e-9);
+    }
+}
+
+TEST_CASE("vector: the layout reports paths, vertices, merges, lifts and the plot time of each pen" *
+          doctest::test_suite("unit")) {
+    // Two strokes that meet end to end (one backwards, a hundredth of a pixel apart), one of them retraced
+    // twice and with points in line; a stroke far away.
+    ink::VectorDrawing d;
+    d.width = 200;
+    d.height = 200;
+    ink::VectorLayer& l = d.layer("contour", {0, 0, 0, 1});
+    l.lines = {
+        {{10, 10}, {50, 10}, {100, 10}}, {{150, 10}, {100.01f, 10}}, {{100, 10}, {10, 10}}, {{10, 190}, {190, 190}}};
+    ink::PageOptions o;  // A4, pen 0.3
+    const ink::Plot plot = ink::layoutPlot(d, o);
+    REQUIRE(plot.layers.size() == 1);
+    const ink::PlotLayer& layer = plot.layers[0];
+    CHECK(layer.pathsBefore == 4);
+    CHECK(layer.verticesBefore == 9);
+    CHECK(layer.merged == 1);
+    CHECK(layer.paths.size() == 2);
+    CHECK(layer.vertices == 4);
+    CHECK(layer.lifts == 2);
+    const double scale = 180.0 / 200;  // mm a pixel
+    CHECK(layer.retraced == doctest::Approx(90 * scale).epsilon(0.01));
+    CHECK(layer.penDown == doctest::Approx(320 * scale).epsilon(0.001));
+    CHECK(layer.travelAfter <= layer.travelBefore);
+    CHECK(layer.plotSeconds == doctest::Approx(layer.penDown / 25 + layer.travelAfter / 75 + 2 * 0.15));
+    CHECK(plot.drawSpeed == 25);
+    CHECK(plot.travelSpeed == 75);
+    CHECK(plot.liftSeconds == 0.15);
+}
+
 TEST_CASE("vector: strokes split by visibility into their layer and the hidden layer below" *
           doctest::test_suite("unit")) {
     ink::VectorDrawing d;
@@ -431,6 +543,59 @@ TEST_CASE("vector: the default bunny's SVG: layers, mm, no zero-length path, ins
     REQUIRE(runInkwell(command + dir / "c.svg --no-order").status == 0);
     nlohmann::json unordered = nlohmann::json::parse(readFile(dir / "s.json"));
     CHECK(unordered["vector"]["layers"][0]["travel_after_mm"].get<double>() == doctest::Approx(before));
+}
+
+TEST_CASE("vector: a pen drawing's stats give each pen's length, travel, lifts and plot time" *
+          doctest::test_suite("cli")) {
+    TempDir dir("inkwell-vector");
+    // The bundled bunny with every default (its fit, the 1024² view, A4, a 0.3 mm pen).
+    const std::string command = "render " + kBunny + " --style contours+hatching --stats " + dir / "s.json";
+    Run r = runInkwell(command + " -o " + dir / "x.svg");
+    REQUIRE_MESSAGE(r.status == 0, r.output);
+    const nlohmann::json stats = nlohmann::json::parse(readFile(dir / "s.json"));
+    const nlohmann::json& vector = stats["vector"];
+    CHECK(vector["pens"] == 2);  // hatching, contour
+    CHECK(vector["time_model"]["pen_down_mm_per_s"] == 25.0);
+    double total = 0;
+    REQUIRE(vector["layers"].size() == 2);
+    for (const nlohmann::json& l : vector["layers"]) {
+        CAPTURE(l.dump());
+        const double down = l["pen_down_mm"], travel = l["travel_after_mm"], seconds = l["plot_seconds"];
+        const size_t lifts = l["lifts"], paths = l["paths"];
+        // Plausible: the bunny is about 110 mm tall on the page; the hatching is metres of ink, the contour
+        // tens of centimetres; each plots in seconds to minutes.
+        CHECK(down > 100);
+        CHECK(down < 20000);
+        CHECK(seconds > 5);
+        CHECK(seconds < 3600);
+        CHECK(l["retraced_mm"].get<double>() >= 0);
+        CHECK(lifts == paths);
+        CHECK(lifts >= 1);
+        CHECK(travel <= l["travel_before_mm"].get<double>());
+        CHECK(l["vertices"].get<size_t>() <= l["vertices_before"].get<size_t>());
+        CHECK(seconds == doctest::Approx(down / 25 + travel / 75 + 0.15 * double(lifts)));
+        total += seconds;
+        // The summary line on stdout: lifts and the time.
+        std::string summary = "(";
+        summary += l["name"].get<std::string>();
+        summary += "): ";
+        summary += std::to_string(paths);
+        summary += " paths";
+        CHECK(r.output.find(summary) != std::string::npos);
+    }
+    CHECK(vector["plot_seconds"].get<double>() == doctest::Approx(total));
+    CHECK(r.output.find(" lifts, about ") != std::string::npos);
+    // Other speeds, other times; speeds that are not are refused, writing nothing.
+    REQUIRE(runInkwell(command + " -o " + dir / "y.svg --plot-speed 50 --travel-speed 150 --lift-time 0").status == 0);
+    const nlohmann::json fast = nlohmann::json::parse(readFile(dir / "s.json"))["vector"];
+    CHECK(fast["plot_seconds"].get<double>() < total / 2);
+    for (const char* bad : {"--plot-speed 0", "--travel-speed -1", "--lift-time 100"}) {
+        CAPTURE(bad);
+        Run refused = runInkwell(command + " -o " + dir / "z.svg " + bad);
+        CHECK(refused.status != 0);
+        CHECK(refused.output.find("must be in") != std::string::npos);
+        CHECK_FALSE(std::ifstream(dir / "z.svg").good());
+    }
 }
 
 TEST_CASE("vector: ticks, pages and bad options" * doctest::test_suite("cli")) {
