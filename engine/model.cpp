@@ -9,6 +9,7 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <unordered_map>
@@ -36,6 +37,44 @@ double typicalSpacing(const std::vector<Eigen::Vector3d>& points) {
     Eigen::Vector3d d = hi - lo;
     double area = d.x() * d.y() + d.y() * d.z() + d.z() * d.x();
     return std::sqrt(area / double(points.size()));
+}
+
+// The mesh with each position kept once (exactly equal coordinates): triangles renumbered, normals summed and
+// normalized (each repeat's, area-weighted from its own side, adds up to the whole vertex's).
+OrientedPoints weldByPosition(const OrientedPoints& mesh) {
+    struct Key {
+        size_t operator()(const Eigen::Vector3d& p) const {
+            size_t h = 0;
+            for (int k = 0; k < 3; ++k) {
+                uint64_t bits;
+                const double c = p[k] == 0 ? 0.0 : p[k];  // −0 and +0 alike
+                std::memcpy(&bits, &c, sizeof bits);
+                h = h * 0x9e3779b97f4a7c15ull + std::hash<uint64_t>()(bits);
+            }
+            return h;
+        }
+    };
+    OrientedPoints out;
+    std::unordered_map<Eigen::Vector3d, uint32_t, Key> index;
+    std::vector<uint32_t> renumber(mesh.positions.size());
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+        auto [it, added] = index.try_emplace(mesh.positions[i], uint32_t(out.positions.size()));
+        if (added) {
+            out.positions.push_back(mesh.positions[i]);
+            out.normals.push_back(Eigen::Vector3d::Zero());
+        }
+        out.normals[it->second] += mesh.normals[i];
+        renumber[i] = it->second;
+    }
+    for (size_t i = 0; i < out.normals.size(); ++i) {
+        const double length = out.normals[i].norm();
+        // Repeats whose normals cancel: the first one's, as the file gave it.
+        out.normals[i] = length > 1e-9 ? Eigen::Vector3d(out.normals[i] / length) : out.normals[i];
+    }
+    for (size_t i = 0; i < mesh.positions.size(); ++i)
+        if (out.normals[renumber[i]].squaredNorm() == 0) out.normals[renumber[i]] = mesh.normals[i];
+    for (const Triangle& t : mesh.triangles) out.triangles.push_back({renumber[t[0]], renumber[t[1]], renumber[t[2]]});
+    return out;
 }
 
 }  // namespace
@@ -101,19 +140,23 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     OrientedPoints samples;
     std::vector<bool> onRim;  // the sample lies on a triangle with an open edge
     if (!points.triangles.empty()) {
+        // Welded by position first: a file that repeats a vertex at a seam (for its texture or its normals) has
+        // open edges there that are no rim, and corners whose neighbours the patches would not see (the Wuson's
+        // 1,088 repeated vertices made every one of its 96,795 samples a rim sample).
+        OrientedPoints mesh = weldByPosition(points);
         std::vector<uint32_t> triangleOf;
-        samples = sampleFaces(points, faceSampleCount(points), 1, &triangleOf);
+        samples = sampleFaces(mesh, faceSampleCount(mesh), 1, &triangleOf);
         std::unordered_map<uint64_t, uint32_t> edges;
-        for (const Triangle& t : points.triangles)
+        for (const Triangle& t : mesh.triangles)
             for (size_t e = 0; e < 3; ++e)
                 ++edges[uint64_t(std::min(t[e], t[(e + 1) % 3])) << 32 | std::max(t[e], t[(e + 1) % 3])];
         // The vertices of open edges, and the samples of the triangles that touch one.
-        std::vector<bool> rimVertex(points.positions.size(), false);
+        std::vector<bool> rimVertex(mesh.positions.size(), false);
         for (const auto& [edge, uses] : edges)
             if (uses == 1) rimVertex[edge >> 32] = rimVertex[edge & 0xffffffffu] = true;
         onRim.resize(samples.positions.size());
         for (size_t i = 0; i < onRim.size(); ++i) {
-            const Triangle& t = points.triangles[triangleOf[i]];
+            const Triangle& t = mesh.triangles[triangleOf[i]];
             onRim[i] = rimVertex[t[0]] || rimVertex[t[1]] || rimVertex[t[2]];
         }
         points.triangles.clear();
