@@ -258,8 +258,7 @@ TEST_CASE("robust: compare refuses PNGs over 8192^2 pixels from their headers (i
 
 // ---- 4. glTF buffers through symbolic links ------------------------------------------------------------
 
-TEST_CASE(
-    "robust: a glTF buffer that is a link, or behind a linked directory, to a file outside is refused (issue 29)") {
+TEST_CASE("robust: a glTF buffer that is a link, or behind a linked directory, to a file outside is refused (issue 29)" * doctest::test_suite("cli")) {
     TempDir dir;
     fs::create_directories(dir.path / "outside");
     fs::create_directories(dir.path / "model");
@@ -288,9 +287,7 @@ TEST_CASE(
 
 // ---- 5. Capture's outputs --------------------------------------------------------------------------------
 
-TEST_CASE(
-    "robust: capture never writes through a frame that is a link to its input, nor over a frame with --stats (issue "
-    "29)") {
+TEST_CASE("robust: capture never writes through a frame that is a link to its input, nor over a frame with --stats (issue 29)" * doctest::test_suite("cli")) {
     TempDir dir;
     std::string model = dir.write("bunny.obj", slurp(kBunny));
     fs::create_directories(dir.path / "cap");
@@ -364,9 +361,7 @@ TEST_CASE("robust: a page with no room for the pen, and a pen under a micrometre
     CHECK(contains(ink::plotSvg(plot), "stroke-width=\"0.001\""));
 }
 
-TEST_CASE(
-    "robust: glTF indices beyond 2^31, to missing objects, and negative offsets are refused, not truncated (issue "
-    "29)") {
+TEST_CASE("robust: glTF indices beyond 2^31, to missing objects, and negative offsets are refused, not truncated (issue 29)" * doctest::test_suite("cli")) {
     std::string json = tetraJson();
     std::string bin = tetraBuffer();
     refusedGlb(replaced(json, R"("bufferView": 0, "componentType": 5126)",
