@@ -16,26 +16,14 @@
 #ifndef HRBF_SET
 #define HRBF_SET 0
 #endif
-#ifndef HRBF_BINDING
-#define HRBF_BINDING 0
-#endif
 
-// The centres live in uniform blocks of 1024 centres (64 KiB); HRBF_BLOCKS × 1024 ≥ kMaxControlPoints. The
-// buffer holds whole blocks (engine/refine.cpp), so reading past the last centre within its block is safe.
-const uint HRBF_BLOCK_SIZE = 1024u;
-const uint HRBF_BLOCKS = 4u;
+#include "shared/refine.h"  // HrbfHeader, HrbfCenter, HRBF_BLOCK_SIZE, HRBF_BLOCKS, the bindings
 
-struct HrbfCenter {
-    dvec4 pAlpha;  // p_j, α_j
-    dvec4 beta;    // β_j, unused
-};
+// The centres live in uniform blocks of HRBF_BLOCK_SIZE centres (64 KiB). The buffer holds whole blocks
+// (engine/refine.cpp), so reading past the last centre within its block is safe.
+layout(std140, set = HRBF_SET, binding = REFINE_SURFACE_HEADER) uniform HrbfHeaderBlock { HrbfHeader hrbf; };
 
-layout(std140, set = HRBF_SET, binding = HRBF_BINDING) uniform HrbfHeader {
-    dvec4 linear;  // a, b
-    uvec4 count;   // m, unused ×3
-} hrbf;
-
-layout(std140, set = HRBF_SET, binding = HRBF_BINDING + 8) uniform HrbfBlock {
+layout(std140, set = HRBF_SET, binding = REFINE_HRBF_CENTERS) uniform HrbfBlock {
     HrbfCenter centers[HRBF_BLOCK_SIZE];
 } hrbfBlocks[HRBF_BLOCKS];
 

@@ -11,22 +11,13 @@
 #ifndef PU_HRBF_GLSL
 #define PU_HRBF_GLSL
 
-layout(std140, binding = 0) uniform PuHeader {
-    vec4 origin;        // xyz: the grid's corner; w: 1 / cell side
-    uvec4 dims;         // xyz: cells along each axis; w: far-field centres
-    vec4 coarseLinear;  // the far field's a, b
-    vec4 params;        // x: τ
-} pu;
+#include "shared/refine.h"  // PuHeader, PuPatch, the bindings
 
-struct PuPatch {
-    vec4 centerRadius;  // c_i, R_i
-    vec4 linear;        // a_i, b_i (patch units)
-    uvec4 range;        // first node, node count
-};
-layout(std430, binding = 8) readonly buffer PuPatches { PuPatch puPatches[]; };
-layout(std430, binding = 9) readonly buffer PuNodes { vec4 puNodes[]; };   // per node: (p_j, α_j), (β_j, 0)
-layout(std430, binding = 10) readonly buffer PuCells { uint puCells[]; };  // cell starts (cells + 1), then patch ids
-layout(std430, binding = 11) readonly buffer PuCoarse { vec4 puCoarse[]; };  // per centre: (p, α), (β, 0)
+layout(std140, binding = REFINE_SURFACE_HEADER) uniform PuHeaderBlock { PuHeader pu; };
+layout(std430, binding = REFINE_PU_PATCHES) readonly buffer PuPatches { PuPatch puPatches[]; };
+layout(std430, binding = REFINE_PU_NODES) readonly buffer PuNodes { vec4 puNodes[]; };  // per node: (p_j, α_j), (β_j, 0)
+layout(std430, binding = REFINE_PU_CELLS) readonly buffer PuCells { uint puCells[]; };  // cell starts (cells + 1), then patch ids
+layout(std430, binding = REFINE_PU_COARSE) readonly buffer PuCoarse { vec4 puCoarse[]; };  // per centre: (p, α), (β, 0)
 
 // The grid cell of x, or −1 outside the grid.
 int puCell(vec3 x) {
