@@ -2,11 +2,14 @@
 // measures read it (no Vulkan here).
 #pragma once
 
+#include "shared/refine.h"
+
+#include <cstddef>
 #include <cstdint>
 
 namespace ink {
 
-// Matches `Point` in common.glsl (std430, 32 bytes).
+// The host view of gpu::Point (spirv_shaders/shared/refine.h) in plain floats: the same layout, checked below.
 struct PointRecord {
     float position[3];  // normalized coordinates (Frame)
     uint32_t level;     // the refinement level that made it
@@ -15,6 +18,9 @@ struct PointRecord {
     // stipple: its rank (select.h).
     float tone;
 };
-static_assert(sizeof(PointRecord) == 32);
+static_assert(sizeof(PointRecord) == sizeof(gpu::Point));
+static_assert(offsetof(PointRecord, level) == offsetof(gpu::Point, level));
+static_assert(offsetof(PointRecord, normal) == offsetof(gpu::Point, normal));
+static_assert(offsetof(PointRecord, tone) == offsetof(gpu::Point, tone));
 
 }  // namespace ink

@@ -15,40 +15,36 @@
 
 namespace ink {
 
-// hrbf.glsl's uniform blocks (std140, doubles): the header dvec4 (a, b), uvec4 (m); then the centres,
-// dvec4 (p_j, α_j), dvec4 (β_j, 0) each, kHrbfBlockSize to a 64 KiB block, kHrbfBlocks blocks.
-constexpr uint32_t kHrbfBlockSize = 1024, kHrbfBlocks = 4;
-constexpr VkDeviceSize kHrbfBlockBytes = kHrbfBlockSize * 64;
+// hrbf.glsl's uniform blocks (std140, doubles): the header, then the centres, HRBF_BLOCK_SIZE to a 64 KiB
+// block, HRBF_BLOCKS blocks (spirv_shaders/shared/refine.h).
+constexpr uint32_t kHrbfBlockSize = gpu::HRBF_BLOCK_SIZE, kHrbfBlocks = gpu::HRBF_BLOCKS;
+constexpr VkDeviceSize kHrbfBlockBytes = kHrbfBlockSize * sizeof(gpu::HrbfCenter);
+static_assert(kHrbfBlockBytes == 65536);
 static_assert(kHrbfBlockSize * kHrbfBlocks >= kMaxControlPoints, "room for the largest model (hrbf.h)");
 
-static std::vector<double> packHrbfHeader(const Hrbf& h) {  // the global fit
-    std::vector<double> data(6, 0.0);
-    data[0] = h.a.x();
-    data[1] = h.a.y();
-    data[2] = h.a.z();
-    data[3] = h.b;
-    uint32_t m = uint32_t(h.size());
-    std::memcpy(&data[4], &m, 4);
-    return data;
+static gpu::HrbfHeader packHrbfHeader(const Hrbf& h) {  // the global fit
+    gpu::HrbfHeader header{};
+    header.linear = gpu::dvec4(h.a.x(), h.a.y(), h.a.z(), h.b);
+    header.count = gpu::uvec4(uint32_t(h.size()), 0, 0, 0);
+    return header;
 }
 
-static std::vector<double> packHrbfCenters(const Hrbf& h) {
+static std::vector<gpu::HrbfCenter> packHrbfCenters(const Hrbf& h) {
     size_t blocks = std::max<size_t>(1, (h.size() + kHrbfBlockSize - 1) / kHrbfBlockSize);
-    std::vector<double> data(blocks * kHrbfBlockSize * 8, 0.0);
+    std::vector<gpu::HrbfCenter> data(blocks * kHrbfBlockSize, gpu::HrbfCenter{gpu::dvec4(0.0), gpu::dvec4(0.0)});
     for (size_t j = 0; j < h.size(); ++j) {
-        double* c = &data[8 * j];
-        for (int k = 0; k < 3; ++k) {
-            c[k] = h.centers[j][k];
-            c[4 + k] = h.beta[j][k];
-        }
-        c[3] = h.alpha[j];
+        data[j].pAlpha = gpu::dvec4(h.centers[j].x(), h.centers[j].y(), h.centers[j].z(), h.alpha[j]);
+        data[j].beta = gpu::dvec4(h.beta[j].x(), h.beta[j].y(), h.beta[j].z(), 0.0);
     }
     return data;
 }
 
-// pu_hrbf.glsl's buffers (std140 header, std430 arrays), in float.
+// pu_hrbf.glsl's buffers (std140 header, std430 arrays), in float: the header and the patches are
+// spirv_shaders/shared/refine.h's structs; the nodes and the far field's centres are vec4 pairs (p, α), (β, 0).
 struct PuBuffers {
-    std::vector<float> header, patches, nodes, coarse;
+    gpu::PuHeader header;
+    std::vector<gpu::PuPatch> patches;
+    std::vector<float> nodes, coarse;
     std::vector<uint32_t> cells;
 };
 
@@ -56,31 +52,16 @@ static PuBuffers packPu(const PuHrbf& pu) {
     PuBuffers b;
     const PuGrid& grid = pu.grid;
     uint32_t coarse = uint32_t(pu.coarse.size());
-    b.header = {float(grid.origin.x()),
-                float(grid.origin.y()),
-                float(grid.origin.z()),
-                float(1.0 / grid.cell),
-                0,
-                0,
-                0,
-                0,
-                float(pu.coarse.a.x()),
-                float(pu.coarse.a.y()),
-                float(pu.coarse.a.z()),
-                float(pu.coarse.b),
-                float(pu.tau),
-                0,
-                0,
-                0};
-    uint32_t dims[4] = {uint32_t(grid.dims.x()), uint32_t(grid.dims.y()), uint32_t(grid.dims.z()), coarse};
-    std::memcpy(&b.header[4], dims, sizeof dims);
-    for (const PuPatch& p : pu.patches) {
-        uint32_t range[4] = {p.first, p.count, 0, 0};
-        float packed[12] = {float(p.center.x()), float(p.center.y()), float(p.center.z()), float(p.radius),
-                            float(p.a.x()),      float(p.a.y()),      float(p.a.z()),      float(p.b)};
-        std::memcpy(&packed[8], range, sizeof range);
-        b.patches.insert(b.patches.end(), packed, packed + 12);
-    }
+    b.header.origin =
+        gpu::vec4(float(grid.origin.x()), float(grid.origin.y()), float(grid.origin.z()), float(1.0 / grid.cell));
+    b.header.dims = gpu::uvec4(uint32_t(grid.dims.x()), uint32_t(grid.dims.y()), uint32_t(grid.dims.z()), coarse);
+    b.header.coarseLinear =
+        gpu::vec4(float(pu.coarse.a.x()), float(pu.coarse.a.y()), float(pu.coarse.a.z()), float(pu.coarse.b));
+    b.header.params = gpu::vec4(float(pu.tau), 0.0f, 0.0f, 0.0f);
+    for (const PuPatch& p : pu.patches)
+        b.patches.push_back({gpu::vec4(float(p.center.x()), float(p.center.y()), float(p.center.z()), float(p.radius)),
+                             gpu::vec4(float(p.a.x()), float(p.a.y()), float(p.a.z()), float(p.b)),
+                             gpu::uvec4(p.first, p.count, 0, 0)});
     for (const PuNode& n : pu.nodes)
         b.nodes.insert(b.nodes.end(), {float(n.p.x()), float(n.p.y()), float(n.p.z()), float(n.alpha),
                                        float(n.beta.x()), float(n.beta.y()), float(n.beta.z()), 0.0f});
@@ -133,17 +114,19 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
             throw Error(std::string(ctx.properties.deviceName) +
                         " has uniform buffers under 64 KiB, which the global HRBF needs");
         const VkBufferUsageFlags uniform = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-        std::vector<double> header = packHrbfHeader(h), centers = packHrbfCenters(h);
-        r.hrbfHeader = createBuffer(ctx, header.size() * sizeof(double), uniform, MemoryUse::Device);
-        uploadBuffer(ctx, r.hrbfHeader, header.data(), header.size() * sizeof(double));
-        r.hrbf = createBuffer(ctx, centers.size() * sizeof(double), uniform, MemoryUse::Device);
-        uploadBuffer(ctx, r.hrbf, centers.data(), centers.size() * sizeof(double));
+        gpu::HrbfHeader header = packHrbfHeader(h);
+        std::vector<gpu::HrbfCenter> centers = packHrbfCenters(h);
+        r.hrbfHeader = createBuffer(ctx, sizeof(header), uniform, MemoryUse::Device);
+        uploadBuffer(ctx, r.hrbfHeader, &header, sizeof(header));
+        r.hrbf = createBuffer(ctx, centers.size() * sizeof(gpu::HrbfCenter), uniform, MemoryUse::Device);
+        uploadBuffer(ctx, r.hrbf, centers.data(), centers.size() * sizeof(gpu::HrbfCenter));
         // Blocks past the last real one point at block 0: they are declared by the shader but never read.
-        realBlocks = uint32_t(centers.size() * sizeof(double) / kHrbfBlockBytes);
+        realBlocks = uint32_t(centers.size() / kHrbfBlockSize);
     } else {
         PuBuffers b = packPu(hrbf.pu);
         const VkBufferUsageFlags sbo = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-        r.hrbfHeader = deviceArray(ctx, b.header, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "header");
+        r.hrbfHeader =
+            deviceArray(ctx, std::vector<gpu::PuHeader>{b.header}, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "header");
         r.puPatches = deviceArray(ctx, b.patches, sbo, "patches");
         r.puNodes = deviceArray(ctx, b.nodes, sbo, "patch nodes");
         r.puCells = deviceArray(ctx, b.cells, sbo, "patch grid");
@@ -154,25 +137,30 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
     r.candidates = createBuffer(ctx, maxCandidates * sizeof(PointRecord), storage, MemoryUse::Device);
     r.flags = createBuffer(ctx, maxCandidates * 4, storage, MemoryUse::Device);
     r.blocks = createBuffer(ctx, (maxCandidates + kGroupSize - 1) / kGroupSize * 4, storage, MemoryUse::Device);
-    r.levels = createBuffer(ctx, kMaxLevels * 32, storage, MemoryUse::Device);
-    r.indirect = createBuffer(ctx, GpuRefinement::kSelectedDrawOffset + 16,
-                              storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryUse::Device);
+    r.levels = createBuffer(ctx, kMaxLevels * sizeof(gpu::LevelInfo), storage, MemoryUse::Device);
+    r.indirect =
+        createBuffer(ctx, sizeof(gpu::IndirectArgs), storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryUse::Device);
     std::vector<Eigen::Vector4f> seeds(plan.seeds.size());
     for (size_t i = 0; i < seeds.size(); ++i) seeds[i] << plan.seeds[i], float(i);
     r.seeds = createBuffer(ctx, seeds.size() * 16, storage, MemoryUse::Device);
     uploadBuffer(ctx, r.seeds, seeds.data(), seeds.size() * 16);
 
     const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, ub = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    std::vector<DescriptorBinding> bindings = {
-        {0, ub, r.hrbfHeader.buffer}, {1, sb, r.points.buffer}, {2, sb, r.candidates.buffer}, {3, sb, r.flags.buffer},
-        {4, sb, r.blocks.buffer},     {5, sb, r.levels.buffer}, {6, sb, r.indirect.buffer},   {7, sb, r.seeds.buffer}};
+    std::vector<DescriptorBinding> bindings = {{gpu::REFINE_SURFACE_HEADER, ub, r.hrbfHeader.buffer},
+                                               {gpu::REFINE_POINTS, sb, r.points.buffer},
+                                               {gpu::REFINE_CANDIDATES, sb, r.candidates.buffer},
+                                               {gpu::REFINE_FLAGS, sb, r.flags.buffer},
+                                               {gpu::REFINE_BLOCKS, sb, r.blocks.buffer},
+                                               {gpu::REFINE_LEVELS, sb, r.levels.buffer},
+                                               {gpu::REFINE_INDIRECT, sb, r.indirect.buffer},
+                                               {gpu::REFINE_SEEDS, sb, r.seeds.buffer}};
     if (global)
-        bindings.push_back({8, ub, r.hrbf.buffer, kHrbfBlocks, kHrbfBlockBytes, realBlocks});
+        bindings.push_back({gpu::REFINE_HRBF_CENTERS, ub, r.hrbf.buffer, kHrbfBlocks, kHrbfBlockBytes, realBlocks});
     else
-        bindings.insert(bindings.end(), {{8, sb, r.puPatches.buffer},
-                                         {9, sb, r.puNodes.buffer},
-                                         {10, sb, r.puCells.buffer},
-                                         {11, sb, r.puCoarse.buffer}});
+        bindings.insert(bindings.end(), {{gpu::REFINE_PU_PATCHES, sb, r.puPatches.buffer},
+                                         {gpu::REFINE_PU_NODES, sb, r.puNodes.buffer},
+                                         {gpu::REFINE_PU_CELLS, sb, r.puCells.buffer},
+                                         {gpu::REFINE_PU_COARSE, sb, r.puCoarse.buffer}});
     r.descriptors = createDescriptorSet(ctx, bindings, VK_SHADER_STAGE_COMPUTE_BIT);
     r.layout = createPipelineLayout(ctx, r.descriptors.layout, sizeof(LevelParams), VK_SHADER_STAGE_COMPUTE_BIT);
     r.refine = global ? createComputePipeline(ctx, r.layout, spv_refine_global_comp)
@@ -228,13 +216,13 @@ void recordRefinement(Context&, VkCommandBuffer cmd, GpuRefinement& r) {
     const auto indirectStage = VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT;
 
     // Level 0's counts and dispatch come from the host; later levels' are written by the scan pass.
-    uint32_t levels[kMaxLevels * 8] = {};
-    uint32_t indirect[GpuRefinement::kDrawOffset / 4 + 4] = {};
-    levels[0] = uint32_t(plan.seeds.size());
-    indirect[0] = (levels[0] + kGroupSize - 1) / kGroupSize;
-    indirect[1] = indirect[2] = 1;
+    gpu::LevelInfo levels[kMaxLevels] = {};
+    gpu::IndirectArgs indirect{};
+    levels[0].candidates = uint32_t(plan.seeds.size());
+    indirect.dispatches[0] = gpu::uvec4((levels[0].candidates + kGroupSize - 1) / kGroupSize, 1, 1, 0);
     vkCmdUpdateBuffer(cmd, r.levels.buffer, 0, sizeof(levels), levels);
-    vkCmdUpdateBuffer(cmd, r.indirect.buffer, 0, sizeof(indirect), indirect);
+    // The dispatches and the refinement's draw; the selection writes its own.
+    vkCmdUpdateBuffer(cmd, r.indirect.buffer, 0, GpuRefinement::kSelectedDrawOffset, &indirect);
     stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute | indirectStage,
                  rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
 
@@ -244,7 +232,7 @@ void recordRefinement(Context&, VkCommandBuffer cmd, GpuRefinement& r) {
     for (uint32_t level = 0; level < plan.levelCount; ++level) {
         LevelParams params = levelParams(plan, r.options, level);
         vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params), &params);
-        VkDeviceSize dispatch = VkDeviceSize(16) * level;
+        VkDeviceSize dispatch = offsetof(gpu::IndirectArgs, dispatches) + sizeof(gpu::uvec4) * level;
 
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, r.refine);
         vkCmdDispatchIndirect(cmd, r.indirect.buffer, dispatch);
@@ -299,11 +287,8 @@ double selectionMs(Context& ctx, GpuRefinement& r) {
 }
 
 std::vector<LevelStats> readLevelStats(Context& ctx, GpuRefinement& r) {
-    struct Info {
-        uint32_t candidates, parentOffset, keptOffset, kept, dropped[4];
-    };
-    std::vector<Info> info(kMaxLevels);
-    downloadBuffer(ctx, r.levels, 0, info.data(), kMaxLevels * sizeof(Info));
+    std::vector<gpu::LevelInfo> info(kMaxLevels);
+    downloadBuffer(ctx, r.levels, 0, info.data(), kMaxLevels * sizeof(gpu::LevelInfo));
     std::vector<uint64_t> ticks(r.plan.levelCount + 1, 0);
     VkResult q =
         vkGetQueryPoolResults(ctx.device, r.timestamps, 0, uint32_t(ticks.size()), ticks.size() * sizeof(uint64_t),

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -28,9 +29,10 @@ struct GpuRefinement {
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline refine = VK_NULL_HANDLE, scan = VK_NULL_HANDLE, compact = VK_NULL_HANDLE;
     VkQueryPool timestamps = VK_NULL_HANDLE;
-    GpuSelection* selection = nullptr;                            // owned; null when every refined point is drawn
-    static constexpr VkDeviceSize kDrawOffset = 16 * kMaxLevels;  // the refinement's VkDrawIndirectCommand
-    static constexpr VkDeviceSize kSelectedDrawOffset = kDrawOffset + 16;  // the selection's
+    GpuSelection* selection = nullptr;  // owned; null when every refined point is drawn
+    // In `indirect` (gpu::IndirectArgs): the refinement's VkDrawIndirectCommand, and the selection's.
+    static constexpr VkDeviceSize kDrawOffset = offsetof(gpu::IndirectArgs, draw);
+    static constexpr VkDeviceSize kSelectedDrawOffset = offsetof(gpu::IndirectArgs, selectedDraw);
 
     // The points drawn: the selected stipples (rank in `tone`), or the refined points.
     const Buffer& drawnPoints() const;

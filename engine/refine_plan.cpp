@@ -134,9 +134,7 @@ double levelRho(const RefinePlan& plan, uint32_t level) {
 LevelParams levelParams(const RefinePlan& plan, const RefineOptions& o, uint32_t level) {
     LevelParams p{};
     Eigen::Vector3d axis = o.axis.norm() > 0 ? o.axis.normalized() : Eigen::Vector3d::UnitY();
-    p.axis[0] = float(axis.x());
-    p.axis[1] = float(axis.y());
-    p.axis[2] = float(axis.z());
+    p.axis = gpu::vec4(float(axis.x()), float(axis.y()), float(axis.z()), 0.0f);
     double rho = levelRho(plan, level);
     p.rho = level == 0 ? 0.0f : float(rho);
     p.jumpLimit = level == 0 ? plan.seedJumpLimit : float(o.jumpFactor * rho);

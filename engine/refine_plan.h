@@ -3,6 +3,7 @@
 #pragma once
 
 #include "point_record.h"
+#include "shared/refine.h"  // the refinement device side (spirv_shaders/shared/)
 #include "surface.h"
 
 #include <Eigen/Core>
@@ -47,13 +48,19 @@ struct RefineOptions {
     bool selects() const { return style == SampleStyle::Stipple && distribution == Distribution::BlueNoise; }
 };
 
-constexpr uint32_t kMaxLevels = 16;  // MAX_LEVELS in common.glsl: seeds + 15 refinement levels
+constexpr uint32_t kMaxLevels = gpu::MAX_LEVELS;  // seeds + 15 refinement levels
 // ρ₀ is 0 (the default: half the seed spacing) or a fraction of the diagonal in (0, 1]; NaN, negative and
 // larger values are refused (above 1 every child would be dropped).
 inline bool validRho(double rho0) { return rho0 == 0 || (rho0 > 0 && rho0 <= 1); }
-constexpr uint32_t kGroupSize = 256;
+constexpr uint32_t kGroupSize = gpu::GROUP_SIZE;
 
-enum DropReason : uint32_t { DropGradient, DropArmijo, DropIterations, DropJump, DropReasonCount };
+enum DropReason : uint32_t {
+    DropGradient = gpu::DROP_GRADIENT,
+    DropArmijo = gpu::DROP_ARMIJO,
+    DropIterations = gpu::DROP_ITERATIONS,
+    DropJump = gpu::DROP_JUMP,
+    DropReasonCount = gpu::DROP_REASONS
+};
 const char* dropReasonName(uint32_t reason);
 
 struct LevelStats {
@@ -85,16 +92,9 @@ double nearestSquaredDistance(const std::vector<Eigen::Vector3d>& points, size_t
 // Throws ink::Error when the request is out of bounds (levels, a point count that cannot fit `maxPoints`).
 RefinePlan planRefinement(const Surface& hrbf, const RefineOptions& options, uint64_t maxPoints);
 
-// One level's rules, the same numbers for both backends. The device takes them as they are as push constants
-// (Params in refine_bindings.glsl, hence the fixed layout).
-struct LevelParams {
-    float axis[4];
-    float rho, jumpLimit, eps1, eps2, delta, phi;
-    uint32_t maxIterations, mode, direction, level, seed, childCount, nextChildCount, keepAll;
-    float toneOffset, toneScale;  // this level's share of [0,1) for the tone value, coarse levels first
-    uint32_t passChildren;        // children of one pass: childCount / passChildren passes at level 1
-};
-static_assert(sizeof(LevelParams) == 84);
+// One level's rules, the same numbers for both backends. The device takes them as they are as push constants:
+// RefineParams in spirv_shaders/shared/refine.h, whose layout both languages share.
+using LevelParams = gpu::RefineParams;
 LevelParams levelParams(const RefinePlan& plan, const RefineOptions& options, uint32_t level);
 double levelRho(const RefinePlan& plan, uint32_t level);  // ρ of a level: 0 for the seeds, ρ₀ for level 1
 

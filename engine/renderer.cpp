@@ -28,28 +28,18 @@ float splatSpacing(const GpuRefinement& r) {
 
 constexpr VkShaderStageFlags kStages =
     VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-constexpr uint32_t kComputeGroup = 256;     // GROUP_SIZE in render_common.glsl
-constexpr uint32_t kFarDepth = 0x7F7FFFFF;  // FLT_MAX: positive floats order as their bits do
-constexpr float kMaxDotPixels = 64.0f;      // dot diameters are clamped to this (times the pixel scale)
+constexpr uint32_t kComputeGroup = gpu::GROUP_SIZE;
+constexpr uint32_t kFarDepth = gpu::FAR_DEPTH;  // FLT_MAX: positive floats order as their bits do
+constexpr float kMaxDotPixels = 64.0f;          // dot diameters are clamped to this (times the pixel scale)
 // The splat depth grid, a float for every 2×2 pixels, is one storage-buffer binding; coverage is smaller.
 VkDeviceSize depthGridBytes(VkExtent2D extent) {
     return VkDeviceSize((extent.width + 1) / 2) * ((extent.height + 1) / 2) * 4;
 }
 
-// `Drawn` in render_common.glsl at the start of a frame: no dots, empty bounds.
-constexpr uint32_t kNothingDrawn[8] = {0, 0, 0, 0, UINT32_MAX, UINT32_MAX, 0, 0};
+// gpu::DrawnCounts at the start of a frame: no dots, empty bounds.
+const gpu::DrawnCounts kNothingDrawn{gpu::uvec4(0), gpu::uvec4(UINT32_MAX, UINT32_MAX, 0, 0)};
 
 }  // namespace
-
-// Matches `Camera` in render_common.glsl.
-struct PointRenderer::Push {
-    glm::mat4 view;
-    glm::vec4 projection;
-    glm::vec4 viewport;
-    glm::vec4 splat;
-    glm::uvec4 counts;
-};
-static_assert(sizeof(glm::mat4) + 4 * sizeof(glm::vec4) == 128, "push constants within the guaranteed 128 bytes");
 
 PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> sets, VkFormat colorFormat,
                              uint32_t framesInFlight, const StrokeBuffers* strokes)
@@ -81,9 +71,9 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
             f.depth = createBuffer(ctx, 4, storage, MemoryUse::Device);
             f.coverage = createBuffer(ctx, 4, storage, MemoryUse::Device);
             for (const Set& set : sets_)
-                // `DotList`: the indirect dispatch, then up to one 16-byte `Dot` a point.
+                // `DotList`: the indirect dispatch, then up to one `Dot` a point.
                 f.dots.push_back(
-                    createBuffer(ctx, 16 + 16 * VkDeviceSize(std::max(1u, set.points)),
+                    createBuffer(ctx, gpu::DOT_LIST_HEADER + sizeof(gpu::Dot) * VkDeviceSize(std::max(1u, set.points)),
                                  storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                  MemoryUse::Device));
             VK_CHECK(vkCreateQueryPool(ctx.device, &query, nullptr, &f.timestamps));
@@ -126,12 +116,13 @@ void PointRenderer::bindDescriptors(Frame& f) {
     for (size_t k = 0; k < sets_.size(); ++k)
         f.descriptors.push_back(
             createDescriptorSet(ctx_,
-                                {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.dots[k].buffer},
-                                 {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer},
-                                 {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.drawn.buffer},
-                                 {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.depth.buffer},
-                                 {4, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1, 0, 0, sets_[k].texels},
-                                 {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.coverage.buffer}},
+                                {{gpu::RENDER_DOTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.dots[k].buffer},
+                                 {gpu::RENDER_STYLE, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer},
+                                 {gpu::RENDER_DRAWN, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.drawn.buffer},
+                                 {gpu::RENDER_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.depth.buffer},
+                                 {gpu::RENDER_POINT_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1,
+                                  0, 0, sets_[k].texels},
+                                 {gpu::RENDER_COVERAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.coverage.buffer}},
                                 kStages));
 }
 
@@ -200,7 +191,7 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
                  VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     vkCmdFillBuffer(cmd, f.depth.buffer, 0, VK_WHOLE_SIZE, kFarDepth);
     vkCmdFillBuffer(cmd, f.coverage.buffer, 0, VK_WHOLE_SIZE, 0);
-    vkCmdUpdateBuffer(cmd, f.drawn.buffer, 0, sizeof(kNothingDrawn), kNothingDrawn);
+    vkCmdUpdateBuffer(cmd, f.drawn.buffer, 0, sizeof(kNothingDrawn), &kNothingDrawn);
     const uint32_t noDots[4] = {0, 1, 1, 0};  // an empty list: no workgroups
     for (const Buffer& dots : f.dots) vkCmdUpdateBuffer(cmd, dots.buffer, 0, sizeof(noDots), noDots);
     if (lines_) lines_->recordReset(cmd, frame);
@@ -354,14 +345,11 @@ std::vector<uint32_t> PointRenderer::drawnPoints(size_t set, uint32_t frame) con
     const Buffer& list = frames_.at(frame).dots.at(set);
     uint32_t header[4];
     downloadBuffer(ctx_, list, 0, header, sizeof(header));
-    std::vector<uint32_t> dots(4 * size_t(header[3]));
-    if (!dots.empty()) downloadBuffer(ctx_, list, 16, dots.data(), dots.size() * 4);
-    constexpr uint32_t kBack = 2;  // BACK in render_common.glsl
+    std::vector<gpu::Dot> dots(header[3]);
+    if (!dots.empty()) downloadBuffer(ctx_, list, gpu::DOT_LIST_HEADER, dots.data(), dots.size() * sizeof(gpu::Dot));
     std::vector<uint32_t> points;
-    for (size_t i = 0; i < header[3]; ++i) {
-        uint32_t cls = dots[4 * i + 3];
-        if (((cls >> 2) & 3u) != kBack) points.push_back(cls >> 4);
-    }
+    for (const gpu::Dot& d : dots)
+        if (((d.cls >> 2) & 3u) != gpu::BACK) points.push_back(d.cls >> 4);
     std::sort(points.begin(), points.end());
     return points;
 }
@@ -373,32 +361,31 @@ VectorDrawing PointRenderer::vectorDrawing(uint32_t frame) const {
     out.width = f.extent.width;
     out.height = f.extent.height;
     out.paper = style_.paper;
-    // The classes and sizes of render_common.glsl and stamp.comp: SILHOUETTE 0, FRONT 1, BACK 2, HIDDEN 3; a
-    // dot's diameter is its class's size clamped to [tone.z, tone.w] (setStyle).
+    // The classes (gpu::SILHOUETTE, FRONT, BACK, HIDDEN) and stamp.comp's sizes: a dot's diameter is its class's
+    // size clamped to [tone.z, tone.w] (setStyle).
     const float sizes[4] = {style_.silhouetteSize, style_.frontSize, 0.0f, style_.hiddenSize};
     const float maxDiameter = kMaxDotPixels * pixelScale_;
     for (size_t k = 0; k < sets_.size(); ++k) {
         uint32_t header[4];
         downloadBuffer(ctx_, f.dots[k], 0, header, sizeof(header));
-        std::vector<float> dots(4 * size_t(header[3]));
-        if (!dots.empty()) downloadBuffer(ctx_, f.dots[k], 16, dots.data(), dots.size() * 4);
+        std::vector<gpu::Dot> dots(header[3]);
+        if (!dots.empty())
+            downloadBuffer(ctx_, f.dots[k], gpu::DOT_LIST_HEADER, dots.data(), dots.size() * sizeof(gpu::Dot));
         struct Mark {
             uint32_t point, cls;
             glm::vec2 pixel;
         };
         std::vector<Mark> marks;
-        for (size_t i = 0; i < header[3]; ++i) {
-            uint32_t word;
-            std::memcpy(&word, &dots[4 * i + 3], 4);
-            uint32_t cls = (word >> 2) & 3u;
-            if (cls != 2u) marks.push_back({word >> 4, cls, {dots[4 * i], dots[4 * i + 1]}});
+        for (const gpu::Dot& d : dots) {
+            uint32_t cls = (d.cls >> 2) & 3u;
+            if (cls != gpu::BACK) marks.push_back({d.cls >> 4, cls, d.pixel});
         }
         std::sort(marks.begin(), marks.end(), [](const Mark& a, const Mark& b) { return a.point < b.point; });
         VectorLayer& shown = out.layer(sets_[k].name, style_.ink);
         std::vector<VectorLayer::Dot> hidden;
         for (const Mark& m : marks) {
             VectorLayer::Dot dot{m.pixel, std::clamp(sizes[m.cls] * pixelScale_, 1.0f, maxDiameter)};
-            (m.cls == 3u ? hidden : shown.dots).push_back(dot);
+            (m.cls == gpu::HIDDEN ? hidden : shown.dots).push_back(dot);
         }
         if (!hidden.empty()) {
             VectorLayer& layer = out.layer("hidden", style_.hiddenInk, true);

@@ -11,6 +11,7 @@
 #include "refine.h"
 #include "render_style.h"
 #include "resources.h"
+#include "shared/render.h"
 #include "strokes.h"
 #include "vector.h"
 
@@ -20,14 +21,7 @@
 
 namespace ink {
 
-// Matches `Style` in render_common.glsl (std140).
-struct StyleBlock {
-    glm::vec4 color[2];
-    glm::vec4 size;
-    glm::vec4 light;
-    glm::vec4 tone;
-    glm::vec4 options;
-};
+using StyleBlock = gpu::DotStyle;  // the style uniform (spirv_shaders/shared/render.h)
 
 // A colour image a frame is drawn into, the caller's or the offscreen renderer's: the public type
 // (include/inkwell/inkwell.h). Its contents are discarded; it ends in `finalLayout`, visible to any later command.
@@ -100,7 +94,7 @@ private:
         std::vector<DescriptorSet> descriptors;  // a set's
         VkQueryPool timestamps = VK_NULL_HANDLE;
     };
-    struct Push;
+    using Push = gpu::Camera;  // the push constants (spirv_shaders/shared/render.h)
     Push push(const Set& set, const Camera& camera, VkExtent2D extent) const;
     void bindDescriptors(Frame& frame);
     void release();

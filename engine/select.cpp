@@ -5,8 +5,10 @@
 #include "select.h"
 
 #include "common.h"
+#include "shared/select.h"
 
 #include <algorithm>
+#include <cstddef>
 
 #include "select_bucket.comp.h"
 #include "select_cover.comp.h"
@@ -21,16 +23,16 @@ namespace ink {
 
 namespace {
 
-struct Push {
-    uint32_t stage, phase, count, stageCount, poolSeed;
-};
+// The interface with select_*.comp: spirv_shaders/shared/select.h.
+using Push = gpu::SelectParams;
+using Counts = gpu::SelectCounts;
 
-constexpr uint32_t kGroup = 256;                 // GROUP_SIZE in select_common.glsl
-constexpr uint32_t kPhaseGroup = 64;             // select_phase.comp's workgroup
-constexpr VkDeviceSize kCandidateDispatch = 16;  // counts.candidateDispatch
-constexpr VkDeviceSize poolDispatch(uint32_t s) { return 32 + 16 * VkDeviceSize(s); }  // counts.poolDispatch[s]
-constexpr VkDeviceSize kCountsBytes = 32 + 16 * kMaxSelectStages + 5 * 4 * kMaxSelectStages;
-constexpr VkDeviceSize kAddedOffset = 32 + 16 * kMaxSelectStages + 2 * 4 * kMaxSelectStages;  // counts.added
+constexpr uint32_t kGroup = gpu::GROUP_SIZE;
+constexpr uint32_t kPhaseGroup = gpu::PHASE_GROUP_SIZE;  // select_phase.comp's workgroup
+constexpr VkDeviceSize kCandidateDispatch = offsetof(Counts, candidateDispatch);
+constexpr VkDeviceSize poolDispatch(uint32_t s) {
+    return offsetof(Counts, poolDispatch) + sizeof(gpu::uvec4) * VkDeviceSize(s);
+}
 
 uint32_t groups(uint64_t n, uint32_t size) { return uint32_t((n + size - 1) / size); }
 
@@ -54,7 +56,7 @@ void createSelection(Context& ctx, GpuSelection& s, const Surface& hrbf, const R
     s.bucketStart = createBuffer(ctx, scanned * 4, storage, MemoryUse::Device);
     s.backFill = createBuffer(ctx, buckets * 4, storage, MemoryUse::Device);
     s.blockSums = createBuffer(ctx, (groups(scanned, kGroup) + 1) * 4, storage, MemoryUse::Device);
-    s.counts = createBuffer(ctx, kCountsBytes,
+    s.counts = createBuffer(ctx, sizeof(Counts),
                             storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                             MemoryUse::Device);
     s.stipples = createBuffer(ctx, candidates * sizeof(PointRecord),
@@ -63,20 +65,20 @@ void createSelection(Context& ctx, GpuSelection& s, const Surface& hrbf, const R
 
     const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     s.descriptors = createDescriptorSet(ctx,
-                                        {{0, sb, s.stages.buffer},
-                                         {1, sb, points.buffer},
-                                         {2, sb, indirect.buffer},
-                                         {3, sb, s.stageOf.buffer},
-                                         {4, sb, s.entryPoints.buffer},
-                                         {5, sb, s.order.buffer},
-                                         {6, sb, s.pool.buffer},
-                                         {7, sb, s.entryStage.buffer},
-                                         {8, sb, s.bucketCount.buffer},
-                                         {9, sb, s.bucketStart.buffer},
-                                         {10, sb, s.blockSums.buffer},
-                                         {11, sb, s.counts.buffer},
-                                         {12, sb, s.stipples.buffer},
-                                         {13, sb, s.backFill.buffer}},
+                                        {{gpu::SELECT_STAGES, sb, s.stages.buffer},
+                                         {gpu::SELECT_CANDIDATES, sb, points.buffer},
+                                         {gpu::SELECT_INDIRECT, sb, indirect.buffer},
+                                         {gpu::SELECT_STAGE_OF, sb, s.stageOf.buffer},
+                                         {gpu::SELECT_ENTRY_POINTS, sb, s.entryPoints.buffer},
+                                         {gpu::SELECT_ORDER, sb, s.order.buffer},
+                                         {gpu::SELECT_POOL, sb, s.pool.buffer},
+                                         {gpu::SELECT_ENTRY_STAGE, sb, s.entryStage.buffer},
+                                         {gpu::SELECT_BUCKET_COUNT, sb, s.bucketCount.buffer},
+                                         {gpu::SELECT_BUCKET_START, sb, s.bucketStart.buffer},
+                                         {gpu::SELECT_BLOCKS, sb, s.blockSums.buffer},
+                                         {gpu::SELECT_COUNTS, sb, s.counts.buffer},
+                                         {gpu::SELECT_STIPPLES, sb, s.stipples.buffer},
+                                         {gpu::SELECT_BACK_FILL, sb, s.backFill.buffer}},
                                         VK_SHADER_STAGE_COMPUTE_BIT);
     s.layout = createPipelineLayout(ctx, s.descriptors.layout, sizeof(Push), VK_SHADER_STAGE_COMPUTE_BIT);
     s.setup = createComputePipeline(ctx, s.layout, spv_select_setup_comp);
@@ -197,7 +199,7 @@ void recordSelection(VkCommandBuffer cmd, const GpuSelection& s) {
 
 std::vector<uint32_t> readStageCounts(Context& ctx, const GpuSelection& s) {
     std::vector<uint32_t> added(s.plan.stages.size());
-    downloadBuffer(ctx, s.counts, kAddedOffset, added.data(), added.size() * 4);
+    downloadBuffer(ctx, s.counts, offsetof(Counts, added), added.data(), added.size() * 4);
     return added;
 }
 

@@ -3,13 +3,15 @@
 #pragma once
 
 #include "refine_plan.h"
+#include "shared/select.h"  // the selection device side (spirv_shaders/shared/)
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace ink {
 
-constexpr uint32_t kMaxSelectStages = 48;  // MAX_STAGES in select_common.glsl
+constexpr uint32_t kMaxSelectStages = gpu::MAX_STAGES;
 
 struct SelectOptions {
     float candidatesPerStipple = 4.0f;  // R₀ is chosen so that the selection keeps about one candidate in this many
@@ -18,7 +20,7 @@ struct SelectOptions {
     uint32_t seed = 1;
 };
 
-// One stage as the device sees it (`Stage` in select_common.glsl, std430). Computed on the CPU, identical
+// One stage as the device sees it (gpu::Stage, std430). Computed on the CPU, identical
 // for both backends.
 struct SelectStage {
     float offset[3] = {0, 0, 0};   // a random shift of the grid per stage, so that cell borders do not align
@@ -31,7 +33,16 @@ struct SelectStage {
     uint32_t seed = 0;
     uint32_t pad[2] = {0, 0};
 };
-static_assert(sizeof(SelectStage) == 48);
+// The host view of gpu::Stage (spirv_shaders/shared/select.h) in plain floats: the same layout.
+static_assert(sizeof(SelectStage) == sizeof(gpu::Stage));
+static_assert(offsetof(SelectStage, cellScale) == offsetof(gpu::Stage, cellScale));
+static_assert(offsetof(SelectStage, radius2) == offsetof(gpu::Stage, radius2));
+static_assert(offsetof(SelectStage, previousRadius2) == offsetof(gpu::Stage, previousRadius2));
+static_assert(offsetof(SelectStage, orderScale) == offsetof(gpu::Stage, orderScale));
+static_assert(offsetof(SelectStage, poolThreshold) == offsetof(gpu::Stage, poolThreshold));
+static_assert(offsetof(SelectStage, bucketsPerPhase) == offsetof(gpu::Stage, bucketsPerPhase));
+static_assert(offsetof(SelectStage, seed) == offsetof(gpu::Stage, seed));
+static_assert(offsetof(SelectStage, pad) == offsetof(gpu::Stage, pad));
 
 struct SelectPlan {
     double radius0 = 0;       // R₀, normalized units

@@ -17,16 +17,13 @@ namespace {
 
 constexpr VkShaderStageFlags kStages =
     VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-constexpr uint32_t kGroup = 256;
-constexpr uint32_t kTexelsPerSegment = 3;
+// The interface with lines.comp, lines_stamp.comp, line.vert and line.frag: spirv_shaders/shared/lines.h.
+constexpr uint32_t kGroup = gpu::GROUP_SIZE;
+constexpr uint32_t kTexelsPerSegment = gpu::LINE_TEXELS;
 constexpr VkDeviceSize kSegmentBytes = kTexelsPerSegment * 16;
-constexpr VkDeviceSize kDrawSegmentBytes = 32;  // DrawSegment in lines_common.glsl
-constexpr float kTaper = 0.02f;                 // hatching tapers over this much at each end (model units)
-
-// Matches `LineStyle` in lines_common.glsl (std140).
-struct LineStyleBlock {
-    glm::vec4 ink, hiddenInk, paper, widths, thresholds, light, tone, options;
-};
+constexpr VkDeviceSize kDrawListHeader = 16;  // the draw list's VkDrawIndirectCommand, then the segments
+constexpr float kTaper = 0.02f;               // hatching tapers over this much at each end (model units)
+using LineStyleBlock = gpu::LineStyle;
 
 float floatOf(uint32_t u) {
     float f;
@@ -48,7 +45,7 @@ std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, bool hat
             if (!hatching || s.closed) return 1.0f;
             return 0.25f + 0.75f * std::min(1.0f, std::min(arc[i], length - arc[i]) / taper);
         };
-        const uint32_t kind = hatching ? 1u | (s.family & 1u) << 1 | (s.level & 1u) << 2 : 0u;
+        const uint32_t kind = hatching ? gpu::KIND_HATCH | (s.family & 1u) << 1 | (s.level & 1u) << 2 : 0u;
         const size_t segments = m - 1 + (s.closed ? 1 : 0);
         for (size_t i = 0; i < segments; ++i) {
             size_t j = (i + 1) % m;
@@ -122,14 +119,15 @@ LineRenderer::LineRenderer(Context& ctx, const StrokeBuffers& strokes, VkFormat 
                          VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
         // The set layout every frame's sets share (created alike, hence compatible).
         cpuDriver_ = ctx.driverId == VK_DRIVER_ID_MESA_LLVMPIPE;
-        VkDescriptorSetLayoutBinding bindings[6] = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, kStages, nullptr},
-                                                    {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
-                                                    {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, kStages, nullptr},
-                                                    {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
-                                                    {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
-                                                    {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr}};
+        VkDescriptorSetLayoutBinding bindings[gpu::LINES_BINDINGS] = {
+            {gpu::LINES_SEGMENTS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, kStages, nullptr},
+            {gpu::LINES_DRAW_LIST, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
+            {gpu::LINES_STYLE, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, kStages, nullptr},
+            {gpu::LINES_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
+            {gpu::LINES_COVERAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
+            {gpu::LINES_DRAWN, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr}};
         VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-        info.bindingCount = 6;
+        info.bindingCount = gpu::LINES_BINDINGS;
         info.pBindings = bindings;
         VK_CHECK(vkCreateDescriptorSetLayout(ctx.device, &info, nullptr, &setLayout_));
         layout_ = createPipelineLayout(ctx, setLayout_, sizeof(Push), kStages);
@@ -193,7 +191,7 @@ void LineRenderer::sync(uint32_t frame, const Buffer& depth, const Buffer& cover
         const StrokeBuffers::Segments& s = strokes_.segments(StrokeBuffers::Kind(kind));
         if (l.generation == s.generation && l.depth == depth.buffer && l.coverage == coverage.buffer) continue;
         vkDeviceWaitIdle(ctx_.device);  // this frame slot's last use may still read the list and its set
-        const VkDeviceSize bytes = 16 + kDrawSegmentBytes * std::max(1u, s.capacity);
+        const VkDeviceSize bytes = kDrawListHeader + sizeof(gpu::DrawSegment) * std::max(1u, s.capacity);
         if (!l.buffer.buffer || l.buffer.size < bytes) {
             destroyBuffer(ctx_, l.buffer);
             l.buffer = createBuffer(ctx_, bytes,
@@ -202,15 +200,15 @@ void LineRenderer::sync(uint32_t frame, const Buffer& depth, const Buffer& cover
                                     MemoryUse::Device);
         }
         destroyDescriptorSet(ctx_, l.descriptors);
-        l.descriptors =
-            createDescriptorSet(ctx_,
-                                {{0, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1, 0, 0, s.view},
-                                 {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, l.buffer.buffer},
-                                 {2, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer},
-                                 {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depth.buffer},
-                                 {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage.buffer},
-                                 {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, drawn.buffer}},
-                                kStages);
+        l.descriptors = createDescriptorSet(
+            ctx_,
+            {{gpu::LINES_SEGMENTS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1, 0, 0, s.view},
+             {gpu::LINES_DRAW_LIST, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, l.buffer.buffer},
+             {gpu::LINES_STYLE, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, styleBuffer_.buffer},
+             {gpu::LINES_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depth.buffer},
+             {gpu::LINES_COVERAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage.buffer},
+             {gpu::LINES_DRAWN, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, drawn.buffer}},
+            kStages);
         l.generation = s.generation;
         l.depth = depth.buffer;
         l.coverage = coverage.buffer;
@@ -283,13 +281,12 @@ std::vector<DrawnSegment> LineRenderer::drawn(StrokeBuffers::Kind kind, uint32_t
     uint32_t header[4] = {};
     downloadBuffer(ctx_, l.buffer, 0, header, sizeof(header));
     std::vector<DrawnSegment> out(header[0] / 6);
-    static_assert(sizeof(DrawnSegment) == kDrawSegmentBytes);
-    std::vector<uint32_t> raw(8 * out.size());
-    if (!raw.empty()) downloadBuffer(ctx_, l.buffer, 16, raw.data(), raw.size() * 4);
+    std::vector<gpu::DrawSegment> raw(out.size());
+    if (!raw.empty())
+        downloadBuffer(ctx_, l.buffer, kDrawListHeader, raw.data(), raw.size() * sizeof(gpu::DrawSegment));
     for (size_t i = 0; i < out.size(); ++i) {
-        const uint32_t* r = &raw[8 * i];
-        out[i] = {
-            {floatOf(r[0]), floatOf(r[1])}, {floatOf(r[2]), floatOf(r[3])}, {floatOf(r[4]), floatOf(r[5])}, r[6], r[7]};
+        const gpu::DrawSegment& r = raw[i];
+        out[i] = {{r.ends.x, r.ends.y}, {r.ends.z, r.ends.w}, r.widths, r.flags, r.segment};
     }
     return out;
 }

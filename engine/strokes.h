@@ -8,6 +8,7 @@
 #include "lines.h"
 #include "pipelines.h"
 #include "resources.h"
+#include "shared/lines.h"
 
 #include <glm/glm.hpp>
 #include <vector>
@@ -44,14 +45,16 @@ private:
 };
 
 // A segment that showed in a frame (tests, statistics): its ends in pixels, whether it was visible, hidden or an
-// interior contour (the bits of lines_common.glsl), and its index among the traced segments (segmentTexels order).
+// interior contour (gpu::SEG_* bits), and its index among the traced segments (segmentTexels order). The device
+// writes gpu::DrawSegment (spirv_shaders/shared/lines.h).
 struct DrawnSegment {
     glm::vec2 a, b;
     glm::vec2 halfWidths;  // pixels
     uint32_t flags;
     uint32_t segment;
 };
-constexpr uint32_t kSegmentVisible = 1, kSegmentHidden = 2, kSegmentInterior = 4;
+constexpr uint32_t kSegmentVisible = gpu::SEG_VISIBLE, kSegmentHidden = gpu::SEG_HIDDEN,
+                   kSegmentInterior = gpu::SEG_INTERIOR;
 
 // The per-frame side, owned by PointRenderer.
 class LineRenderer {
@@ -80,11 +83,7 @@ public:
     std::vector<DrawnSegment> drawn(StrokeBuffers::Kind kind, uint32_t frame = 0) const;
 
 private:
-    struct Push {
-        glm::mat4 view;
-        glm::vec4 projection, viewport, params;
-        glm::uvec4 counts;
-    };
+    using Push = gpu::LineCamera;  // the push constants (spirv_shaders/shared/lines.h)
     struct List {
         Buffer buffer;
         DescriptorSet descriptors;

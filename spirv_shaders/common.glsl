@@ -1,29 +1,9 @@
 // Point records, the counter-based random numbers, and the refinement's device-side bookkeeping.
-// The C++ twins are engine/refine.h (layouts) and engine/random.h (pcg4d).
+// The layouts are spirv_shaders/shared/refine.h's; the C++ twin of pcg4d is engine/random.h.
 #ifndef COMMON_GLSL
 #define COMMON_GLSL
 
-// 32 bytes a point, in normalized model coordinates.
-struct Point {
-    vec3 position;
-    uint level;
-    vec3 normal;  // unit ∇f
-    float tone;   // fixed random value in [0,1): decides whether tone draws the point
-};
-
-const uint MAX_LEVELS = 16u;
-const uint DROP_GRADIENT = 0u;    // ‖∇f‖ < ε₂
-const uint DROP_ARMIJO = 1u;      // i_k > 16
-const uint DROP_ITERATIONS = 2u;  // iteration cap reached
-const uint DROP_JUMP = 3u;        // moved too far from its parent (another sheet)
-
-struct LevelInfo {
-    uint candidates;    // candidates generated at this level
-    uint parentOffset;  // first parent in the point buffer
-    uint keptOffset;    // first kept point in the point buffer
-    uint kept;
-    uint dropped[4];
-};
+#include "shared/refine.h"  // Point, LevelInfo, MAX_LEVELS, DROP_*
 
 // PCG-based 4D hash (Jarzynski & Olano 2020): (seed, level, parent, child) -> 4 independent uints.
 uvec4 pcg4d(uvec4 v) {

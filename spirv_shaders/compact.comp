@@ -5,7 +5,7 @@
 #extension GL_KHR_shader_subgroup_ballot : require
 #include "refine_bindings.glsl"
 
-layout(local_size_x = 256) in;
+layout(local_size_x = GROUP_SIZE) in;
 
 shared uint subgroupKept[256];
 

@@ -16,42 +16,20 @@
 #ifndef HRBF_SET
 #define HRBF_SET 0
 #endif
-#ifndef HRBF_BINDING
-#define HRBF_BINDING 0
-#endif
 
-// The centres live in uniform blocks of 1024 centres (64 KiB); HRBF_BLOCKS × 1024 ≥ kMaxControlPoints. The
-// buffer holds whole blocks (engine/refine.cpp), so reading past the last centre within its block is safe.
-const uint HRBF_BLOCK_SIZE = 1024u;
-const uint HRBF_BLOCKS = 4u;
+#include "shared/refine.h"  // HrbfHeader, HrbfCenter, HRBF_BLOCK_SIZE, HRBF_BLOCKS, the bindings
+#define HRBF_TERM_DOUBLE
+#include "hrbf_term.glsl"
 
-struct HrbfCenter {
-    dvec4 pAlpha;  // p_j, α_j
-    dvec4 beta;    // β_j, unused
-};
+// The centres live in uniform blocks of HRBF_BLOCK_SIZE centres (64 KiB). The buffer holds whole blocks
+// (engine/refine.cpp), so reading past the last centre within its block is safe.
+layout(std140, set = HRBF_SET, binding = REFINE_SURFACE_HEADER) uniform HrbfHeaderBlock { HrbfHeader hrbf; };
 
-layout(std140, set = HRBF_SET, binding = HRBF_BINDING) uniform HrbfHeader {
-    dvec4 linear;  // a, b
-    uvec4 count;   // m, unused ×3
-} hrbf;
-
-layout(std140, set = HRBF_SET, binding = HRBF_BINDING + 8) uniform HrbfBlock {
+layout(std140, set = HRBF_SET, binding = REFINE_HRBF_CENTERS) uniform HrbfBlock {
     HrbfCenter centers[HRBF_BLOCK_SIZE];
 } hrbfBlocks[HRBF_BLOCKS];
 
 HrbfCenter hrbfCenter(uint j) { return hrbfBlocks[j / HRBF_BLOCK_SIZE].centers[j % HRBF_BLOCK_SIZE]; }
-
-// Centre (p, α, β)'s term at x, added to f and to g = ∇f/3:  α r³ − 3 r ⟨d, β⟩  and  (α r − ⟨d, β⟩/r) d − r β.
-void hrbfAdd(dvec3 x, dvec4 pa, dvec3 beta, inout double f, inout dvec3 g) {
-    dvec3 d = x - pa.xyz;
-    double r2 = fma(d.z, d.z, fma(d.y, d.y, d.x * d.x));
-    double db = fma(d.z, beta.z, fma(d.y, beta.y, d.x * beta.x));
-    double r = sqrt(r2);
-    // At r = 0 the gradient terms vanish; max() keeps 1/r finite there without a branch.
-    double s = fma(pa.w, r, -db / max(r, 1e-300LF));
-    f = fma(r, fma(pa.w, r2, -3.0LF * db), f);
-    g = fma(dvec3(s), d, fma(dvec3(-r), beta, g));
-}
 
 // v of invocation l, in every invocation. A double as two 32-bit shuffles: llvmpipe turns those into one
 // vpermd each, while its subgroupBroadcast first searches for an active lane, element by element.
@@ -90,7 +68,7 @@ double hrbfEval(dvec3 x, out dvec3 grad) {
                 HrbfCenter c = hrbfBlocks[j0 / HRBF_BLOCK_SIZE].centers[j % HRBF_BLOCK_SIZE];
                 dvec4 pa = j < m ? c.pAlpha : dvec4(0.0LF);
                 dvec3 beta = j < m ? c.beta.xyz : dvec3(0.0LF);
-                [[unroll]] for (uint l = 0u; l < 8u; ++l) hrbfAdd(X[l], pa, beta, F[l], G[l]);
+                [[unroll]] for (uint l = 0u; l < 8u; ++l) hrbfAddFused(X[l], pa, beta, F[l], G[l]);
             }
         }
         [[unroll]] for (uint l = 0u; l < 8u; ++l) {
@@ -109,7 +87,7 @@ double hrbfEval(dvec3 x, out dvec3 grad) {
             HrbfCenter c = hrbfBlocks[j0 / HRBF_BLOCK_SIZE].centers[(j0 + lane) % HRBF_BLOCK_SIZE];
             uint n = min(gl_SubgroupSize, m - j0);
             for (uint k = 0u; k < n; ++k)
-                hrbfAdd(x, subgroupBroadcast(c.pAlpha, k), subgroupBroadcast(c.beta.xyz, k), f, g);
+                hrbfAddFused(x, subgroupBroadcast(c.pAlpha, k), subgroupBroadcast(c.beta.xyz, k), f, g);
         }
     }
     grad = hrbf.linear.xyz + 3.0LF * g;
@@ -124,18 +102,7 @@ double hrbfEvalHessian(dvec3 x, out dvec3 grad, out dmat3 H) {
     uint m = hrbf.count.x;
     for (uint j = 0u; j < m; ++j) {
         HrbfCenter c = hrbfCenter(j);
-        dvec4 pa = c.pAlpha;
-        dvec3 beta = c.beta.xyz;
-        dvec3 d = x - pa.xyz;
-        double r = length(d);
-        double db = dot(d, beta);
-        f += pa.w * r * r * r - 3.0LF * r * db;
-        if (r > 0.0LF) {
-            g += 3.0LF * pa.w * r * d - 3.0LF * (r * beta + d * (db / r));
-            dmat3 ddT = outerProduct(d, d);
-            h += 3.0LF * pa.w * (r * dmat3(1.0LF) + ddT / r);
-            h -= (3.0LF / r) * (outerProduct(beta, d) + outerProduct(d, beta) + db * dmat3(1.0LF) - ddT * (db / (r * r)));
-        }
+        hrbfNodeHessianD(x, c.pAlpha, c.beta.xyz, f, g, h);
     }
     grad = g;
     H = h;

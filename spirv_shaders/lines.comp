@@ -10,9 +10,7 @@
 // What shows is appended to the draw list (one atomic a subgroup); hidden hatching is dropped.
 #include "lines_common.glsl"
 
-layout(local_size_x = 256) in;
-
-const uint FAR_DEPTH = 0x7F7FFFFFu;
+layout(local_size_x = GROUP_SIZE) in;
 
 uint depthAt(vec2 pixel) {
     vec2 grid = cam.viewport.zw;

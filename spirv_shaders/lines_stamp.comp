@@ -10,9 +10,7 @@
 // HALO_BIT over their halo's width; hidden contours HIDDEN_BIT.
 #include "lines_common.glsl"
 
-layout(local_size_x = 256) in;
-
-const uint INK_BIT = 1u, HIDDEN_BIT = 2u, HALO_BIT = 4u, CONTOUR_BIT = 8u;  // render_common.glsl
+layout(local_size_x = GROUP_SIZE) in;
 
 // Walks the capsule's major axis, testing across it only the pixels its width reaches.
 ivec4 stampCapsule(vec2 a, vec2 b, vec2 w, uint bit) {

@@ -11,22 +11,14 @@
 #ifndef PU_HRBF_GLSL
 #define PU_HRBF_GLSL
 
-layout(std140, binding = 0) uniform PuHeader {
-    vec4 origin;        // xyz: the grid's corner; w: 1 / cell side
-    uvec4 dims;         // xyz: cells along each axis; w: far-field centres
-    vec4 coarseLinear;  // the far field's a, b
-    vec4 params;        // x: τ
-} pu;
+#include "shared/refine.h"  // PuHeader, PuPatch, the bindings
+#include "hrbf_term.glsl"
 
-struct PuPatch {
-    vec4 centerRadius;  // c_i, R_i
-    vec4 linear;        // a_i, b_i (patch units)
-    uvec4 range;        // first node, node count
-};
-layout(std430, binding = 8) readonly buffer PuPatches { PuPatch puPatches[]; };
-layout(std430, binding = 9) readonly buffer PuNodes { vec4 puNodes[]; };   // per node: (p_j, α_j), (β_j, 0)
-layout(std430, binding = 10) readonly buffer PuCells { uint puCells[]; };  // cell starts (cells + 1), then patch ids
-layout(std430, binding = 11) readonly buffer PuCoarse { vec4 puCoarse[]; };  // per centre: (p, α), (β, 0)
+layout(std140, binding = REFINE_SURFACE_HEADER) uniform PuHeaderBlock { PuHeader pu; };
+layout(std430, binding = REFINE_PU_PATCHES) readonly buffer PuPatches { PuPatch puPatches[]; };
+layout(std430, binding = REFINE_PU_NODES) readonly buffer PuNodes { vec4 puNodes[]; };  // per node: (p_j, α_j), (β_j, 0)
+layout(std430, binding = REFINE_PU_CELLS) readonly buffer PuCells { uint puCells[]; };  // cell starts (cells + 1), then patch ids
+layout(std430, binding = REFINE_PU_COARSE) readonly buffer PuCoarse { vec4 puCoarse[]; };  // per centre: (p, α), (β, 0)
 
 // The grid cell of x, or −1 outside the grid.
 int puCell(vec3 x) {
@@ -37,27 +29,6 @@ int puCell(vec3 x) {
 }
 
 uint puCellCount() { return pu.dims.x * pu.dims.y * pu.dims.z; }
-
-// Node (p, α, β)'s term of eq. 6 at q, added to h and ∇h.
-void puNode(vec3 q, vec4 pa, vec3 beta, inout float f, inout vec3 g) {
-    vec3 d = q - pa.xyz;
-    float r = length(d), db = dot(d, beta);
-    f += pa.w * r * r * r - 3.0 * r * db;
-    float inv = r > 0.0 ? 1.0 / r : 0.0;
-    g += 3.0 * (pa.w * r - db * inv) * d - 3.0 * r * beta;
-}
-
-// The same with the Hessian (for principal directions).
-void puNodeHessian(vec3 q, vec4 pa, vec3 beta, inout float f, inout vec3 g, inout mat3 H) {
-    vec3 d = q - pa.xyz;
-    float r = length(d), db = dot(d, beta);
-    f += pa.w * r * r * r - 3.0 * r * db;
-    if (r == 0.0) return;
-    g += 3.0 * pa.w * r * d - 3.0 * (r * beta + d * (db / r));
-    mat3 ddT = outerProduct(d, d);
-    H += 3.0 * pa.w * (r * mat3(1.0) + ddT / r);
-    H -= (3.0 / r) * (outerProduct(beta, d) + outerProduct(d, beta) + db * mat3(1.0) - ddT * (db / (r * r)));
-}
 
 // The Wendland weight of a patch at q (‖q‖ < 1) and its gradient in x: ∇w = −20 (1 − d)³ q / R.
 float puWeight(vec3 q, float radius, out vec3 dw) {
@@ -70,7 +41,7 @@ float puWeight(vec3 q, float radius, out vec3 dw) {
 float puFar(vec3 x, out vec3 g) {
     float f = dot(pu.coarseLinear.xyz, x) + pu.coarseLinear.w;
     g = pu.coarseLinear.xyz;
-    for (uint j = 0u; j < pu.dims.w; ++j) puNode(x, puCoarse[2u * j], puCoarse[2u * j + 1u].xyz, f, g);
+    for (uint j = 0u; j < pu.dims.w; ++j) hrbfNodeF(x, puCoarse[2u * j], puCoarse[2u * j + 1u].xyz, f, g);
     return f;
 }
 
@@ -106,7 +77,7 @@ float puEval(vec3 x, out vec3 grad) {
             float h = dot(P.linear.xyz, q) + P.linear.w;
             vec3 g = P.linear.xyz;
             uint j1 = P.range.x + P.range.y;
-            for (uint j = P.range.x; j < j1; ++j) puNode(q, puNodes[2u * j], puNodes[2u * j + 1u].xyz, h, g);
+            for (uint j = P.range.x; j < j1; ++j) hrbfNodeF(q, puNodes[2u * j], puNodes[2u * j + 1u].xyz, h, g);
             vec3 dw;
             float w = puWeight(q, R, dw), fi = R * h;
             S += w;
@@ -136,7 +107,7 @@ float puEvalHessian(vec3 x, out vec3 grad, out mat3 H) {
             mat3 Hh = mat3(0.0);
             uint j1 = P.range.x + P.range.y;
             for (uint j = P.range.x; j < j1; ++j)
-                puNodeHessian(q, puNodes[2u * j], puNodes[2u * j + 1u].xyz, h, g, Hh);
+                hrbfNodeHessianF(q, puNodes[2u * j], puNodes[2u * j + 1u].xyz, h, g, Hh);
             vec3 dw;
             float w = puWeight(q, R, dw), fi = R * h;
             float d = length(q), e = 1.0 - d, e2 = e * e;
@@ -157,7 +128,7 @@ float puEvalHessian(vec3 x, out vec3 grad, out mat3 H) {
         vec3 dwc = -3.0 * e * e * dS, gc = pu.coarseLinear.xyz;
         mat3 Hwc = (6.0 * e / tau) * outerProduct(dS, dS) - 3.0 * e * e * HS, Hc = mat3(0.0);
         float fc = dot(pu.coarseLinear.xyz, x) + pu.coarseLinear.w;
-        for (uint j = 0u; j < pu.dims.w; ++j) puNodeHessian(x, puCoarse[2u * j], puCoarse[2u * j + 1u].xyz, fc, gc, Hc);
+        for (uint j = 0u; j < pu.dims.w; ++j) hrbfNodeHessianF(x, puCoarse[2u * j], puCoarse[2u * j + 1u].xyz, fc, gc, Hc);
         S += wc;
         N += wc * fc;
         dN += fc * dwc + wc * gc;

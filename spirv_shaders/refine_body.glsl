@@ -6,7 +6,6 @@
 // The surface: the partition of unity in float (the default), or the report's global HRBF in double
 // (refine_global.comp, for --fit global on devices with shaderFloat64).
 #ifdef HRBF_GLOBAL
-#define HRBF_BINDING 0
 #include "hrbf.glsl"
 #define REAL double
 #define RVEC3 dvec3
@@ -27,7 +26,7 @@ REAL surfaceEval(RVEC3 x, out RVEC3 g) { return puEval(x, g); }
 float surfaceEvalHessian(vec3 x, out vec3 g, out mat3 H) { return puEvalHessian(x, g, H); }
 #endif
 
-layout(local_size_x = 256) in;
+layout(local_size_x = GROUP_SIZE) in;
 
 shared uint groupKept;
 

@@ -4,7 +4,7 @@
 // bookkeeping: where its points go, how many children the next level has, its dispatch and the draw.
 #include "refine_bindings.glsl"
 
-layout(local_size_x = 256) in;
+layout(local_size_x = GROUP_SIZE) in;
 
 shared uint partial[256];
 
@@ -32,9 +32,9 @@ void main() {
             uint next = running * pc.nextChildCount;
             levels[L + 1u].candidates = next;
             levels[L + 1u].parentOffset = offset;
-            dispatches[L + 1u] = uvec4((next + GROUP_SIZE - 1u) / GROUP_SIZE, 1u, 1u, 0u);
+            indirect.dispatches[L + 1u] = uvec4((next + GROUP_SIZE - 1u) / GROUP_SIZE, 1u, 1u, 0u);
         }
-        draw = pc.keepAll != 0u ? uvec4(offset + running, 1u, 0u, 0u) : uvec4(running, 1u, offset, 0u);
+        indirect.draw = pc.keepAll != 0u ? uvec4(offset + running, 1u, 0u, 0u) : uvec4(running, 1u, offset, 0u);
     }
     barrier();
     uint running = partial[t];

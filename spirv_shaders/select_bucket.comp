@@ -5,7 +5,7 @@
 // bucket is left to the atomics; select_sort sorts it.
 #include "select_common.glsl"
 
-layout(local_size_x = 256) in;
+layout(local_size_x = GROUP_SIZE) in;
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

@@ -6,64 +6,30 @@
 
 #include "common.glsl"
 
-const uint MAX_STAGES = 48u;  // kMaxSelectStages in select.h
-const uint GROUP_SIZE = 256u;
+#include "shared/refine.h"  // IndirectArgs
+#include "shared/select.h"  // Stage, SelectCounts, SelectParams, the bindings, MAX_STAGES, GROUP_SIZE
 
-struct Stage {
-    vec3 offset;            // grid shift
-    float cellScale;        // 1 / cell side
-    float radius2;          // R_s²
-    float previousRadius2;  // R_{s−1}²
-    float orderScale;       // 1 / (R_{s−1}² − R_s²)
-    uint poolThreshold;     // pool key below this: in the pool (0xFFFFFFFF: every candidate)
-    uint bucketsPerPhase;
-    uint seed;
-    uint pad[2];
-};
-
-layout(std430, binding = 0) readonly buffer StageBuffer { Stage stages[]; };
+layout(std430, binding = SELECT_STAGES) readonly buffer StageBuffer { Stage stages[]; };
 // The refinement's points; the candidates are points[first + p], p < candidates.
-layout(std430, binding = 1) readonly buffer CandidateBuffer { Point points[]; };
+layout(std430, binding = SELECT_CANDIDATES) readonly buffer CandidateBuffer { Point points[]; };
 // The refinement's indirect arguments: its draw (count, 1, first, 0) at `draw`, the selection's after it.
-layout(std430, binding = 2) buffer IndirectBuffer {
-    uvec4 dispatches[MAX_LEVELS];
-    uvec4 draw;
-    uvec4 selectedDraw;
-};
-layout(std430, binding = 3) buffer StageOfBuffer { uint stageOf[]; };    // 1 + the stage that selected p; 0: not
-layout(std430, binding = 5) buffer OrderBuffer { float order[]; };       // u(p)
-layout(std430, binding = 6) buffer PoolBuffer { uint pool[]; };          // candidates by the stage they enter at
+layout(std430, binding = SELECT_INDIRECT) buffer IndirectBuffer { IndirectArgs indirect; };
+layout(std430, binding = SELECT_STAGE_OF) buffer StageOfBuffer { uint stageOf[]; };  // 1 + the stage that selected p; 0: not
+layout(std430, binding = SELECT_ORDER) buffer OrderBuffer { float order[]; };        // u(p)
+layout(std430, binding = SELECT_POOL) buffer PoolBuffer { uint pool[]; };            // candidates by the stage they enter at
 // The pool's points by bucket: the point (its `level` holds the candidate index) and its stage state, copied
 // so that neighbour searches read memory in order.
-layout(std430, binding = 4) buffer EntryPointBuffer { Point entryPoints[]; };
-layout(std430, binding = 7) buffer EntryStateBuffer { uint entryStage[]; };
+layout(std430, binding = SELECT_ENTRY_POINTS) buffer EntryPointBuffer { Point entryPoints[]; };
+layout(std430, binding = SELECT_ENTRY_STAGE) buffer EntryStateBuffer { uint entryStage[]; };
 const uint COVERED = 0xFFFFFFFFu;  // entryStage of a point within R_s of an earlier stage's (select_cover)
-layout(std430, binding = 8) buffer BucketCountBuffer { uint bucketCount[]; };  // also the scan's input
-layout(std430, binding = 9) buffer BucketStartBuffer { uint bucketStart[]; };  // the scan's output
-layout(std430, binding = 10) buffer BlockBuffer { uint blockSums[]; };
-layout(std430, binding = 13) buffer BackFillBuffer { uint backFill[]; };  // select_bucket's back cursors
-layout(std430, binding = 11) buffer CountBuffer {
-    uint candidates;
-    uint first;
-    uint total;  // points selected
-    uint pad;
-    uvec4 candidateDispatch;            // over the candidates
-    uvec4 poolDispatch[MAX_STAGES];     // over each stage's pool
-    uint entering[MAX_STAGES];          // candidates whose first pool is stage s
-    uint poolSize[MAX_STAGES];          // candidates in stage s's pool: pool[0 .. poolSize[s])
-    uint added[MAX_STAGES];             // points stage s selected
-    uint enterFill[MAX_STAGES];         // scatter cursors of the pool sort
-    uint before[MAX_STAGES];            // points the stages before s selected
-} counts;
-layout(std430, binding = 12) writeonly buffer StippleBuffer { Point stipples[]; };
+layout(std430, binding = SELECT_BUCKET_COUNT) buffer BucketCountBuffer { uint bucketCount[]; };  // also the scan's input
+layout(std430, binding = SELECT_BUCKET_START) buffer BucketStartBuffer { uint bucketStart[]; };  // the scan's output
+layout(std430, binding = SELECT_BLOCKS) buffer BlockBuffer { uint blockSums[]; };
+layout(std430, binding = SELECT_BACK_FILL) buffer BackFillBuffer { uint backFill[]; };  // select_bucket's back cursors
+layout(std430, binding = SELECT_COUNTS) buffer CountBuffer { SelectCounts counts; };
+layout(std430, binding = SELECT_STIPPLES) writeonly buffer StippleBuffer { Point stipples[]; };
 
-layout(push_constant) uniform Params {
-    uint stage;
-    uint phase;   // select_phase: the phase; select_scan: the pass; the other passes: which of their steps
-    uint count;   // scans: elements (0xFFFFFFFF: the candidates)
-    uint stageCount;
-    uint poolSeed;
-} pc;
+layout(push_constant) uniform Params { SelectParams pc; };
 
 ivec3 cellOf(vec3 p, Stage s) {
     precise vec3 x = (p + s.offset) * s.cellScale;

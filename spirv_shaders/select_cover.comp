@@ -6,7 +6,7 @@
 // stages' points is final before the phases begin.
 #include "select_common.glsl"
 
-layout(local_size_x = 256) in;
+layout(local_size_x = GROUP_SIZE) in;
 
 void main() {
     uint e = gl_GlobalInvocationID.x;

@@ -4,7 +4,7 @@
 // 1 scatters), each with its rank in the tone field.
 #include "select_common.glsl"
 
-layout(local_size_x = 256) in;
+layout(local_size_x = GROUP_SIZE) in;
 
 void main() {
     uint p = gl_GlobalInvocationID.x;

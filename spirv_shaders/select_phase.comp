@@ -6,7 +6,7 @@
 // buckets of a phase hold only its cells, so the invocations never read what another one writes.
 #include "select_common.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PHASE_GROUP_SIZE) in;
 
 void main() {
     Stage s = stages[pc.stage];

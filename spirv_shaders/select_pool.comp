@@ -5,7 +5,7 @@
 // the atomics: the stages treat a pool as a set.
 #include "select_common.glsl"
 
-layout(local_size_x = 256) in;
+layout(local_size_x = GROUP_SIZE) in;
 
 void main() {
     uint p = gl_GlobalInvocationID.x;

@@ -9,9 +9,9 @@ layout(local_size_x = 1) in;
 
 void main() {
     if (pc.phase == 0u) {
-        counts.candidates = draw.x;
-        counts.first = draw.z;
-        counts.candidateDispatch = uvec4((draw.x + GROUP_SIZE - 1u) / GROUP_SIZE, 1u, 1u, 0u);
+        counts.candidates = indirect.draw.x;
+        counts.first = indirect.draw.z;
+        counts.candidateDispatch = uvec4((indirect.draw.x + GROUP_SIZE - 1u) / GROUP_SIZE, 1u, 1u, 0u);
     } else if (pc.phase == 1u) {
         uint size = 0u;
         for (uint s = 0u; s < pc.stageCount; ++s) {
@@ -26,6 +26,6 @@ void main() {
             total += counts.added[s];
         }
         counts.total = total;
-        selectedDraw = uvec4(total, 1u, 0u, 0u);
+        indirect.selectedDraw = uvec4(total, 1u, 0u, 0u);
     }
 }

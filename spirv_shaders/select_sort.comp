@@ -6,7 +6,7 @@
 // a few points: an insertion sort.
 #include "select_common.glsl"
 
-layout(local_size_x = 256) in;
+layout(local_size_x = GROUP_SIZE) in;
 
 void main() {
     uint b = gl_GlobalInvocationID.x;

@@ -10,7 +10,7 @@
 //   the dots that pass go to the list that stamp.comp tests against the finished depth.
 #include "render_common.glsl"
 
-layout(local_size_x = 256) in;
+layout(local_size_x = GROUP_SIZE) in;
 
 const int MAX_CELLS = 9;  // a disk spans at most this many cells a side; larger disks are sampled sparsely
 

@@ -9,7 +9,7 @@
 // atomic ORs.
 #include "render_common.glsl"
 
-layout(local_size_x = 256) in;  // GROUP_SIZE
+layout(local_size_x = GROUP_SIZE) in;
 
 // Sets the pixels whose centres lie within the dot's disk, and always the pixel under its centre, so that a
 // dot smaller than a pixel never vanishes between pixel centres. Returns the pixel box it may have set.

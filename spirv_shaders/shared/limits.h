@@ -1,0 +1,48 @@
+// Workgroup sizes, limits, and the bits and codes that the device writes and the host reads (see interface.h).
+#ifndef INK_SHARED_LIMITS_H
+#define INK_SHARED_LIMITS_H
+
+#include "interface.h"
+
+INK_BEGIN
+
+// Workgroup sizes: every compute pass's `local_size_x`, and what the host divides its dispatches by.
+INK_CONST uint GROUP_SIZE = 256u;       // refine, scan, compact, splat, stamp, lines, the selection's passes
+INK_CONST uint PHASE_GROUP_SIZE = 64u;  // select_phase.comp: one invocation per bucket of a phase
+
+// The refinement: seeds + 15 refinement levels.
+INK_CONST uint MAX_LEVELS = 16u;
+// Why a candidate was dropped: LevelInfo::dropped's index (DropReason in engine/refine_plan.h names them).
+INK_CONST uint DROP_GRADIENT = 0u;    // ‖∇f‖ < ε₂
+INK_CONST uint DROP_ARMIJO = 1u;      // i_k > 16
+INK_CONST uint DROP_ITERATIONS = 2u;  // iteration cap reached
+INK_CONST uint DROP_JUMP = 3u;        // moved too far from its parent (another sheet)
+INK_CONST uint DROP_REASONS = 4u;
+
+// The global HRBF's centres (hrbf.glsl): uniform blocks of HRBF_BLOCK_SIZE centres (64 KiB), HRBF_BLOCKS of
+// them; HRBF_BLOCK_SIZE × HRBF_BLOCKS ≥ kMaxControlPoints (engine/hrbf.h).
+INK_CONST uint HRBF_BLOCK_SIZE = 1024u;
+INK_CONST uint HRBF_BLOCKS = 4u;
+
+// The stipple selection's stages (kMaxSelectStages in engine/select_plan.h).
+INK_CONST uint MAX_STAGES = 48u;
+
+// The frame's coverage: four bits a pixel, eight pixels a word (pixel i: word i >> 3, bits 4·(i & 7)).
+INK_CONST uint INK_BIT = 1u;      // a dot's or hatching's ink
+INK_CONST uint HIDDEN_BIT = 2u;   // hidden ink (occluded silhouettes, hidden contours)
+INK_CONST uint HALO_BIT = 4u;     // a contour's halo (paper)
+INK_CONST uint CONTOUR_BIT = 8u;  // a visible contour's ink
+INK_CONST uint COVERAGE_SHIFT = 3u;
+INK_CONST uint COVERAGE_BITS = 4u;
+// The splat depth of an empty cell: FLT_MAX's bits (positive floats order as their bits do).
+INK_CONST uint FAR_DEPTH = 0x7F7FFFFFu;
+
+// Pen lines: a traced segment's kind bits (KIND_HATCH, family << 1, level << 2), and a drawn segment's flags.
+INK_CONST uint KIND_HATCH = 1u;
+INK_CONST uint SEG_VISIBLE = 1u;
+INK_CONST uint SEG_HIDDEN = 2u;
+INK_CONST uint SEG_INTERIOR = 4u;
+
+INK_END
+
+#endif

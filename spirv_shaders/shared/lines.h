@@ -1,0 +1,66 @@
+// The pen lines' passes (lines.comp, lines_stamp.comp, line.vert, line.frag; engine/strokes.cpp): the drawn
+// segments, the line style, the camera's push constants and the descriptor set's bindings (see interface.h).
+#ifndef INK_SHARED_LINES_H
+#define INK_SHARED_LINES_H
+
+#include "interface.h"
+#include "limits.h"
+
+INK_BEGIN
+
+// Traced segments, fixed in object space: LINE_TEXELS RGBA32F texels each, (p0, width factor 0), (p1, width
+// factor 1), (unit normal, kind bits: limits.h's KIND_HATCH, family << 1, level << 2).
+INK_CONST uint LINE_TEXELS = 3u;
+
+// A segment that shows this frame, in pixels (std430). The draw list is a uvec4 header (VkDrawIndirectCommand: 6
+// vertices a segment, 1 instance, 0, 0), then the segments.
+struct DrawSegment {
+    vec4 ends;     // a.xy, b.xy
+    vec2 widths;   // half widths at a and b, in pixels
+    uint flags;    // SEG_VISIBLE, SEG_HIDDEN, SEG_INTERIOR (limits.h)
+    uint segment;  // its index among the traced segments
+};
+INK_ASSERT_SIZE(DrawSegment, 32);
+INK_ASSERT_OFFSET(DrawSegment, widths, 16);
+INK_ASSERT_OFFSET(DrawSegment, flags, 24);
+INK_ASSERT_OFFSET(DrawSegment, segment, 28);
+
+// The line style (std140).
+struct LineStyle {
+    vec4 ink;         // contour and hatching ink
+    vec4 hiddenInk;   // hidden contours
+    vec4 paper;       // halos
+    vec4 widths;      // pen widths in pixels: contour, hidden contour, hatching; w: halo width beyond the pen
+    vec4 thresholds;  // darkness from which each hatching (family, level) shows: (0,0), (0,1), (1,0), (1,1)
+    vec4 light;       // xyz: unit direction towards the light (model space, or view space when options.x = 0); w: γ
+    vec4 tone;        // x: ink density, y: ambient darkness, z: |n·v| below which hatching is not drawn
+    vec4 options;     // x: 1 when the light is fixed to the model; y: 1 = draw hidden contours
+};
+INK_ASSERT_SIZE(LineStyle, 128);
+INK_ASSERT_OFFSET(LineStyle, widths, 48);
+INK_ASSERT_OFFSET(LineStyle, options, 112);
+
+// The push constants (std430).
+struct LineCamera {
+    mat4 view;        // model → view (rigid)
+    vec4 projection;  // P00, P11, P22, P32
+    vec4 viewport;    // width, height in pixels; width, height of the depth grid
+    vec4 params;      // x: push-back (model units); y: pixel scale (supersampling)
+    uvec4 counts;     // x: segments; y: draw mode (line.vert): 0 hatching, 1 hidden contours, 2 halos, 3 contours;
+                      // lines_stamp.comp: 0 hatching, 1 contours
+};
+INK_ASSERT_SIZE(LineCamera, 128);
+INK_ASSERT_OFFSET(LineCamera, counts, 112);
+
+// The pen lines' descriptor set (one per frame and kind).
+INK_CONST uint LINES_SEGMENTS = 0u;   // the traced segments (uniform texel buffer)
+INK_CONST uint LINES_DRAW_LIST = 1u;  // the draw list (storage)
+INK_CONST uint LINES_STYLE = 2u;      // LineStyle (uniform)
+INK_CONST uint LINES_DEPTH = 3u;      // the dots' splat depth (storage)
+INK_CONST uint LINES_COVERAGE = 4u;   // the frame's coverage bits (storage)
+INK_CONST uint LINES_DRAWN = 5u;      // the frame's DrawnCounts (storage)
+INK_CONST uint LINES_BINDINGS = 6u;
+
+INK_END
+
+#endif
