@@ -5,6 +5,8 @@
 #include "points.h"
 #include "run_command.h"
 
+#include "glb_writer.h"
+
 #include <doctest/doctest.h>
 
 #include <chrono>
@@ -63,13 +65,6 @@ std::string asciiStl(const std::vector<std::array<Vector3d, 3>>& triangles) {
     return s + "endsolid test\n";
 }
 
-template <class T>
-void put(std::string& s, T v) {
-    char b[sizeof v];
-    std::memcpy(b, &v, sizeof v);
-    s.append(b, sizeof b);
-}
-
 std::string binaryStl(const std::vector<std::array<Vector3d, 3>>& triangles, const std::string& header) {
     std::string s = header;
     s.resize(80, ' ');
@@ -122,21 +117,6 @@ std::string tetraJson(const std::string& node, const std::string& uri, int posit
 "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 24}],
 "buffers": [)" +
            buffer + "]}";
-}
-
-std::string glb(std::string json, std::string bin) {
-    while (json.size() % 4) json += ' ';
-    while (bin.size() % 4) bin += '\0';
-    std::string s;
-    put(s, uint32_t(0x46546C67));
-    put(s, uint32_t(2));
-    put(s, uint32_t(12 + 8 + json.size() + 8 + bin.size()));
-    put(s, uint32_t(json.size()));
-    put(s, uint32_t(0x4E4F534A));
-    s += json;
-    put(s, uint32_t(bin.size()));
-    put(s, uint32_t(0x004E4942));
-    return s + bin;
 }
 
 void checkTetra(const OrientedPoints& p, double scale = 1, const Vector3d& offset = Vector3d::Zero()) {

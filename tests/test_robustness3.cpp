@@ -12,6 +12,8 @@
 #include "temp_dir.h"
 #include "vector.h"
 
+#include "glb_writer.h"
+
 #include <doctest/doctest.h>
 
 #include <unistd.h>
@@ -35,13 +37,6 @@ std::string slurp(const std::string& path) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-template <typename T>
-void put(std::string& s, T v) {
-    char b[sizeof v];
-    std::memcpy(b, &v, sizeof v);
-    s.append(b, sizeof v);
-}
-
 // The tetrahedron: 4 float positions (48 bytes), then 12 ushort indices (24 bytes).
 std::string tetraBuffer() {
     const float v[4][3] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
@@ -63,21 +58,6 @@ std::string tetraJson(const std::string& uri = "", const std::string& extra = ""
 "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 24}],
 "buffers": [{"byteLength": 72)" +
            (uri.empty() ? std::string() : ", \"uri\": \"" + uri + "\"") + "}]" + extra + "}";
-}
-
-std::string glb(std::string json, std::string bin) {
-    while (json.size() % 4) json += ' ';
-    while (bin.size() % 4) bin += '\0';
-    std::string s;
-    put(s, uint32_t(0x46546C67));
-    put(s, uint32_t(2));
-    put(s, uint32_t(12 + 8 + json.size() + 8 + bin.size()));
-    put(s, uint32_t(json.size()));
-    put(s, uint32_t(0x4E4F534A));
-    s += json;
-    put(s, uint32_t(bin.size()));
-    put(s, uint32_t(0x004E4942));
-    return s + bin;
 }
 
 void refusedGlb(const std::string& json, const std::string& bin, const std::string& message) {

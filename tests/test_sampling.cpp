@@ -5,6 +5,8 @@
 #include "surface_sampling.h"
 #include "triangle.h"
 
+#include "glb_writer.h"
+
 #include <doctest/doctest.h>
 
 #include <map>
@@ -207,31 +209,7 @@ TEST_CASE("sampling: STL triangles after welding; a vertex only zero-area triang
     checkTriangles(p, {a, b});
 }
 
-namespace {
-
-template <class T>
-void put(std::string& s, T value) {
-    char b[sizeof value];
-    std::memcpy(b, &value, sizeof value);
-    s.append(b, sizeof b);
-}
-
-std::string glb(std::string json, std::string bin) {
-    while (json.size() % 4) json += ' ';
-    while (bin.size() % 4) bin += '\0';
-    std::string s;
-    put(s, uint32_t(0x46546C67));
-    put(s, uint32_t(2));
-    put(s, uint32_t(12 + 8 + json.size() + 8 + bin.size()));
-    put(s, uint32_t(json.size()));
-    put(s, uint32_t(0x4E4F534A));
-    s += json;
-    put(s, uint32_t(bin.size()));
-    put(s, uint32_t(0x004E4942));
-    return s + bin;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 TEST_CASE("sampling: glTF triangles of meshes with and without normals, node transforms applied" *
           doctest::test_suite("unit")) {
