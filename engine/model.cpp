@@ -305,6 +305,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     if (!sampled.empty()) note(sampled);
     surface.centers = std::move(chosen.positions);
     surface.normals = std::move(chosen.normals);
+    if (!global) model.patches.seams = measureSeams(surface.pu);
     chooseSeeds(surface);
     if (adaptive) {
         // Seeds from the vertices and every face sample, projected onto F = 0: a big flat face with few vertices

@@ -493,7 +493,6 @@ PuHrbf fitPuHrbf(const std::vector<Vector3d>& points, const std::vector<Vector3d
         stats->coarsePoints = model.coarse.size();
         stats->gridCells = model.grid.cellStart.size() - 1;
         stats->gridEntries = model.grid.cellPatches.size();
-        stats->seams = measureSeams(model);
     }
     return model;
 }

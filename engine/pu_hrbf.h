@@ -91,7 +91,7 @@ struct PuStats {
     double maxRelativeResidual = 0;  // the worst patch's ‖A x − B‖ / ‖B‖
     size_t coarsePoints = 0;
     size_t gridCells = 0, gridEntries = 0;
-    PuSeams seams;
+    PuSeams seams;  // measured by fitModel on its final fit, not here (its rounds refit)
 };
 
 PuSeams measureSeams(const PuHrbf& model, size_t maxSamples = 4000);

@@ -137,3 +137,29 @@ TEST_CASE("pu: a version 2 .hrbf file round-trips bit for bit; version 1 files s
     shifted.replace(nodes, 7, "\nnodes 1");  // a node count the patches do not hold
     CHECK_THROWS_WITH_AS(ink::parseHrbf(shifted, "m.surface"), doctest::Contains("but the patches hold"), ink::Error);
 }
+
+TEST_CASE("pu: the seam figure is small on consistent data, and the roughness finds normals that disagree (issue 24)" *
+          doctest::test_suite("unit")) {
+    // The analytic torus: its points and normals agree, so the seams add little and the surface is smooth.
+    const ink::OrientedPoints exact = ink::torusPoints(64, 24);
+    const ink::Model smooth = ink::fitModel(exact, {});
+    const ink::PuSeams& a = smooth.patches.seams;
+    INFO("exact: tilt p95 " << a.normalDegP95 << "°, seam/patch p95 " << a.curvatureRatioP95 << ", roughness "
+                            << a.roughnessMedian << " / " << a.roughnessP95);
+    CHECK(a.samples > 200);
+    CHECK(a.normalDegP95 < 0.5);
+    CHECK(a.curvatureRatioP95 < 0.3);
+    CHECK(a.roughnessMedian < 0.1);
+    // The same points with every normal tilted by 6° in a direction of its own: data the flat face samples used
+    // to give. The surface ripples between the points; the roughness says so.
+    ink::OrientedPoints tilted = exact;
+    for (size_t i = 0; i < tilted.normals.size(); ++i) {
+        const Eigen::Vector3d n = tilted.normals[i], t = n.unitOrthogonal();
+        const double turn = 0.7 * double(i), angle = 6.0 * M_PI / 180;
+        const Eigen::Vector3d d = std::cos(turn) * t + std::sin(turn) * n.cross(t);
+        tilted.normals[i] = (std::cos(angle) * n + std::sin(angle) * d).normalized();
+    }
+    const ink::PuSeams& b = ink::fitModel(tilted, {}).patches.seams;
+    INFO("tilted: roughness " << b.roughnessMedian << " / " << b.roughnessP95);
+    CHECK(b.roughnessMedian > 3 * a.roughnessMedian);
+}
