@@ -33,9 +33,9 @@ double unit(uint32_t bits) { return double(bits) * (1.0 / 4294967296.0); }
 // tangent there to the corners' normals, each edge's curve depending on that edge's two corners alone (neighbouring
 // patches share their edges). A point on the flat triangle carries a normal that the flat triangle does not have:
 // fitted together, the two make the surface ripple between the vertices at the triangle's scale (a 2,048-vertex
-// torus: 21,906 contour cusps with flat samples, 0 with these). A sample takes the patch's own normal, which
-// agrees with its position; PN's separate quadratic normal field, made for shading, does not, and rippled the
-// bunny's ears.
+// torus: 21,906 contour cusps with all its samples flat, 6 with all of them on their patches). A sample takes the
+// patch's own normal, which agrees with its position; PN's separate quadratic normal field, made for shading, does not,
+// and rippled the bunny's ears.
 struct PnTriangle {
     Vector3d b[10];  // b300 b030 b003 b210 b120 b021 b012 b102 b201 b111
 
