@@ -37,6 +37,45 @@ size_t inked(const inkwell::Image& image) {
     return n;
 }
 
+// The application's colour image and a host-visible copy of it, for frames a FrameRecorder records.
+struct AppTarget {
+    ink::Context& ctx;
+    uint32_t size;
+    ink::Image image;
+    ink::Buffer readback;
+    AppTarget(ink::Context& c, uint32_t s) : ctx(c), size(s) {
+        image = ink::createImage(ctx, size, size, VK_FORMAT_R8G8B8A8_UNORM,
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                 VK_IMAGE_ASPECT_COLOR_BIT);
+        readback = ink::createBuffer(ctx, VkDeviceSize(size) * size * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     ink::MemoryUse::Readback);
+    }
+    ~AppTarget() {
+        ink::destroyBuffer(ctx, readback);
+        ink::destroyImage(ctx, image);
+    }
+    // Records frame slot `frame` into one command buffer, submits it, waits, and reads the image back.
+    inkwell::Image record(inkwell::FrameRecorder& recorder, const inkwell::Camera& camera, uint32_t frame) {
+        ink::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+            inkwell::FrameTarget t{image.image,
+                                   image.view,
+                                   {size, size},
+                                   VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT};
+            recorder.record(cmd, camera, t, frame);
+            VkBufferImageCopy region{};
+            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.imageExtent = {size, size, 1};
+            vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1, &region);
+            ink::stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                              VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+        });
+        inkwell::Image out{size, size, std::vector<uint8_t>(size_t(size) * size * 4)};
+        std::memcpy(out.rgba.data(), readback.mapped, out.rgba.size());
+        return out;
+    }
+};
+
 }  // namespace
 
 TEST_CASE("api: a fitted sphere evaluates as the sphere, and bad input is an inkwell::Error with a sentence" *
@@ -138,32 +177,12 @@ TEST_CASE("api: an adopted device draws into the application's own image what th
     REQUIRE(inked(offscreen) > 200);
 
     // The application's frame: its image, its command buffer, its submission; two frames in flight.
-    ink::Image target = ink::createImage(gpu.ctx, size, size, VK_FORMAT_R8G8B8A8_UNORM,
-                                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                                         VK_IMAGE_ASPECT_COLOR_BIT);
-    ink::Buffer readback = ink::createBuffer(gpu.ctx, VkDeviceSize(size) * size * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                             ink::MemoryUse::Readback);
-    inkwell::Image recorded{size, size, {}};
+    inkwell::Image recorded;
     {
+        AppTarget target(gpu.ctx, size);
         inkwell::FrameRecorder recorder(drawing, VK_FORMAT_R8G8B8A8_UNORM, 2, look);
         for (uint32_t frame : {0u, 1u}) {
-            ink::submitAndWait(gpu.ctx, [&](VkCommandBuffer cmd) {
-                inkwell::FrameTarget t{target.image,
-                                       target.view,
-                                       {size, size},
-                                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                       VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT};
-                recorder.record(cmd, camera, t, frame);
-                VkBufferImageCopy region{};
-                region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-                region.imageExtent = {size, size, 1};
-                vkCmdCopyImageToBuffer(cmd, target.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1,
-                                       &region);
-                ink::stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                                  VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
-            });
-            recorded.rgba.resize(size_t(size) * size * 4);
-            std::memcpy(recorded.rgba.data(), readback.mapped, recorded.rgba.size());
+            recorded = target.record(recorder, camera, frame);
             CHECK(recorded.rgba == offscreen.rgba);  // the same passes, the same pixels
         }
         CHECK_THROWS_AS(recorder.record(VK_NULL_HANDLE, camera, {}, 2), inkwell::Error);
@@ -175,8 +194,6 @@ TEST_CASE("api: an adopted device draws into the application's own image what th
         CHECK(textA == textB);
         CHECK(textA.find("stroke=\"#1a3399\"") != std::string::npos);  // the ink's colour
     }
-    ink::destroyBuffer(gpu.ctx, readback);
-    ink::destroyImage(gpu.ctx, target);
     // The ink colour came through: the darkest pixel is the ink's.
     uint8_t bluest = 0;
     for (size_t i = 0; i < recorded.rgba.size(); i += 4)
@@ -256,45 +273,6 @@ namespace {
 template <class T>
 concept ExposesImpl = requires(const T& t) {
     t.impl();
-};
-
-// The application's colour image and a host-visible copy of it, for frames a FrameRecorder records.
-struct AppTarget {
-    ink::Context& ctx;
-    uint32_t size;
-    ink::Image image;
-    ink::Buffer readback;
-    AppTarget(ink::Context& c, uint32_t s) : ctx(c), size(s) {
-        image = ink::createImage(ctx, size, size, VK_FORMAT_R8G8B8A8_UNORM,
-                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                                 VK_IMAGE_ASPECT_COLOR_BIT);
-        readback = ink::createBuffer(ctx, VkDeviceSize(size) * size * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                     ink::MemoryUse::Readback);
-    }
-    ~AppTarget() {
-        ink::destroyBuffer(ctx, readback);
-        ink::destroyImage(ctx, image);
-    }
-    // Records frame slot `frame` into one command buffer, submits it, waits, and reads the image back.
-    inkwell::Image record(inkwell::FrameRecorder& recorder, const inkwell::Camera& camera, uint32_t frame) {
-        ink::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-            inkwell::FrameTarget t{image.image,
-                                   image.view,
-                                   {size, size},
-                                   VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT};
-            recorder.record(cmd, camera, t, frame);
-            VkBufferImageCopy region{};
-            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            region.imageExtent = {size, size, 1};
-            vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1, &region);
-            ink::stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                              VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
-        });
-        inkwell::Image out{size, size, std::vector<uint8_t>(size_t(size) * size * 4)};
-        std::memcpy(out.rgba.data(), readback.mapped, out.rgba.size());
-        return out;
-    }
 };
 
 }  // namespace
