@@ -2,6 +2,7 @@
 
 #include "common.h"
 #include "hrbf_io.h"
+#include "io/normals.h"
 #include "surface_sampling.h"
 
 #include <Eigen/Geometry>
@@ -9,7 +10,6 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <unordered_map>
@@ -39,40 +39,22 @@ double typicalSpacing(const std::vector<Eigen::Vector3d>& points) {
     return std::sqrt(area / double(points.size()));
 }
 
-// The mesh with each position kept once (exactly equal coordinates): triangles renumbered, normals summed and
-// normalized (each repeat's, area-weighted from its own side, adds up to the whole vertex's).
+// The mesh with each position kept once (io/normals.h's weld: bit-identical coordinates): triangles renumbered,
+// normals summed and normalized (each repeat's, area-weighted from its own side, adds up to the whole vertex's;
+// repeats whose normals cancel keep the first one's, as the file gave it).
 OrientedPoints weldByPosition(const OrientedPoints& mesh) {
-    struct Key {
-        size_t operator()(const Eigen::Vector3d& p) const {
-            size_t h = 0;
-            for (int k = 0; k < 3; ++k) {
-                uint64_t bits;
-                const double c = p[k] == 0 ? 0.0 : p[k];  // −0 and +0 alike
-                std::memcpy(&bits, &c, sizeof bits);
-                h = h * 0x9e3779b97f4a7c15ull + std::hash<uint64_t>()(bits);
-            }
-            return h;
-        }
-    };
     OrientedPoints out;
-    std::unordered_map<Eigen::Vector3d, uint32_t, Key> index;
-    std::vector<uint32_t> renumber(mesh.positions.size());
+    const std::vector<uint32_t> renumber = io::weld(mesh.positions, out.positions);
+    out.normals.assign(out.positions.size(), Eigen::Vector3d::Zero());
+    for (size_t i = 0; i < mesh.positions.size(); ++i) out.normals[renumber[i]] += mesh.normals[i];
+    std::vector<bool> set(out.normals.size(), false);
     for (size_t i = 0; i < mesh.positions.size(); ++i) {
-        auto [it, added] = index.try_emplace(mesh.positions[i], uint32_t(out.positions.size()));
-        if (added) {
-            out.positions.push_back(mesh.positions[i]);
-            out.normals.push_back(Eigen::Vector3d::Zero());
-        }
-        out.normals[it->second] += mesh.normals[i];
-        renumber[i] = it->second;
+        const uint32_t k = renumber[i];
+        if (set[k]) continue;
+        set[k] = true;
+        const double length = out.normals[k].norm();
+        out.normals[k] = length > 1e-9 ? Eigen::Vector3d(out.normals[k] / length) : mesh.normals[i];
     }
-    for (size_t i = 0; i < out.normals.size(); ++i) {
-        const double length = out.normals[i].norm();
-        // Repeats whose normals cancel: the first one's, as the file gave it.
-        out.normals[i] = length > 1e-9 ? Eigen::Vector3d(out.normals[i] / length) : out.normals[i];
-    }
-    for (size_t i = 0; i < mesh.positions.size(); ++i)
-        if (out.normals[renumber[i]].squaredNorm() == 0) out.normals[renumber[i]] = mesh.normals[i];
     for (const Triangle& t : mesh.triangles) out.triangles.push_back({renumber[t[0]], renumber[t[1]], renumber[t[2]]});
     return out;
 }
