@@ -35,7 +35,7 @@ for node in sorted(edges):
 # CPU-only modules: the loaders, the fit, the plans and CPU references, exports. They must not reach Vulkan
 # (the fuzz build and the ARM64 cross-build of these files need no Vulkan headers).
 cpu_only = [m for m in edges.keys() | set(module(f) for f in files)
-            if m.startswith('io/') or m in ('clean', 'hrbf', 'hrbf_io', 'model', 'refine_plan', 'refine_cpu',
+            if m.startswith('io/') or os.path.basename(m) in ('clean', 'hrbf', 'hrbf_io', 'model', 'refine_plan', 'refine_cpu',
                                             'select_plan', 'select_cpu', 'select_math', 'export', 'spacing',
                                             'image', 'files', 'common', 'points', 'shapes', 'compare', 'vector',
                                             'path_order')]
