@@ -206,6 +206,7 @@ Vector3f tangentDirection(const Surface& hrbf, const PuFloat* pu, const LevelPar
     float k = pc.direction == 1 ? mean - radius : mean + radius;
     Eigen::Vector2f e = std::abs(k - a) + std::abs(b) > std::abs(k - c) + std::abs(b) ? Eigen::Vector2f(b, k - a)
                                                                                       : Eigen::Vector2f(k - c, b);
+    if (e.x() < 0 || (e.x() == 0 && e.y() < 0)) e = -e;  // one sign for the line field, as refine_body.glsl
     return (e.x() * t1 + e.y() * t2).normalized();
 }
 

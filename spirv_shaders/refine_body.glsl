@@ -125,12 +125,16 @@ vec3 tangentDirection(vec3 position, vec3 n, vec3 fallback) {
     float gn = length(gd);
     vec3 t1 = perpendicular(n), t2 = cross(n, t1);
     // Shape operator on the tangent plane (2×2, symmetric) and its eigenvectors.
-    float a = dot(t1, H * t1) / gn, b = dot(t1, H * t2) / gn, c = dot(t2, H * t2) / gn;
-    float mean = 0.5 * (a + c), radius = sqrt(0.25 * (a - c) * (a - c) + b * b);
+    // precise: no fused multiply-adds here, so that every device rounds these as the CPU reference does.
+    precise float a = dot(t1, H * t1) / gn, b = dot(t1, H * t2) / gn, c = dot(t2, H * t2) / gn;
+    precise float mean = 0.5 * (a + c), radius = sqrt(0.25 * (a - c) * (a - c) + b * b);
     if (radius < 1e-6 * (abs(mean) + 1e-6)) return fallback;  // umbilic: no preferred direction
     float k = pc.direction == 1u ? mean - radius : mean + radius;
     // (b, k − a) is an eigenvector of [[a b][b c]] for eigenvalue k unless it vanishes; then (k − c, b).
     vec2 e = abs(k - a) + abs(b) > abs(k - c) + abs(b) ? vec2(b, k - a) : vec2(k - c, b);
+    // The two forms differ in sign by b / (k − a): a device whose rounding picks the other form near a ≈ c would
+    // swap the ± children. One sign for the line field: along +t1 (+t2 when across it).
+    if (e.x < 0.0 || (e.x == 0.0 && e.y < 0.0)) e = -e;
     return normalize(e.x * t1 + e.y * t2);
 }
 
