@@ -1017,6 +1017,7 @@ int runView(Options& o, const ViewOptions& v) {
         Surface surface(session.ctx.instance, window.handle);
         ink::checkPresentSupport(session.ctx, surface.surface);
         Scene scene(session.ctx, o);
+        resolveView(o, scene, float(size.width) / float(size.height));  // R returns to it
         glfwShowWindow(window.handle);
         Viewer viewer(o, v, session.ctx, scene, window.handle, surface.surface);
         result = viewer.run();
