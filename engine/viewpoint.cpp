@@ -3,9 +3,9 @@
 #include "common.h"
 
 #include <Eigen/Eigenvalues>
-#include <glm/gtc/matrix_transform.hpp>
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 
 namespace ink {
@@ -48,7 +48,8 @@ struct AxisProfile {
     // A mirror plane across the axis leaves both ends alike: no skew, equal bases. Gravity makes up and down
     // differ, so such an axis is left and right (an animal's flank to flank), not up.
     bool mirrored() const {
-        return std::abs(skew) < 0.05 && std::abs(baseBelow - baseAbove) <= 0.25 * std::max(baseBelow, baseAbove) + 0.001;
+        return std::abs(skew) < 0.05 &&
+               std::abs(baseBelow - baseAbove) <= 0.25 * std::max(baseBelow, baseAbove) + 0.001;
     }
 };
 
@@ -106,7 +107,8 @@ UpChoice detectUpAxis(const ViewSamples& samples) {
     // lopsided, and nothing in the shape alone told them apart reliably.
     int thinnest = 0;
     solver.eigenvectors().col(0).cwiseAbs().maxCoeff(&thinnest);
-    if (choice.sigma[2] < 0.55f * choice.sigma[1] && !(axes[thinnest].mirrored() && thinnest != 1 && !axes[1].mirrored())) {
+    if (choice.sigma[2] < 0.55f * choice.sigma[1] &&
+        !(axes[thinnest].mirrored() && thinnest != 1 && !axes[1].mirrored())) {
         choice.up = axisOf(thinnest, false);
         choice.reason = "flat: its thinnest axis";
         return choice;
@@ -198,7 +200,8 @@ ViewChoice chooseView(const ViewSamples& samples, UpAxis up) {
     for (int e = 0; e < E; ++e)
         for (int k = 0; k < kViewAzimuths; ++k) {
             const float az = glm::radians(candidateAzimuth(k)), el = glm::radians(kViewElevations[e]);
-            scores[e][k] = scoreView(local, glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)));
+            scores[e][k] =
+                scoreView(local, glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)));
             front += scores[e][k].hidden * glm::vec2(std::sin(az), std::cos(az));
         }
     // The front: where the shape hides the most of itself (limbs, a head, arms before the body), the resultant
@@ -241,7 +244,8 @@ void frameSamples(Camera& camera, const ViewSamples& samples, float aspect, floa
         if (!(reach > 0)) return;
         // Move the target in the image plane to the extent's centre (at the target's depth), then scale.
         const glm::mat3 rotation = glm::transpose(glm::mat3(view));  // view to model
-        camera.target += rotation * glm::vec3(centre.x * camera.distance * t * aspect, centre.y * camera.distance * t, 0);
+        camera.target +=
+            rotation * glm::vec3(centre.x * camera.distance * t * aspect, centre.y * camera.distance * t, 0);
         camera.distance = std::clamp(camera.distance * reach / fill, 0.06f, 99.0f);
     }
 }

@@ -25,8 +25,8 @@ ViewSamples viewSamples(const std::vector<PointRecord>& points, size_t maxCount 
 std::optional<UpAxis> formatUpAxis(const std::string& path);
 struct UpChoice {
     UpAxis up = UpAxis::PosY;
-    std::string reason;               // "flat: its thinnest axis", ... (notes and --stats)
-    float sigma[3] = {0, 0, 0};       // the principal standard deviations, largest first
+    std::string reason;          // "flat: its thinnest axis", ... (notes and --stats)
+    float sigma[3] = {0, 0, 0};  // the principal standard deviations, largest first
 };
 // The up axis of a shape (docs/usage.md, "The first picture"), from the principal axes of the samples (PCA)
 // and how lopsided each coordinate axis is:
@@ -39,7 +39,7 @@ UpChoice detectUpAxis(const ViewSamples& samples);
 
 struct ViewChoice {
     float azimuthDeg = 30.0f, elevationDeg = 15.0f;
-    float score = 0;        // the viewpoint entropy of the choice (bits)
+    float score = 0;         // the viewpoint entropy of the choice (bits)
     float frontDeg = -1.0f;  // the azimuth of the side found to be the front, -1 when none is clear
 };
 // The candidate views: azimuths every 15°, elevations 15° and 30° above the horizon.

@@ -57,11 +57,11 @@ std::vector<Box> spider() {
 }
 // A camel: thin from flank to flank (x), with legs below and a hump above: flat across x, mirrored there.
 std::vector<Box> camel() {
-    return {{{-0.06f, 0.3f, -0.4f}, {0.06f, 0.5f, 0.4f}},     // body
-            {{-0.06f, 0.5f, -0.1f}, {0.06f, 0.62f, 0.1f}},    // hump
-            {{-0.05f, 0.0f, -0.38f}, {0.05f, 0.3f, -0.3f}},   // legs
-            {{-0.05f, 0.0f, 0.3f}, {0.05f, 0.3f, 0.38f}},     //
-            {{-0.05f, 0.5f, 0.4f}, {0.05f, 0.75f, 0.48f}}};   // neck
+    return {{{-0.06f, 0.3f, -0.4f}, {0.06f, 0.5f, 0.4f}},    // body
+            {{-0.06f, 0.5f, -0.1f}, {0.06f, 0.62f, 0.1f}},   // hump
+            {{-0.05f, 0.0f, -0.38f}, {0.05f, 0.3f, -0.3f}},  // legs
+            {{-0.05f, 0.0f, 0.3f}, {0.05f, 0.3f, 0.38f}},    //
+            {{-0.05f, 0.5f, 0.4f}, {0.05f, 0.75f, 0.48f}}};  // neck
 }
 // A figure: a body with a shelf (arms) reaching out in front of it, +z, at chest height; feet below.
 std::vector<Box> figure() {
@@ -119,7 +119,8 @@ TEST_CASE("viewpoint: the chosen view is on the figure's front side, not along i
     }
     // An L extruded along z: seen along z it is an L, along x a rectangle (the foot hides behind the upright).
     // The views along x score lower than the chosen one, which is not along x.
-    const ink::ViewSamples l = boxes({{{0.0f, 0.0f, 0.0f}, {0.15f, 0.8f, 0.3f}}, {{0.15f, 0.0f, 0.0f}, {0.6f, 0.15f, 0.3f}}});
+    const ink::ViewSamples l =
+        boxes({{{0.0f, 0.0f, 0.0f}, {0.15f, 0.8f, 0.3f}}, {{0.15f, 0.0f, 0.0f}, {0.6f, 0.15f, 0.3f}}});
     const ink::ViewChoice v = ink::chooseView(l, ink::UpAxis::PosY);
     CAPTURE(v.azimuthDeg);
     CAPTURE(v.elevationDeg);
