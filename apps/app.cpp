@@ -109,13 +109,19 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--tone", s.toneGamma, "Tone curve exponent γ; 0 draws every front dot")->capture_default_str();
     cmd->add_option("--ink-density", s.inkDensity, "Scales how many dots the tone draws")->capture_default_str();
     cmd->add_option("--light", o.light,
-                    "Direction towards the light, X Y Z as seen from the default camera (x right, y up, z out); "
-                    "it stays fixed to the model")
+                    "Direction towards the key light, X Y Z as seen from the camera (x right, y up, z out; default "
+                    "the upper left, -0.5 0.6 0.65); it follows the camera unless --light-fixed")
         ->expected(3);
-    cmd->add_option("--up", o.up, "The model's up axis, which the camera orbits: x, -x, y, -y, z or -z")
+    cmd->add_option("--up", o.up,
+                    "The model's up axis, which the camera orbits: auto (the file's convention, else the shape's; "
+                    "docs/usage.md), x, -x, y, -y, z or -z")
         ->capture_default_str();
-    cmd->add_flag("--light-follows-camera", s.lightFollowsCamera,
-                  "Keep the light fixed to the camera instead (the shading, and the dots, change as it moves)");
+    auto* fixed = cmd->add_flag("--light-fixed", o.lightFixed,
+                                "Fix the light to the model instead, --light given as seen from azimuth 30, "
+                                "elevation 15 (the shading, and the dots, stay on the model as the camera moves)");
+    cmd->add_flag("--light-follows-camera", o.lightFollows,
+                  "The light follows the camera, keeping the lit side towards the eye (the default)")
+        ->excludes(fixed);
     cmd->add_flag("--hidden-lines", s.hiddenLines, "Draw occluded silhouettes faint");
     cmd->add_option("--hidden-dot-size", s.hiddenSize, "With --hidden-lines: hidden silhouette dot diameter in pixels")
         ->capture_default_str();
@@ -195,6 +201,7 @@ static void applyPreset(Options& o) {
     set(o.render.hiddenPenWidth, p.hiddenContourWidth, "--hidden-contour-width");
     set(o.render.hiddenInk.a, p.hiddenOpacity, "--hidden-opacity");
     set(o.up, p.up, "--up");
+    if (p.lightFixed && !given("--light-fixed") && !given("--light-follows-camera")) o.lightFixed = *p.lightFixed;
     set(o.light, p.light, "--light");
     set(o.refine.levels, p.levels, "--levels");
     o.presetLevels = bool(p.levels);
@@ -289,11 +296,14 @@ void finishOptions(Options& o) {
     o.render.ink = parseColour(o.ink, "ink");
     o.render.paper = parseColour(o.paper, "paper");
     o.render.hiddenInk = glm::vec4(glm::vec3(o.render.ink), o.render.hiddenInk.a);  // --hidden-opacity
-    try {
-        o.render.up = ink::parseUpAxis(o.up);
-    } catch (const ink::Error& e) {
-        throw ink::Error(std::string("--up: ") + e.what());
-    }
+    o.autoUp = o.up == "auto";
+    if (!o.autoUp) try {
+            o.render.up = ink::parseUpAxis(o.up);
+        } catch (const ink::Error& e) {
+            throw ink::Error(std::string("--up: ") + e.what() + " or auto");
+        }
+    if (o.lightFixed && o.lightFollows) throw ink::Error("--light-fixed and --light-follows-camera exclude each other");
+    o.render.lightFollowsCamera = !o.lightFixed;
     if (!o.light.empty()) {
         glm::vec3 l(o.light[0], o.light[1], o.light[2]);
         if (!(glm::length(l) > 0) || !std::isfinite(glm::length(l)))
@@ -391,7 +401,8 @@ Preset presetFrom(const Options& o) {
     p.hiddenContourWidth = o.render.hiddenPenWidth;
     p.hiddenOpacity = o.render.hiddenInk.a;
     p.light = std::vector<float>{o.render.light.x, o.render.light.y, o.render.light.z};
-    p.up = ink::upAxisName(o.render.up);
+    p.up = o.autoUp ? "auto" : ink::upAxisName(o.render.up);
+    p.lightFixed = !o.render.lightFollowsCamera;
     p.contourWidth = o.render.penWidth;
     p.hatchWidth = o.render.hatchWidth;
     p.halo = o.render.haloWidth;
@@ -410,6 +421,8 @@ void loadPreset(Options& o, const std::string& path) {
     t.paper = *now.paper;
     t.up = *now.up;
     t.light = *now.light;
+    t.lightFixed = *now.lightFixed;
+    t.lightFollows = false;
     t.command = nullptr;  // no option counts as given: every key of the file wins
     t.preset = path;
     finishOptions(t);
@@ -418,13 +431,68 @@ void loadPreset(Options& o, const std::string& path) {
 
 ink::Camera cameraFrom(const Options& o) {
     ink::Camera c;
+    if (o.autoView) c = *o.autoView;
     c.up = o.render.up;
     if (o.camera.size() == 3) {
+        c.target = glm::vec3(0);
         c.azimuthDeg = o.camera[0];
         c.elevationDeg = std::clamp(o.camera[1], -89.0f, 89.0f);
         c.distance = o.camera[2];
     }
     return c;
+}
+
+ViewReport resolveView(Options& o, ink::Scene& scene, float aspect) {
+    ViewReport r;
+    const auto start = Clock::now();
+    ink::ViewSamples samples;
+    if (!scene.sets.empty()) samples = ink::viewSamples(ink::readDrawnPoints(scene.ctx, scene.sets.front()->gpu()));
+    if (!o.autoUp) {
+        r.upReason = "--up";
+    } else if (auto convention = ink::formatUpAxis(o.model)) {
+        o.render.up = *convention;
+        r.upReason = "the glTF convention";
+    } else {
+        const ink::UpChoice up = ink::detectUpAxis(samples);
+        o.render.up = up.up;
+        r.upReason = up.reason;
+    }
+    r.up = ink::upAxisName(o.render.up);
+    o.autoView.reset();
+    if (o.camera.empty()) {
+        ink::Camera c;
+        c.up = o.render.up;
+        r.view = ink::chooseView(samples, c.up);
+        c.azimuthDeg = r.view.azimuthDeg;
+        c.elevationDeg = r.view.elevationDeg;
+        ink::frameSamples(c, samples, aspect);
+        o.autoView = c;
+        r.chosen = true;
+        r.distance = c.distance;
+    }
+    r.milliseconds = 1000.0 * secondsSince(start);
+    char text[256];
+    if (r.chosen)
+        std::snprintf(text, sizeof text,
+                      "up %s (%s); view azimuth %.0f, elevation %.0f degrees, distance %.2f (%.0f ms)", r.up.c_str(),
+                      r.upReason.c_str(), r.view.azimuthDeg, r.view.elevationDeg, r.distance, r.milliseconds);
+    else
+        std::snprintf(text, sizeof text, "up %s (%s)", r.up.c_str(), r.upReason.c_str());
+    ink::note(text);
+    return r;
+}
+
+json viewJson(const ViewReport& r) {
+    json j = {{"up", r.up}, {"up_reason", r.upReason}, {"chosen", r.chosen}};
+    if (r.chosen) {
+        j["azimuth_deg"] = r.view.azimuthDeg;
+        j["elevation_deg"] = r.view.elevationDeg;
+        j["entropy_bits"] = r.view.score;
+        j["distance"] = r.distance;
+        if (r.view.frontDeg >= 0) j["front_deg"] = r.view.frontDeg;
+    }
+    j["milliseconds"] = r.milliseconds;
+    return j;
 }
 
 ink::Reporter terminalReporter(bool quiet) {

@@ -8,11 +8,13 @@
 #include "refine.h"
 #include "renderer.h"
 #include "scene.h"
+#include "viewpoint.h"
 
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,7 +53,11 @@ struct Options {
     std::vector<uint32_t> size{1024, 1024};
     std::string ink = "#000000", paper = "#ffffff", preset;
     std::vector<float> light;
-    std::string up = "y";
+    std::string up = "auto";                        // --up: an axis, or auto (resolveView finds it)
+    bool autoUp = true;                             // finishOptions: --up auto
+    bool lightFixed = false, lightFollows = false;  // --light-fixed, --light-follows-camera (the default)
+    // The automatic view resolveView chose (without --camera): angles, distance and target.
+    std::optional<ink::Camera> autoView;
     // Vector output (SVG, PDF)
     ink::PageOptions page;
     std::string pageName = "A4", orientation = "auto", dotStyle = "circle";
@@ -67,7 +73,22 @@ void addRenderOptions(CLI::App* cmd, Options& o);  // style, colours, dots, tone
 void addVectorOptions(CLI::App* cmd, Options& o);  // page, orientation, margin, pen width, dot style, order
 // Validates and resolves what the parser cannot (axis, colours, preset file); throws ink::Error.
 void finishOptions(Options& o);
+// The camera of the options: --camera, else the automatic view resolveView chose, else ink::Camera's defaults;
+// about the up axis.
 ink::Camera cameraFrom(const Options& o);
+
+// The first picture (docs/usage.md): with --up auto, the up axis from the file's convention (glTF: +y) or the
+// shape; without --camera, the view by viewpoint entropy at an illustrator's elevation, framed to fill 85% of
+// the frame. From the scene's first refined set (read back, at most 20,000 of its points). Notes the choice.
+struct ViewReport {
+    std::string up, upReason;  // the axis and why ("--up", "the glTF convention", "flat: its thinnest axis", ...)
+    bool chosen = false;       // the view was chosen (no --camera)
+    ink::ViewChoice view;
+    float distance = 0;
+    double milliseconds = 0;
+};
+ViewReport resolveView(Options& o, ink::Scene& scene, float aspect);  // aspect: width / height
+json viewJson(const ViewReport& r);
 
 // The style as --style names it: the dots (none when RenderStyle::drawDots is off) and the pen lines joined by
 // '+', e.g. "contours+hatching+stipple" is written "stipple+contours+hatching".

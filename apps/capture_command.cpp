@@ -240,6 +240,7 @@ int runCapture(Options& o, const CaptureOptions& c) {
     Session session(o);
     ink::checkOffscreenSize(session.ctx, o.size[0], o.size[1], std::max(1u, o.render.supersample));
     Scene scene(session.ctx, o);
+    const ViewReport view = resolveView(o, scene, float(o.size[0]) / float(o.size[1]));
     const ink::Camera base = cameraFrom(o);
     ordered frames = ordered::array();
     {
@@ -284,6 +285,7 @@ int runCapture(Options& o, const CaptureOptions& c) {
                             {"fit", fitJson(scene.model)},
                             {"refine", {{"seconds", scene.refineSeconds}, {"points", points}}},
                             {"frames", c.frames},
+                            {"view", viewJson(view)},
                             {"seconds", seconds},
                             {"device", session.ctx.properties.deviceName},
                             {"driver", session.ctx.driverInfo}});

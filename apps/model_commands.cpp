@@ -149,6 +149,7 @@ static int runRender(Options& o, const std::vector<std::string>& outputs) {
     Session session(o);
     ink::checkOffscreenSize(session.ctx, o.size[0], o.size[1], std::max(1u, o.render.supersample));
     Scene scene(session.ctx, o);
+    const ViewReport view = resolveView(o, scene, float(o.size[0]) / float(o.size[1]));
     try {
         scene.traceContours(cameraFrom(o));
     } catch (const ink::Error& e) {
@@ -186,6 +187,7 @@ static int runRender(Options& o, const std::vector<std::string>& outputs) {
                   {"fit", fitJson(scene.model)},
                   {"refine", {{"seconds", scene.refineSeconds}, {"points", points}, {"sets", levels}}},
                   {"lines", linesJson(scene)},
+                  {"view", viewJson(view)},
                   {"seconds", secondsSince(start)}};
     if (plot) {
         stats["vector"] = plotJson(*plot);

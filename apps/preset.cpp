@@ -99,7 +99,7 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
         else if (key == "direction")
             p.direction = text(value, name, key, {"axis", "curvature-min", "curvature-max"});
         else if (key == "up")
-            p.up = text(value, name, key, {"x", "-x", "+x", "y", "-y", "+y", "z", "-z", "+z"});
+            p.up = text(value, name, key, {"auto", "x", "-x", "+x", "y", "-y", "+y", "z", "-z", "+z"});
         else if (key == "ink")
             p.ink = colour(value, name, key);
         else if (key == "paper")
@@ -114,7 +114,10 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
             p.tone = ranged(value, name, key, 0, 16, false, false, "[0, 16]");
         else if (key == "ink_density")
             p.inkDensity = ranged(value, name, key, 0, 100, false, false, "[0, 100]");
-        else if (key == "hidden_lines") {
+        else if (key == "light_fixed") {
+            if (!value.is_boolean()) fail(name, key, "must be true or false");
+            p.lightFixed = value.get<bool>();
+        } else if (key == "hidden_lines") {
             if (!value.is_boolean()) fail(name, key, "must be true or false");
             p.hiddenLines = value.get<bool>();
         } else if (key == "hidden_dot_size")
@@ -166,6 +169,7 @@ std::string presetJson(const Preset& p) {
     putNumber("tone", p.tone);
     putNumber("ink_density", p.inkDensity);
     put("hidden_lines", p.hiddenLines);
+    put("light_fixed", p.lightFixed);
     putNumber("hidden_dot_size", p.hiddenDotSize);
     putNumber("hidden_contour_width", p.hiddenContourWidth);
     putNumber("hidden_opacity", p.hiddenOpacity);

@@ -17,6 +17,7 @@ struct Preset {
     std::optional<float> dotSize, silhouetteSize, tau, tone, inkDensity, contourWidth, hatchWidth, halo, hatchSpacing;
     std::optional<uint32_t> hatchFamilies;
     std::optional<bool> hiddenLines;
+    std::optional<bool> lightFixed;  // the light fixed to the model (default: it follows the camera)
     std::optional<float> hiddenDotSize, hiddenContourWidth, hiddenOpacity;
     std::optional<std::vector<float>> light;  // three finite numbers, not all zero
     std::optional<uint32_t> levels, passes;

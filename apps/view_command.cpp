@@ -436,7 +436,8 @@ void Viewer::onKey(int key, int scancode, int action, int mods) {
             while (kOrder[k] != s.up) ++k;
             s.up = kOrder[(k + 1) % 6];
             camera_.up = home_.up = s.up;
-            restyle_ = true;  // the light is fixed to the model as seen from the default camera of this axis
+            o_.autoUp = false;  // chosen: a saved preset keeps it
+            restyle_ = true;    // the light is fixed to the model as seen from the default camera of this axis
             break;
         }
         case GLFW_KEY_S:
@@ -648,6 +649,7 @@ void Viewer::pasteCamera() {
         if (c.up) {
             o_.render.up = ink::parseUpAxis(*c.up);
             home_.up = o_.render.up;
+            o_.autoUp = false;
             restyle_ = true;  // the light is given about the up axis
         }
         camera_.up = o_.render.up;
@@ -699,7 +701,10 @@ void Viewer::buildPanel(double frameMs) {
     PanelActions a = panel_->build(o_, camera_, info);
     if (a.restyle) restyle_ = true;
     if (a.rerefine) rerefine_ = true;
-    if (a.upChanged) camera_.up = home_.up = o_.render.up;
+    if (a.upChanged) {
+        camera_.up = home_.up = o_.render.up;
+        o_.autoUp = false;
+    }
     if (a.resetCamera) camera_ = home_;
     if (a.copyCamera) copyCamera();
     if (a.pasteCamera) pasteCamera();
@@ -1017,6 +1022,10 @@ int runView(Options& o, const ViewOptions& v) {
         Surface surface(session.ctx.instance, window.handle);
         ink::checkPresentSupport(session.ctx, surface.surface);
         Scene scene(session.ctx, o);
+        // For the drawing's part of the window (the panel takes its right side unless --no-panel); R returns to it.
+        const uint32_t drawing =
+            !v.noPanel && size.width > ViewerPanel::kWidth + 16 ? size.width - ViewerPanel::kWidth : size.width;
+        resolveView(o, scene, float(drawing) / float(size.height));
         glfwShowWindow(window.handle);
         Viewer viewer(o, v, session.ctx, scene, window.handle, surface.surface);
         result = viewer.run();

@@ -14,9 +14,11 @@
 #include "scene.h"
 #include "surface_sampling.h"
 #include "vector.h"
+#include "viewpoint.h"
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace inkwell {
 
@@ -33,6 +35,7 @@ ink::Camera toCamera(const Camera& c) {
     camera.distance = c.distance;
     camera.fovyDeg = c.fovyDeg;
     camera.freeOrbit = c.freeOrbit;
+    camera.target = glm::vec3(c.target[0], c.target[1], c.target[2]);
     return camera;
 }
 
@@ -112,6 +115,7 @@ static_assert(int(Up::NegZ) == int(ink::UpAxis::NegZ) && int(Up::Y) == int(ink::
 
 struct Model::Impl {
     ink::Model model;
+    std::optional<ink::UpAxis> convention;  // the file format's up axis (glTF: +y)
 };
 
 namespace {
@@ -125,7 +129,7 @@ ink::ModelOptions toInk(const ModelOptions& o) {
 Model Model::load(const std::string& path, const ModelOptions& options, const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
     ink::checkModelOptions(toInk(options));
-    return Model(std::make_shared<const Impl>(Impl{ink::loadModel(path, toInk(options))}));
+    return Model(std::make_shared<const Impl>(Impl{ink::loadModel(path, toInk(options)), ink::formatUpAxis(path)}));
 }
 
 Model Model::fit(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals, const ModelOptions& options,
@@ -248,7 +252,8 @@ std::vector<Polyline> toPolylines(const std::vector<ink::PenStroke>& strokes, co
 
 struct Drawing::Impl {
     ink::Scene scene;
-    glm::vec3 tracedEye{NAN};  // where the contours on the device were traced from
+    std::optional<ink::UpAxis> convention;  // the model file's up axis
+    glm::vec3 tracedEye{NAN};               // where the contours on the device were traced from
     // Counts refine(), which replaces the sets: a renderer made before draws them again from new descriptors.
     uint64_t generation = 0;
     Impl(ink::Context& ctx, const ink::Model& model, const DrawingOptions& o)
@@ -264,6 +269,37 @@ struct Drawing::Impl {
 Drawing::Drawing(Device& device, const Model& model, const DrawingOptions& options, const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
     impl_ = std::make_unique<Impl>(device.impl_->ctx, model.impl_->model, options);
+    impl_->convention = model.impl_->convention;
+}
+
+Up Drawing::firstUp() const {
+    if (impl_->convention) return Up(int(*impl_->convention));
+    ink::Scene& scene = impl_->scene;
+    if (scene.sets.empty()) return Up::Y;
+    return Up(int(ink::detectUpAxis(ink::viewSamples(ink::readDrawnPoints(scene.ctx, scene.sets[0]->gpu()))).up));
+}
+
+Camera Drawing::firstView(float aspect) const { return firstView(firstUp(), aspect); }
+
+Camera Drawing::firstView(Up up, float aspect) const {
+    if (!(aspect >= 0.01f && aspect <= 100.0f)) throw Error("firstView: aspect must be in [0.01, 100]");
+    ink::Scene& scene = impl_->scene;
+    ink::ViewSamples samples;
+    if (!scene.sets.empty()) samples = ink::viewSamples(ink::readDrawnPoints(scene.ctx, scene.sets[0]->gpu()));
+    ink::Camera c;
+    c.up = ink::UpAxis(int(up));
+    const ink::ViewChoice view = ink::chooseView(samples, c.up);
+    c.azimuthDeg = view.azimuthDeg;
+    c.elevationDeg = view.elevationDeg;
+    ink::frameSamples(c, samples, aspect);
+    Camera out;
+    out.up = up;
+    out.azimuthDeg = c.azimuthDeg;
+    out.elevationDeg = c.elevationDeg;
+    out.distance = c.distance;
+    out.fovyDeg = c.fovyDeg;
+    out.target = {c.target.x, c.target.y, c.target.z};
+    return out;
 }
 
 Drawing::~Drawing() = default;

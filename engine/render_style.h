@@ -18,10 +18,11 @@ struct RenderStyle {
     float tau = 0.1f;          // τ of the silhouette test (report §5)
     bool hiddenLines = false;  // draw occluded silhouettes faint
     bool occlusion = true;     // the splat depth pre-pass; off: every front-facing dot shows
-    // Towards the light, in view space (x right, y up, z to the viewer) as seen from the default camera. The light
-    // stays fixed to the model as the camera moves (so do the dots tone draws), unless it follows the camera.
+    // Towards the key light, in view space (x right, y up, z to the viewer): the upper left. It follows the camera,
+    // so the side facing the eye stays lit as it orbits; fixed to the model instead (lightFollowsCamera false), it
+    // is given as seen from the default camera (azimuth 30°, elevation 15°) and the dots tone draws stay put.
     glm::vec3 light{-0.5f, 0.6f, 0.65f};
-    bool lightFollowsCamera = false;
+    bool lightFollowsCamera = true;
     UpAxis up = UpAxis::PosY;  // the default camera's up axis, which a light fixed to the model is given from
     // Tone: a front dot is drawn when its rank (PointRecord::tone: a selected stipple's rank, a refined point's
     // fixed random value) is below

@@ -382,3 +382,38 @@ TEST_CASE("api: every Look value is checked, with one error naming the field and
     CHECK_THROWS_WITH_AS(ink::checkOffscreenSize(gpu.ctx, 160, 160, 1u << 27), doctest::Contains("is outside 1.."),
                          inkwell::Error);
 }
+
+TEST_CASE("api: firstView finds the bunny's up axis and frames it to fill 85% of the image" *
+          doctest::test_suite("gpu")) {
+    inkwell::ModelOptions few;
+    few.controlPoints = 150;
+    inkwell::Model model = inkwell::Model::load(asset("assets/bunny.obj"), few);
+    inkwell::Device device;
+    inkwell::DrawingOptions options;
+    options.levels = 3;
+    inkwell::Drawing drawing(device, model, options);
+    CHECK(drawing.firstUp() == inkwell::Up::Y);
+    const inkwell::Camera camera = drawing.firstView(1.0f);
+    CHECK(camera.up == inkwell::Up::Y);
+    CHECK((camera.elevationDeg == 15.0f || camera.elevationDeg == 30.0f));
+    CHECK(camera.distance < inkwell::Camera{}.distance);  // nearer than the fixed default: the model fills more
+    // Deterministic, and about a given axis too.
+    const inkwell::Camera again = drawing.firstView(inkwell::Up::Y, 1.0f);
+    CHECK(again.azimuthDeg == camera.azimuthDeg);
+    CHECK(again.distance == camera.distance);
+    CHECK_THROWS_WITH_AS(drawing.firstView(0.0f), "firstView: aspect must be in [0.01, 100]", inkwell::Error);
+    // The rendered ink's bounding box: 80-90% of the image's side.
+    inkwell::Renderer renderer(drawing, 256, 256);
+    const inkwell::Image image = renderer.render(camera);
+    uint32_t x0 = 256, y0 = 256, x1 = 0, y1 = 0;
+    for (uint32_t y = 0; y < 256; ++y)
+        for (uint32_t x = 0; x < 256; ++x)
+            if (image.rgba[(size_t(y) * 256 + x) * 4] < 128) {
+                x0 = std::min(x0, x), x1 = std::max(x1, x);
+                y0 = std::min(y0, y), y1 = std::max(y1, y);
+            }
+    REQUIRE(x1 > x0);
+    const double fill = std::max(x1 - x0 + 1, y1 - y0 + 1) / 256.0;
+    CHECK(fill >= 0.80);
+    CHECK(fill <= 0.90);
+}

@@ -265,7 +265,7 @@ TEST_CASE("cli: --up z stands a z-up model up as the y-up original, also from a 
 
     Run bad = run("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --up w -o " + (dir / "bad.png").string());
     CHECK(bad.status == 1);
-    CHECK(bad.output == "inkwell: --up: up axis 'w' is not one of x, -x, y, -y, z, -z\n");
+    CHECK(bad.output == "inkwell: --up: up axis 'w' is not one of x, -x, y, -y, z, -z or auto\n");
 }
 
 TEST_CASE("cli: the hidden lines' dot size, contour width and opacity take effect, from options and a preset" *

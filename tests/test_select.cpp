@@ -172,7 +172,9 @@ TEST_CASE("select: the dots of a frame stay on the same points when the camera o
     ink::RefineOptions options;
     options.levels = 3;
     Refinement refined(gpu.ctx, bunny.surface, options);
-    ink::OffscreenRenderer renderer(gpu.ctx, 512, 512, ink::RenderStyle{}, {&refined.r});
+    ink::RenderStyle fixedLight;  // the light fixed to the model (--light-fixed): the tone stays put too
+    fixedLight.lightFollowsCamera = false;
+    ink::OffscreenRenderer renderer(gpu.ctx, 512, 512, fixedLight, {&refined.r});
     ink::Camera camera;
     for (float azimuth : {0.0f, 40.0f, 200.0f}) {
         camera.azimuthDeg = azimuth;

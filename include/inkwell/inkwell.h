@@ -189,6 +189,8 @@ struct Polyline {
 
 // A model's point sets on a device: one for Stipple or Direction, two for Both. Made on the device in one
 // submission a set, waited for (0.9 s for the 684-point bunny on lavapipe), then the hatching traced.
+enum class Up;  // below
+
 class Drawing {
 public:
     Drawing(Device& device, const Model& model, const DrawingOptions& options = {}, const Reporter& reporter = {});
@@ -208,6 +210,13 @@ public:
     // (traced for it; empty without DrawingOptions::contours), in pieces that end at its cusps.
     std::vector<Polyline> hatching() const;
     std::vector<Polyline> contours(const Camera& camera) const;
+    // The first picture (docs/library.md), what `inkwell render` shows without --camera and --up: the up axis
+    // (a glTF file's +y, else from the shape of the first set's points), and about it the view with the largest
+    // viewpoint entropy at 15° or 30° above the horizon, framed so the model fills 85% of an image `aspect`
+    // (width / height, [0.01, 100]) wide. A few milliseconds on the CPU besides reading the points back.
+    Up firstUp() const;
+    Camera firstView(float aspect = 1.0f) const;
+    Camera firstView(Up up, float aspect = 1.0f) const;
 
 private:
     struct Impl;
@@ -221,13 +230,17 @@ private:
 // The model's up axis (scans and CAD models are often Z).
 enum class Up { X, NegX, Y, NegY, Z, NegZ };
 
-// An orbit camera around the model's centre.
+// An orbit camera around the model's centre. Its defaults are a fixed three-quarter view; Drawing::firstView
+// chooses one for the model (what `inkwell render` shows by default).
 struct Camera {
     Up up = Up::Y;               // the axis it orbits; a light fixed to the model is given about it too
     float azimuthDeg = 30.0f;    // around the up axis
     float elevationDeg = 15.0f;  // above the horizon, within ±89 (any, with freeOrbit)
     float distance = 1.6f;       // from the centre, in bounding-box diagonals
     float fovyDeg = 40.0f;
+    // The point it orbits and looks at, in bounding-box diagonals from the centre (firstView centres the
+    // model's projection with it).
+    std::array<float, 3> target{0.0f, 0.0f, 0.0f};
     // false: a turntable, the up axis stays up. true: a free orbit that tumbles over the poles, the view's up
     // following the orbit (the viewer's "free" camera).
     bool freeOrbit = false;
@@ -254,10 +267,11 @@ struct Look {
     float hiddenDotSize = 1.4f;
     float hiddenPenWidth = 1.2f;
     float hiddenOpacity = 0.45f;
-    // Towards the light, x right, y up, z to the viewer, as seen from the default camera; fixed to the model
-    // as the camera moves, unless lightFollowsCamera. Finite and not zero.
+    // Towards the key light, x right, y up, z to the viewer: the upper left. It follows the camera (the lit side
+    // stays towards the eye as it orbits); with lightFollowsCamera false it is fixed to the model, given as seen
+    // from the default Camera (azimuth 30°, elevation 15°). Finite and not zero.
     std::array<float, 3> light{-0.5f, 0.6f, 0.65f};
-    bool lightFollowsCamera = false;
+    bool lightFollowsCamera = true;
     uint32_t supersample = 2;  // Renderer only: draw this many times larger and filter down, 1 to 4
 };
 

@@ -1,0 +1,159 @@
+// The first picture (engine/viewpoint.h): the up axis found from the shape, the view by viewpoint entropy, the
+// framing; on generated shapes whose answer is known.
+#include "viewpoint.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+namespace {
+
+// Samples spread evenly over the surface of a union of axis-aligned boxes, `spacing` apart, with outward
+// normals.
+struct Box {
+    glm::vec3 lo, hi;
+};
+ink::ViewSamples boxes(const std::vector<Box>& list, float spacing = 0.01f) {
+    ink::ViewSamples s;
+    for (const Box& b : list)
+        for (int axis = 0; axis < 3; ++axis)
+            for (int side = 0; side < 2; ++side) {
+                const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+                for (float a = b.lo[u] + spacing / 2; a < b.hi[u]; a += spacing)
+                    for (float c = b.lo[v] + spacing / 2; c < b.hi[v]; c += spacing) {
+                        glm::vec3 p, n(0);
+                        p[axis] = side ? b.hi[axis] : b.lo[axis];
+                        p[u] = a;
+                        p[v] = c;
+                        n[axis] = side ? 1.0f : -1.0f;
+                        // Not inside or on another box: the union's surface only.
+                        bool covered = false;
+                        for (const Box& o : list)
+                            covered |= &o != &b && glm::all(glm::greaterThanEqual(p, o.lo - 1e-5f)) &&
+                                       glm::all(glm::lessThanEqual(p, o.hi + 1e-5f));
+                        if (covered) continue;
+                        s.positions.push_back(p);
+                        s.normals.push_back(n);
+                    }
+            }
+    // Centred on the bounding box, as the normalized coordinates are.
+    glm::vec3 lo(1e9f), hi(-1e9f);
+    for (const glm::vec3& p : s.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    for (glm::vec3& p : s.positions) p -= 0.5f * (lo + hi);
+    return s;
+}
+
+// The samples turned so that their y axis points along `up` (upBasis: y-up frame to the model's).
+ink::ViewSamples turned(ink::ViewSamples s, ink::UpAxis up) {
+    const glm::mat3 r = ink::upBasis(up);
+    for (glm::vec3& p : s.positions) p = r * p;
+    for (glm::vec3& n : s.normals) n = r * n;
+    return s;
+}
+
+// A spider: a flat, lopsided shape (a wide thin plate, a body on top of it), y-up.
+std::vector<Box> spider() {
+    return {{{-0.4f, 0.0f, -0.4f}, {0.4f, 0.03f, 0.4f}}, {{-0.12f, 0.03f, -0.15f}, {0.12f, 0.16f, 0.15f}}};
+}
+// A camel: thin from flank to flank (x), with legs below and a hump above: flat across x, mirrored there.
+std::vector<Box> camel() {
+    return {{{-0.06f, 0.3f, -0.4f}, {0.06f, 0.5f, 0.4f}},    // body
+            {{-0.06f, 0.5f, -0.1f}, {0.06f, 0.62f, 0.1f}},   // hump
+            {{-0.05f, 0.0f, -0.38f}, {0.05f, 0.3f, -0.3f}},  // legs
+            {{-0.05f, 0.0f, 0.3f}, {0.05f, 0.3f, 0.38f}},    //
+            {{-0.05f, 0.5f, 0.4f}, {0.05f, 0.75f, 0.48f}}};  // neck
+}
+// A figure: a body with a shelf (arms) reaching out in front of it, +z, at chest height; feet below.
+std::vector<Box> figure() {
+    return {{{-0.15f, 0.2f, -0.1f}, {0.15f, 0.8f, 0.1f}},  // body
+            {{-0.2f, 0.5f, 0.1f}, {0.2f, 0.56f, 0.35f}},   // arms, in front
+            {{-0.12f, 0.0f, -0.06f}, {-0.03f, 0.2f, 0.06f}},
+            {{0.03f, 0.0f, -0.06f}, {0.12f, 0.2f, 0.06f}}};
+}
+
+}  // namespace
+
+TEST_CASE("viewpoint: the up axis of flat shapes is their thinnest, of others y, whichever axis the file uses" *
+          doctest::test_suite("unit")) {
+    for (ink::UpAxis up : {ink::UpAxis::PosX, ink::UpAxis::PosY, ink::UpAxis::PosZ}) {
+        CAPTURE(ink::upAxisName(up));
+        const ink::UpChoice flat = ink::detectUpAxis(turned(boxes(spider()), up));
+        CHECK(flat.up == up);
+        CHECK(flat.reason == "flat: its thinnest axis");
+    }
+    // The camel is thinnest across x, but mirrored there while y is lopsided: y.
+    const ink::UpChoice c = ink::detectUpAxis(boxes(camel()));
+    CHECK(c.sigma[2] < 0.55f * c.sigma[1]);
+    CHECK(c.up == ink::UpAxis::PosY);
+    // An upright figure, y-up: y; stored z-up it is not flat: still y (--up z says otherwise).
+    CHECK(ink::detectUpAxis(boxes(figure())).up == ink::UpAxis::PosY);
+    const ink::UpChoice z = ink::detectUpAxis(turned(boxes(figure()), ink::UpAxis::PosZ));
+    CHECK(z.up == ink::UpAxis::PosY);
+    CHECK(z.reason == "not flat: y");
+    // Too few samples: y.
+    CHECK(ink::detectUpAxis({}).up == ink::UpAxis::PosY);
+    // The file's convention: glTF is +y by its specification; the other formats have none.
+    CHECK(ink::formatUpAxis("a/b/Model.GLB") == ink::UpAxis::PosY);
+    CHECK(ink::formatUpAxis("model.gltf") == ink::UpAxis::PosY);
+    CHECK(!ink::formatUpAxis("model.stl"));
+    CHECK(!ink::formatUpAxis("dir.gltf/model"));
+}
+
+TEST_CASE("viewpoint: the chosen view is on the figure's front side, not along its arms, nor along the L's axis" *
+          doctest::test_suite("unit")) {
+    // The figure's arms reach out in front (+z). The view is within 90° of the side found to be the front (the
+    // side that hides the most of itself; on this box figure the back, where the body hides the arms' top),
+    // never straight along x where the arms vanish into the body.
+    for (ink::UpAxis up : {ink::UpAxis::PosY, ink::UpAxis::PosZ}) {
+        CAPTURE(ink::upAxisName(up));
+        const ink::ViewSamples s = turned(boxes(figure()), up);
+        const ink::ViewChoice v = ink::chooseView(s, up);
+        // A front was found (the figure is lopsided front to back), and the view is on its side of the figure.
+        REQUIRE(v.frontDeg >= 0);
+        CHECK(std::abs(std::remainder(v.azimuthDeg - v.frontDeg, 360.0f)) <= 90.0f);
+        CHECK(std::abs(std::abs(std::remainder(v.azimuthDeg, 360.0f)) - 90.0f) > 10.0f);
+        // Deterministic.
+        const ink::ViewChoice again = ink::chooseView(s, up);
+        CHECK(again.azimuthDeg == v.azimuthDeg);
+        CHECK(again.elevationDeg == v.elevationDeg);
+    }
+    // An L extruded along z: seen along z it is an L, along x a rectangle (the foot hides behind the upright).
+    // The views along x score lower than the chosen one, which is not along x.
+    const ink::ViewSamples l =
+        boxes({{{0.0f, 0.0f, 0.0f}, {0.15f, 0.8f, 0.3f}}, {{0.15f, 0.0f, 0.0f}, {0.6f, 0.15f, 0.3f}}});
+    const ink::ViewChoice v = ink::chooseView(l, ink::UpAxis::PosY);
+    CAPTURE(v.azimuthDeg);
+    CAPTURE(v.elevationDeg);
+    const float az = std::abs(std::remainder(v.azimuthDeg, 180.0f));
+    CHECK(az > 10.0f);
+    CHECK(az < 80.0f);
+    for (float side : {90.0f, 270.0f}) {
+        const float a = glm::radians(side), e = glm::radians(v.elevationDeg);
+        const ink::ViewScore along =
+            ink::scoreView(l, glm::vec3(std::cos(e) * std::sin(a), std::sin(e), std::cos(e) * std::cos(a)));
+        CHECK(along.entropy < v.score);
+    }
+    CHECK(v.elevationDeg >= 15.0f);
+    CHECK(v.elevationDeg <= 30.0f);
+}
+
+TEST_CASE("viewpoint: framing puts the projected extent at 85% of the frame, centred" * doctest::test_suite("unit")) {
+    for (float aspect : {1.0f, 1.5f, 0.6f}) {
+        ink::Camera c;
+        c.azimuthDeg = 40;
+        c.elevationDeg = 25;
+        const ink::ViewSamples s = boxes(camel());
+        ink::frameSamples(c, s, aspect);
+        const glm::mat4 m = c.projection(aspect) * c.view();
+        glm::vec2 lo(1e9f), hi(-1e9f);
+        for (const glm::vec3& p : s.positions) {
+            const glm::vec4 q = m * glm::vec4(p, 1.0f);
+            lo = glm::min(lo, glm::vec2(q) / q.w);
+            hi = glm::max(hi, glm::vec2(q) / q.w);
+        }
+        CAPTURE(aspect);
+        CHECK(std::max(hi.x - lo.x, hi.y - lo.y) / 2 == doctest::Approx(0.85).epsilon(0.01));
+        CHECK(std::abs(hi.x + lo.x) < 0.01f);
+        CHECK(std::abs(hi.y + lo.y) < 0.01f);
+    }
+}
