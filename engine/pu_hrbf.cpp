@@ -2,6 +2,7 @@
 
 #include "clean.h"
 #include "common.h"
+#include "parallel.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -579,6 +580,32 @@ float PuFloat::eval(const Vector3f& x, Vector3f& gradient) const {
     });
     auto far = [&](Vector3f& g, Eigen::Matrix3f* H) { return farField(x, g, H); };
     return blend.finish(tau_, far, gradient, nullptr);
+}
+
+std::vector<Eigen::Vector4f> PuFloat::evalMany(const std::vector<Vector3d>& points) const {
+    const size_t n = points.size(), cells = cellStart_->size() - 1;
+    // A counting sort by cell (the points outside the grid last).
+    std::vector<uint32_t> cellOf(n), start(cells + 2, 0), order(n);
+    for (size_t i = 0; i < n; ++i) {
+        const Vector3f u = (points[i].cast<float>() - origin_) * invCell_;
+        size_t cell = cells;
+        if (u.minCoeff() >= 0.0f && u.x() < float(dims_.x()) && u.y() < float(dims_.y()) && u.z() < float(dims_.z()))
+            cell = size_t(u.x()) + size_t(dims_.x()) * (size_t(u.y()) + size_t(dims_.y()) * size_t(u.z()));
+        cellOf[i] = uint32_t(cell);
+        ++start[cell + 1];
+    }
+    for (size_t c = 0; c <= cells; ++c) start[c + 1] += start[c];
+    for (size_t i = 0; i < n; ++i) order[start[cellOf[i]]++] = uint32_t(i);
+    std::vector<Eigen::Vector4f> out(n);
+    parallelChunks(n, 4096, [&](size_t begin, size_t end, size_t) {
+        for (size_t k = begin; k < end; ++k) {
+            const uint32_t i = order[k];
+            Vector3f g;
+            const float f = eval(points[i].cast<float>(), g);
+            out[i] = Eigen::Vector4f(g.x(), g.y(), g.z(), f);
+        }
+    });
+    return out;
 }
 
 float PuFloat::evalHessian(const Vector3f& x, Vector3f& gradient, Eigen::Matrix3f& hessian) const {
