@@ -1,8 +1,11 @@
 // The partition-of-unity fit (engine/pu_hrbf.h, issue 15): interpolation in float as the device evaluates, the
 // blend's derivatives, the far field, and the .hrbf round trips (text version 2, binary version 3).
+#include "clean.h"
 #include "common.h"
 #include "hrbf_io.h"
 #include "model.h"
+#include "parallel.h"
+#include "points.h"
 #include "pu_hrbf.h"
 #include "shapes.h"
 #include "temp_dir.h"
@@ -267,4 +270,50 @@ TEST_CASE("pu: a version 3 .hrbf file loads as the model the device draws, and s
     CHECK(ink::encodeHrbf(g, ink::HrbfFormat::Binary) == g3);
     CHECK(ink::parseHrbf(ink::encodeHrbf(global.surface, ink::HrbfFormat::Text), "g1.hrbf").global.beta ==
           global.surface.global.beta);
+}
+
+TEST_CASE("pu: the fit is the same on one thread and on several" * doctest::test_suite("unit")) {
+    // The patches, their supports, the seeds and the figures: everything the file holds, bit for bit.
+    ink::OrientedPoints bunny = ink::loadPoints(kBunny);
+    auto fitOn = [&](unsigned threads) {
+        ink::setWorkerThreads(threads);
+        ink::Model m = ink::fitModel(bunny, {});
+        ink::setWorkerThreads(0);
+        return std::make_pair(ink::encodeHrbf(m.surface, ink::HrbfFormat::Text), m.fit.maxDistance);
+    };
+    const auto one = fitOn(1), three = fitOn(3);
+    CHECK(one.first.size() > 1000000);  // the bunny with its face samples: thousands of patches
+    CHECK(one.first == three.first);
+    CHECK(one.second == three.second);
+
+    // Farthest-point sampling splits a large set over the threads: the same picks as a plain loop.
+    std::vector<Vector3d> points;
+    uint64_t state = 7;
+    auto next = [&] {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return double(state >> 11) * 0x1.0p-53;
+    };
+    for (int i = 0; i < 70000; ++i) points.emplace_back(next(), next(), next());
+    points.push_back(points[123]);  // a tie
+    std::vector<size_t> expected{0};
+    for (size_t i = 1; i < points.size(); ++i)
+        if (std::tie(points[i].x(), points[i].y(), points[i].z()) <
+            std::tie(points[expected[0]].x(), points[expected[0]].y(), points[expected[0]].z()))
+            expected[0] = i;
+    std::vector<double> distance(points.size(), INFINITY);
+    while (expected.size() < 40) {
+        const Vector3d at = points[expected.back()];
+        distance[expected.back()] = -1;
+        size_t best = 0;
+        double bestDistance = -1;
+        for (size_t i = 0; i < points.size(); ++i) {
+            if (distance[i] < 0) continue;
+            distance[i] = std::min(distance[i], (points[i] - at).squaredNorm());
+            if (distance[i] > bestDistance) bestDistance = distance[i], best = i;
+        }
+        expected.push_back(best);
+    }
+    ink::setWorkerThreads(3);
+    CHECK(ink::farthestPointSample(points, 40) == expected);
+    ink::setWorkerThreads(0);
 }
