@@ -246,7 +246,7 @@ FitStats checkConsistent(const Surface& model, const std::string& name) {
         const std::vector<Eigen::Vector4f> values = PuFloat(model.pu).evalMany(model.centers);
         struct Chunk {
             size_t overflow = SIZE_MAX, badNormal = SIZE_MAX, mismatch = SIZE_MAX;
-            double mismatchValue = 0, maxDistance = 0, maxAngle = 0;
+            double mismatchValue = 0, maxDistance = 0, maxAngle = 0, sumDistance = 0;
         };
         std::vector<Chunk> chunks(64);
         const size_t used = parallelChunks(model.size(), 4096, [&](size_t begin, size_t end, size_t k) {
@@ -263,7 +263,9 @@ FitStats checkConsistent(const Surface& model, const std::string& name) {
                     continue;
                 }
                 const double gn = g.norm();
-                c.maxDistance = std::max(c.maxDistance, gn > 0 ? std::abs(f) / gn : INFINITY);
+                const double distance = gn > 0 ? std::abs(f) / gn : INFINITY;
+                c.maxDistance = std::max(c.maxDistance, distance);
+                c.sumDistance += distance;
                 c.maxAngle = std::max(c.maxAngle, std::atan2(g.cross(n).norm(), g.dot(n)) * 180.0 / M_PI);
                 const double mismatch = (g - n).norm() / n.norm();
                 if (!(mismatch <= kMaxLoadedGradientMismatch) && c.mismatch == SIZE_MAX)
@@ -280,7 +282,9 @@ FitStats checkConsistent(const Surface& model, const std::string& name) {
             if (c.mismatch < firstMismatch) firstMismatch = c.mismatch, mismatchValue = c.mismatchValue;
             stats.maxDistance = std::max(stats.maxDistance, c.maxDistance);
             stats.maxNormalAngleDeg = std::max(stats.maxNormalAngleDeg, c.maxAngle);
+            stats.meanDistance += c.sumDistance;
         }
+        stats.meanDistance /= double(std::max<size_t>(1, model.size()));
         if (first != SIZE_MAX) firstIsNormal ? badNormal(first) : overflow(first);
     }
     if (!(stats.maxDistance <= kMaxLoadedDistance))

@@ -340,7 +340,13 @@ Model loadModel(const std::string& path, const ModelOptions& options) {
         model.inputPoints = model.surface.size();
         model.loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         model.fit = measured;  // measureFit's figures; relativeResidual and seconds stay 0: nothing was solved
-        measureInputs(model, model.surface.centers, model.surface.normals);
+        if (model.surface.method == FitMethod::PartitionOfUnity) {  // the inputs are the centres: measured already
+            model.inputMaxDistance = measured.maxDistance;
+            model.inputMaxAngleDeg = measured.maxNormalAngleDeg;
+            model.inputMeanDistance = measured.meanDistance;
+        } else {
+            measureInputs(model, model.surface.centers, model.surface.normals);
+        }
         return model;
     }
     OrientedPoints points = loadPoints(path);
