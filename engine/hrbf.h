@@ -46,6 +46,7 @@ struct FitStats {
     double relativeResidual = 0;   // ‖A x − B‖ / ‖B‖ of eq. 5
     double maxDistance = 0;        // max_i |f(p_i)| / ‖∇f(p_i)‖, normalized units (= fraction of the diagonal)
     double maxNormalAngleDeg = 0;  // max_i ∠(∇f(p_i), n_i)
+    double meanDistance = 0;       // mean_i |f(p_i)| / ‖∇f(p_i)‖ (filled by the .hrbf reader)
 };
 
 // Solves eq. 5 with the linear term (eq. 7–10) for points and unit normals given in normalized

@@ -77,16 +77,15 @@ namespace {
 void measureInputs(Model& model, const std::vector<Eigen::Vector3d>& points,
                    const std::vector<Eigen::Vector3d>& normals) {
     const Surface& s = model.surface;
-    std::unique_ptr<PuFloat> pu;
-    if (s.method == FitMethod::PartitionOfUnity) pu = std::make_unique<PuFloat>(s.pu);
+    std::vector<Eigen::Vector4f> values;
+    if (s.method == FitMethod::PartitionOfUnity) values = PuFloat(s.pu).evalMany(points);
     double sum = 0;
     for (size_t i = 0; i < points.size(); ++i) {
         Eigen::Vector3d g;
         double f;
-        if (pu) {
-            Eigen::Vector3f gf;
-            f = pu->eval(points[i].cast<float>(), gf);
-            g = gf.cast<double>();
+        if (!values.empty()) {
+            f = values[i].w();
+            g = values[i].head<3>().cast<double>();
         } else {
             f = s.eval(points[i], g);
         }
@@ -334,13 +333,20 @@ Model loadModel(const std::string& path, const ModelOptions& options) {
     auto start = std::chrono::steady_clock::now();
     if (isHrbfFile(path)) {
         Model model;
-        model.surface = loadHrbf(path);  // first: a broken file gets one line, not a note and then the error
+        FitStats measured;                          // the reader evaluates the model at its centres anyway
+        model.surface = loadHrbf(path, &measured);  // first: a broken file gets one line, not a note and the error
         if (options.controlPoints)
             note("--control-points is ignored for '" + path + "': a .hrbf model is already fitted");
         model.inputPoints = model.surface.size();
         model.loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        model.fit = measureFit(model.surface);  // relativeResidual and seconds stay 0: nothing was solved
-        measureInputs(model, model.surface.centers, model.surface.normals);
+        model.fit = measured;  // measureFit's figures; relativeResidual and seconds stay 0: nothing was solved
+        if (model.surface.method == FitMethod::PartitionOfUnity) {  // the inputs are the centres: measured already
+            model.inputMaxDistance = measured.maxDistance;
+            model.inputMaxAngleDeg = measured.maxNormalAngleDeg;
+            model.inputMeanDistance = measured.meanDistance;
+        } else {
+            measureInputs(model, model.surface.centers, model.surface.normals);
+        }
         return model;
     }
     OrientedPoints points = loadPoints(path);

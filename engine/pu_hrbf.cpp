@@ -2,6 +2,7 @@
 
 #include "clean.h"
 #include "common.h"
+#include "parallel.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -385,22 +386,40 @@ PuHrbf fitPuHrbf(const std::vector<Vector3d>& points, const std::vector<Vector3d
         std::vector<uint32_t> points;
     };
     std::vector<Support> supports;
-    std::vector<uint32_t> found;
     const size_t minPatch = std::min(options.minPatch, n);
-    for (size_t k = 0; k < tree.nodes.size(); ++k) {
-        const Octree::Node node = tree.nodes[k];
-        if (node.child >= 0 || node.begin == node.end) continue;
-        double radius = options.overlap * node.half * std::sqrt(3.0);
-        tree.ball(node.center, radius, found);
-        if (found.size() > options.maxPatch && node.depth < 24) {
-            tree.split(k);  // its children come later in the loop
-            continue;
+    // In rounds: the leaves' balls on all threads (the tree is only read), then, in node order, the leaves whose
+    // support holds too many points split (their children are the next round's) and the others become patches.
+    // The same supports in the same order as one pass over the nodes: children always came after every node
+    // before them, and a ball's points are sorted whatever the tree's shape.
+    for (size_t from = 0; from < tree.nodes.size();) {
+        const size_t to = tree.nodes.size();
+        std::vector<Support> round(to - from);
+        std::vector<char> split(to - from, 0);
+        parallelChunks(to - from, 256, [&](size_t begin, size_t end, size_t) {
+            for (size_t r = begin; r < end; ++r) {
+                const Octree::Node& node = tree.nodes[from + r];
+                if (node.child >= 0 || node.begin == node.end) continue;
+                double radius = options.overlap * node.half * std::sqrt(3.0);
+                std::vector<uint32_t> found;
+                tree.ball(node.center, radius, found);
+                if (found.size() > options.maxPatch && node.depth < 24) {
+                    split[r] = 1;
+                    continue;
+                }
+                while (found.size() < minPatch) {
+                    radius *= 1.25;
+                    tree.ball(node.center, radius, found);
+                }
+                round[r] = {node.center, radius, std::move(found)};
+            }
+        });
+        for (size_t r = 0; r < to - from; ++r) {
+            if (split[r])
+                tree.split(from + r);
+            else if (!round[r].points.empty())
+                supports.push_back(std::move(round[r]));
         }
-        while (found.size() < minPatch) {
-            radius *= 1.25;
-            tree.ball(node.center, radius, found);
-        }
-        supports.push_back({node.center, radius, found});
+        from = to;
     }
 
     PuHrbf model;
@@ -448,7 +467,7 @@ PuHrbf fitPuHrbf(const std::vector<Vector3d>& points, const std::vector<Vector3d
     };
     {
         Progress progress("fit", supports.size());
-        unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+        unsigned threads = workerThreads();
         std::vector<std::thread> pool;
         for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, nullptr);
         work(&progress);
@@ -579,6 +598,32 @@ float PuFloat::eval(const Vector3f& x, Vector3f& gradient) const {
     });
     auto far = [&](Vector3f& g, Eigen::Matrix3f* H) { return farField(x, g, H); };
     return blend.finish(tau_, far, gradient, nullptr);
+}
+
+std::vector<Eigen::Vector4f> PuFloat::evalMany(const std::vector<Vector3d>& points) const {
+    const size_t n = points.size(), cells = cellStart_->size() - 1;
+    // A counting sort by cell (the points outside the grid last).
+    std::vector<uint32_t> cellOf(n), start(cells + 2, 0), order(n);
+    for (size_t i = 0; i < n; ++i) {
+        const Vector3f u = (points[i].cast<float>() - origin_) * invCell_;
+        size_t cell = cells;
+        if (u.minCoeff() >= 0.0f && u.x() < float(dims_.x()) && u.y() < float(dims_.y()) && u.z() < float(dims_.z()))
+            cell = size_t(u.x()) + size_t(dims_.x()) * (size_t(u.y()) + size_t(dims_.y()) * size_t(u.z()));
+        cellOf[i] = uint32_t(cell);
+        ++start[cell + 1];
+    }
+    for (size_t c = 0; c <= cells; ++c) start[c + 1] += start[c];
+    for (size_t i = 0; i < n; ++i) order[start[cellOf[i]]++] = uint32_t(i);
+    std::vector<Eigen::Vector4f> out(n);
+    parallelChunks(n, 4096, [&](size_t begin, size_t end, size_t) {
+        for (size_t k = begin; k < end; ++k) {
+            const uint32_t i = order[k];
+            Vector3f g;
+            const float f = eval(points[i].cast<float>(), g);
+            out[i] = Eigen::Vector4f(g.x(), g.y(), g.z(), f);
+        }
+    });
+    return out;
 }
 
 float PuFloat::evalHessian(const Vector3f& x, Vector3f& gradient, Eigen::Matrix3f& hessian) const {

@@ -19,11 +19,10 @@ FitStats measureFit(const Surface& surface) {
     if (surface.method == FitMethod::Global) return measureFit(surface.global);
     FitStats stats;
     stats.controlPoints = surface.size();
-    const PuFloat pu(surface.pu);
+    const std::vector<Eigen::Vector4f> values = PuFloat(surface.pu).evalMany(surface.centers);
     for (size_t i = 0; i < surface.size(); ++i) {
-        Eigen::Vector3f gf;
-        double f = pu.eval(surface.centers[i].cast<float>(), gf);
-        Eigen::Vector3d g = gf.cast<double>();
+        double f = values[i].w();
+        Eigen::Vector3d g = values[i].head<3>().cast<double>();
         double gn = g.norm();
         stats.maxDistance = std::max(stats.maxDistance, gn > 0 ? std::abs(f) / gn : INFINITY);
         if (i < surface.normals.size()) {

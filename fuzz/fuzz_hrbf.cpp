@@ -1,6 +1,6 @@
-// libFuzzer target: ink::parseHrbf, the .hrbf model reader. See docs/robustness.md. ink::Error is the
-// reader's answer to bad input; anything else (another exception, a crash, a sanitizer report, a hang, a
-// huge allocation, a model that breaks what the reader promises) is a finding.
+// libFuzzer target: ink::parseHrbf, the .hrbf model reader (text versions 1 and 2, binary version 3). See
+// docs/robustness.md. ink::Error is the reader's answer to bad input; anything else (another exception, a crash, a
+// sanitizer report, a hang, a huge allocation, a model that breaks what the reader promises) is a finding.
 #include "common.h"
 #include "hrbf_io.h"
 #include "model.h"
@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
 namespace {
@@ -20,17 +21,15 @@ namespace {
     std::abort();
 }
 
-}  // namespace
-
-extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-    std::string bytes(reinterpret_cast<const char*>(data), size);
+// One parse and the promises of what it returns.
+void check(const std::string& bytes) {
     ink::Surface m;
     try {
         m = ink::parseHrbf(bytes, "fuzz.hrbf");
     } catch (const ink::Error& e) {
         std::string message = e.what();
         if (message.empty() || message.find('\n') != std::string::npos) broken("an error message is not one line");
-        return 0;
+        return;
     }
     const size_t n = m.size();
     if (n < 2) broken("fewer than 2 points");
@@ -59,6 +58,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         for (const ink::PuNode& node : m.pu.nodes)
             if (!node.p.allFinite() || !std::isfinite(node.alpha) || !node.beta.allFinite())
                 broken("a node is not finite");
+    }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    std::string bytes(reinterpret_cast<const char*>(data), size);
+    check(bytes);
+    // A binary (version 3) input again with its checksum made right, so that mutations reach the checks behind it
+    // (a hostile file can carry a valid checksum).
+    if (bytes.size() >= ink::kHrbf3ChecksumOffset + 4 && bytes.compare(0, 8, ink::kHrbf3Magic) == 0) {
+        std::memset(bytes.data() + ink::kHrbf3ChecksumOffset, 0, 4);
+        const uint32_t crc = ink::crc32c(bytes);
+        std::memcpy(bytes.data() + ink::kHrbf3ChecksumOffset, &crc, 4);
+        check(bytes);
     }
     return 0;
 }

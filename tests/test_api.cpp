@@ -125,7 +125,8 @@ TEST_CASE("api: notes reach the Reporter, and nothing else is said" * doctest::t
     model.save(path);
     inkwell::Model loaded = inkwell::Model::load(path, options, reporter);
     CHECK(loaded.report().controlPoints == 200);
-    CHECK(loaded.value({0, 0.1, 0}) == model.value({0, 0.1, 0}));
+    // The .hrbf file holds the partition of unity in float, as the device draws it: the value moves by rounding.
+    CHECK(loaded.value({0, 0.1, 0}) == doctest::Approx(model.value({0, 0.1, 0})).epsilon(1e-5));
     REQUIRE(!notes.empty());
     CHECK(notes.back().find("ignored") != std::string::npos);
 }

@@ -1,8 +1,11 @@
 // The partition-of-unity fit (engine/pu_hrbf.h, issue 15): interpolation in float as the device evaluates, the
-// blend's derivatives, the far field, and the .hrbf version 2 round trip.
+// blend's derivatives, the far field, and the .hrbf round trips (text version 2, binary version 3).
+#include "clean.h"
 #include "common.h"
 #include "hrbf_io.h"
 #include "model.h"
+#include "parallel.h"
+#include "points.h"
 #include "pu_hrbf.h"
 #include "shapes.h"
 #include "temp_dir.h"
@@ -106,7 +109,7 @@ TEST_CASE("pu: a version 2 .hrbf file round-trips bit for bit; version 1 files s
     TempDir dir;
     ink::Model fitted = ink::loadModel(kBunny, {800});
     std::string path = dir / "bunny.hrbf";
-    ink::saveHrbf(path, fitted.surface);
+    ink::saveHrbf(path, fitted.surface, ink::HrbfFormat::Text);
     std::string text = ink::readFileCapped(path, 1 << 30, "too big");
     CHECK(text.rfind("inkwell-hrbf 2\n", 0) == 0);
     ink::Model loaded = ink::loadModel(path, {});
@@ -125,7 +128,7 @@ TEST_CASE("pu: a version 2 .hrbf file round-trips bit for bit; version 1 files s
     }
     // Saving the loaded model again gives the same bytes.
     std::string again = dir / "again.hrbf";
-    ink::saveHrbf(again, b);
+    ink::saveHrbf(again, b, ink::HrbfFormat::Text);
     CHECK(ink::readFileCapped(again, 1 << 30, "too big") == text);
 
     // A spoilt version 2 file: one line naming the problem.
@@ -162,4 +165,155 @@ TEST_CASE("pu: the seam figure is small on consistent data, and the roughness fi
     const ink::PuSeams& b = ink::fitModel(tilted, {}).patches.seams;
     INFO("tilted: roughness " << b.roughnessMedian << " / " << b.roughnessP95);
     CHECK(b.roughnessMedian > 3 * a.roughnessMedian);
+}
+
+TEST_CASE("pu: a version 3 .hrbf file loads as the model the device draws, and saves again to the same bytes" *
+          doctest::test_suite("unit")) {
+    CHECK(ink::crc32c("123456789") == 0xE3069283u);  // CRC-32C's check value
+    CHECK(ink::crc32c("6789", ink::crc32c("12345")) == 0xE3069283u);
+    TempDir dir;
+    ink::Model fitted = ink::loadModel(kBunny, {800});
+    const ink::Surface& a = fitted.surface;
+    std::string path = dir / "bunny.hrbf";
+    ink::saveHrbf(path, a);  // binary by default
+    const std::string bytes = ink::readFileCapped(path, 1 << 30, "too big");
+    REQUIRE(bytes.size() >= 128);
+    CHECK(bytes.compare(0, 8, ink::kHrbf3Magic) == 0);
+    CHECK(bytes.size() % 64 == 0);
+    // Far smaller than the text: 28 bytes a node, 24 a point, 34 a patch.
+    const size_t textBytes = ink::encodeHrbf(a, ink::HrbfFormat::Text).size();
+    CHECK(bytes.size() * 4 < textBytes);
+
+    ink::Model loaded = ink::loadModel(path, {});
+    const ink::Surface& b = loaded.surface;
+    REQUIRE(b.method == ink::FitMethod::PartitionOfUnity);
+    REQUIRE(b.size() == a.size());
+    REQUIRE(b.pu.patches.size() == a.pu.patches.size());
+    REQUIRE(b.pu.nodes.size() == a.pu.nodes.size());
+    CHECK(b.seeds == a.seeds);                      // stored, not chosen again
+    CHECK(b.pu.coarse.alpha == a.pu.coarse.alpha);  // the far field in double
+    // The float evaluation, what the device draws, is the same bit for bit; so are the fit's figures.
+    ink::PuFloat fa(a.pu), fb(b.pu);
+    for (double u : {-0.4, -0.1, 0.0, 0.23, 0.5}) {
+        Eigen::Vector3f x(float(u), float(0.3 * u - 0.05), float(0.1 - u)), ga, gb;
+        float va = fa.eval(x, ga), vb = fb.eval(x, gb);
+        CHECK(std::memcmp(&va, &vb, sizeof va) == 0);
+        CHECK(ga == gb);
+    }
+    CHECK(loaded.fit.maxDistance == fitted.fit.maxDistance);
+    CHECK(std::abs(loaded.fit.maxNormalAngleDeg - fitted.fit.maxNormalAngleDeg) < 1e-5);  // normals in float
+    // The double model moved by float rounding only.
+    for (size_t j = 0; j < a.size(); j += 37) CHECK(std::abs(b.f(a.centers[j])) < 1e-6);
+    // Saving the loaded model again gives the same bytes.
+    CHECK(ink::encodeHrbf(b, ink::HrbfFormat::Binary) == bytes);
+
+    // Hostile or damaged files: one line naming the problem.
+    auto refused = [&](const std::string& file, const std::string& message) {
+        CHECK_THROWS_WITH_AS(ink::parseHrbf(file, "m.hrbf"), doctest::Contains(message.c_str()), ink::Error);
+    };
+    refused(bytes.substr(0, 100), "m.hrbf: truncated: 100 bytes, shorter than the 128-byte version 3 header");
+    refused(bytes.substr(0, bytes.size() - 64), "(truncated)");
+    std::string flipped = bytes;
+    flipped[bytes.size() / 2] ^= 0x10;
+    refused(flipped, "m.hrbf: checksum mismatch");
+    // Counts and values that the checksum would not stop (a file written to deceive): refused all the same.
+    auto sealed = [](std::string file) {
+        std::memset(file.data() + ink::kHrbf3ChecksumOffset, 0, 4);
+        const uint32_t crc = ink::crc32c(file);
+        std::memcpy(file.data() + ink::kHrbf3ChecksumOffset, &crc, 4);
+        return file;
+    };
+    CHECK_NOTHROW(ink::parseHrbf(sealed(bytes), "m.hrbf"));
+    auto withU32 = [&](size_t at, uint32_t v) {
+        std::string file = bytes;
+        std::memcpy(file.data() + at, &v, 4);
+        return sealed(file);
+    };
+    refused(withU32(8, 4), "unsupported binary version 4");
+    refused(withU32(12, 7), "unknown model kind 7");
+    refused(withU32(32, 0xFFFFFFFFu), "need");  // points: the size does not add up
+    refused(withU32(44, 7), "need");            // nodes
+    refused(withU32(36, 5000), "5000 far-field centres: a model holds 2 to 4000");
+    refused(withU32(48, 0), "0 seeds");
+    // Inside the arrays: a NaN, a node count out of range, a node outside its ball.
+    const uint32_t farField = 256;  // the arrays' offsets (docs/hrbf-format.md)
+    uint32_t counts[6];
+    std::memcpy(counts, bytes.data() + 32, sizeof counts);
+    REQUIRE(counts[1] <= farField);
+    auto up = [](size_t x) { return (x + 63) / 64 * 64; };
+    const size_t patches = up(128 + counts[1] * 80), nodeCounts = up(patches + counts[2] * 32),
+                 nodes = up(nodeCounts + counts[2] * 2);
+    std::string nan = bytes;
+    const float quiet = std::nanf("");
+    std::memcpy(nan.data() + patches + 12, &quiet, 4);
+    refused(sealed(nan), "patch 1: a value is not finite");
+    std::string big = bytes;
+    const uint16_t many = 1025;
+    std::memcpy(big.data() + nodeCounts, &many, 2);
+    refused(sealed(big), "patch 1: 1025 is not a patch's node count");
+    std::string outside = bytes;
+    const float far = 2.0f;
+    std::memcpy(outside.data() + nodes, &far, 4);
+    refused(sealed(outside), "node 1: it lies outside its patch");
+    std::string padded = bytes;
+    padded[nodes - 1] = 1;  // padding after the node counts (they end short of 64 bytes here)
+    if (counts[2] * 2 % 64 != 0) refused(sealed(padded), "non-zero padding");
+
+    // Versions 1 and 2 still read, by content, whatever the name says.
+    std::string text = dir / "text.hrbf";
+    ink::saveHrbf(text, a, ink::HrbfFormat::Text);
+    CHECK(ink::loadHrbf(text).pu.nodes.size() == a.pu.nodes.size());
+    ink::Model global = ink::loadModel(kBunny, {300, ink::FitMethod::Global});
+    const std::string g3 = ink::encodeHrbf(global.surface, ink::HrbfFormat::Binary);
+    ink::Surface g = ink::parseHrbf(g3, "g.hrbf");
+    CHECK(g.global.alpha == global.surface.global.alpha);  // the global fit in double: exact
+    CHECK(ink::encodeHrbf(g, ink::HrbfFormat::Binary) == g3);
+    CHECK(ink::parseHrbf(ink::encodeHrbf(global.surface, ink::HrbfFormat::Text), "g1.hrbf").global.beta ==
+          global.surface.global.beta);
+}
+
+TEST_CASE("pu: the fit is the same on one thread and on several" * doctest::test_suite("unit")) {
+    // The patches, their supports, the seeds and the figures: everything the file holds, bit for bit.
+    ink::OrientedPoints bunny = ink::loadPoints(kBunny);
+    auto fitOn = [&](unsigned threads) {
+        ink::setWorkerThreads(threads);
+        ink::Model m = ink::fitModel(bunny, {});
+        ink::setWorkerThreads(0);
+        return std::make_pair(ink::encodeHrbf(m.surface, ink::HrbfFormat::Text), m.fit.maxDistance);
+    };
+    const auto one = fitOn(1), three = fitOn(3);
+    CHECK(one.first.size() > 1000000);  // the bunny with its face samples: thousands of patches
+    CHECK(one.first == three.first);
+    CHECK(one.second == three.second);
+
+    // Farthest-point sampling splits a large set over the threads: the same picks as a plain loop.
+    std::vector<Vector3d> points;
+    uint64_t state = 7;
+    auto next = [&] {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return double(state >> 11) * 0x1.0p-53;
+    };
+    for (int i = 0; i < 70000; ++i) points.emplace_back(next(), next(), next());
+    points.push_back(points[123]);  // a tie
+    std::vector<size_t> expected{0};
+    for (size_t i = 1; i < points.size(); ++i)
+        if (std::tie(points[i].x(), points[i].y(), points[i].z()) <
+            std::tie(points[expected[0]].x(), points[expected[0]].y(), points[expected[0]].z()))
+            expected[0] = i;
+    std::vector<double> distance(points.size(), INFINITY);
+    while (expected.size() < 40) {
+        const Vector3d at = points[expected.back()];
+        distance[expected.back()] = -1;
+        size_t best = 0;
+        double bestDistance = -1;
+        for (size_t i = 0; i < points.size(); ++i) {
+            if (distance[i] < 0) continue;
+            distance[i] = std::min(distance[i], (points[i] - at).squaredNorm());
+            if (distance[i] > bestDistance) bestDistance = distance[i], best = i;
+        }
+        expected.push_back(best);
+    }
+    ink::setWorkerThreads(3);
+    CHECK(ink::farthestPointSample(points, 40) == expected);
+    ink::setWorkerThreads(0);
 }
