@@ -281,7 +281,6 @@ void finishOptions(Options& o) {
     o.refine.seeds = o.seeds == "grid" ? ink::SeedMode::Grid : ink::SeedMode::ControlPoints;
     o.refine.style = o.sampling == "direction" ? ink::SampleStyle::Direction : ink::SampleStyle::Stipple;
     if (!o.axis.empty()) o.refine.axis = Eigen::Vector3d(o.axis[0], o.axis[1], o.axis[2]);
-    o.lines.hatch.axis = o.refine.axis;
     if (!(o.refine.axis.norm() > 0) || !o.refine.axis.allFinite()) throw ink::Error("--axis must be a non-zero vector");
     o.refine.keepAllLevels = o.keepLevels == "all";
     o.refine.distribution =
