@@ -589,18 +589,21 @@ void printPlot(const ink::Plot& plot) {
 json linesJson(const ink::Scene& scene) {
     const ink::HatchStats& h = scene.hatchStats;
     const ink::ContourStats& c = scene.contourStats;
-    return {
-        {"hatching",
-         {{"strokes", scene.hatching.size()}, {"vertices", h.vertices}, {"length", h.length}, {"seconds", h.seconds}}},
-        {"contours",
-         {{"curves", c.curves},
-          {"closed_curves", c.closedCurves},
-          {"pieces", scene.contours.size()},
-          {"cusps", c.cusps},
-          {"small_loops_dropped", c.smallLoops},
-          {"seeds_tried", c.seedsTried},
-          {"vertices", c.vertices},
-          {"seconds", c.seconds}}}};
+    return {{"hatching",
+             {{"strokes", scene.hatching.size()},
+              {"vertices", h.vertices},
+              {"length", h.length},
+              {"field_seconds", h.fieldSeconds},
+              {"seconds", h.seconds}}},
+            {"contours",
+             {{"curves", c.curves},
+              {"closed_curves", c.closedCurves},
+              {"pieces", scene.contours.size()},
+              {"cusps", c.cusps},
+              {"small_loops_dropped", c.smallLoops},
+              {"seeds_tried", c.seedsTried},
+              {"vertices", c.vertices},
+              {"seconds", c.seconds}}}};
 }
 
 json deviceJson(const ink::Context& ctx) { return {{"device", ctx.properties.deviceName}, {"driver", ctx.driverInfo}}; }

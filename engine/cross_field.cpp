@@ -19,7 +19,7 @@ Vector2d fourthPower(const Vector3d& u, const Vector3d& t1, const Vector3d& t2) 
     const double x = u.dot(t1), y = u.dot(t2), r2 = x * x + y * y;
     if (!(r2 > 1e-30)) return Vector2d::Zero();
     const double c = x * x / r2 - y * y / r2, s = 2 * x * y / r2;  // e^{2iθ}
-    return {c * c - s * s, 2 * c * s};                              // e^{4iθ}
+    return {c * c - s * s, 2 * c * s};                             // e^{4iθ}
 }
 
 namespace {
@@ -226,7 +226,9 @@ CrossField::CrossField(const Surface& surface, const std::vector<SurfaceSample>&
                      [&](uint32_t a, uint32_t b) { return confidence_[a] > confidence_[b]; });
     std::vector<char> reached(m, 0);
     using Item = std::pair<float, uint32_t>;
-    auto lower = [](const Item& a, const Item& b) { return a.first < b.first || (a.first == b.first && a.second > b.second); };
+    auto lower = [](const Item& a, const Item& b) {
+        return a.first < b.first || (a.first == b.first && a.second > b.second);
+    };
     std::priority_queue<Item, std::vector<Item>, decltype(lower)> queue(lower);
     for (uint32_t root : order) {
         if (reached[root]) continue;
@@ -285,7 +287,8 @@ bool CrossField::lookup(const Vector3d& x, const Vector3d& n, const Vector3d& re
             for (int dx = -1; dx <= 1; ++dx) {
                 const Eigen::Array3i q = c + Eigen::Array3i(dx, dy, dz);
                 const uint64_t key = (uint64_t(uint32_t(q.x()) & 0x1FFFFF) << 42) |
-                                     (uint64_t(uint32_t(q.y()) & 0x1FFFFF) << 21) | uint64_t(uint32_t(q.z()) & 0x1FFFFF);
+                                     (uint64_t(uint32_t(q.y()) & 0x1FFFFF) << 21) |
+                                     uint64_t(uint32_t(q.z()) & 0x1FFFFF);
                 auto it = cells_.find(key);
                 if (it == cells_.end()) continue;
                 for (uint32_t j : it->second) {

@@ -25,7 +25,7 @@
 namespace ink {
 
 struct CrossFieldOptions {
-    uint32_t neighbours = 10;  // k of the k-nearest-neighbour graph on every level
+    uint32_t neighbours = 10;                     // k of the k-nearest-neighbour graph on every level
     uint32_t coarseSweeps = 60, fineSweeps = 12;  // on the coarsest level, and on each finer one
     // The length against which |k1 − k2| is judged (normalized units, the diagonal is 1): a cylinder of this radius
     // gets confidence 1/2. Smaller trusts only sharper bends.
@@ -39,13 +39,14 @@ struct CrossFieldOptions {
 class CrossField {
 public:
     CrossField() = default;
-    CrossField(const Surface& surface, const std::vector<SurfaceSample>& samples, const CrossFieldOptions& options = {});
+    CrossField(const Surface& surface, const std::vector<SurfaceSample>& samples,
+               const CrossFieldOptions& options = {});
 
     size_t size() const { return positions_.size(); }
     const std::vector<Eigen::Vector3d>& positions() const { return positions_; }
     const std::vector<Eigen::Vector3d>& normals() const { return normals_; }
     const std::vector<Eigen::Vector3d>& directions() const { return directions_; }  // one of each point's four
-    const std::vector<Eigen::Vector3d>& principal() const { return principal_; }  // largest |k|, the seed
+    const std::vector<Eigen::Vector3d>& principal() const { return principal_; }    // largest |k|, the seed
     // One of each point's four directions chosen consistently over the surface (a comb): grown from the most
     // confident point along its smaller principal curvature, over the neighbour graph, most confident first, each
     // point matched to the one it was reached from. The choices disagree only across a few cuts, in the least

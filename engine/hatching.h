@@ -25,7 +25,7 @@ struct HatchOptions {
 
 struct HatchStats {
     size_t strokes = 0, vertices = 0;
-    double length = 0;       // normalized units
+    double length = 0;        // normalized units
     double fieldSeconds = 0;  // the cross field
     double seconds = 0;       // all of it
 };
