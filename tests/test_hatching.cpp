@@ -75,11 +75,9 @@ TEST_CASE("cross field: on a torus it follows the principal directions, the same
         confidence += a.confidence()[i];
     }
     confidence /= double(a.size());
-    MESSAGE("cross field on the torus: angle to the principal directions, median " << quantile(errors, 0.5)
-                                                                                   << "°, 95% " << quantile(errors, 0.95)
-                                                                                   << "° (seeds: median "
-                                                                                   << quantile(seedErrors, 0.5)
-                                                                                   << "°); mean confidence " << confidence);
+    MESSAGE("cross field on the torus: angle to the principal directions, median "
+            << quantile(errors, 0.5) << "°, 95% " << quantile(errors, 0.95) << "° (seeds: median "
+            << quantile(seedErrors, 0.5) << "°); mean confidence " << confidence);
     CHECK(quantile(errors, 0.5) < 2.0);
     CHECK(quantile(errors, 0.95) < 5.0);
     CHECK(quantile(combErrors, 0.95) < 5.0);
