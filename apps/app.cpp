@@ -288,7 +288,6 @@ void finishOptions(Options& o) {
     o.refine.seeds = o.seeds == "grid" ? ink::SeedMode::Grid : ink::SeedMode::ControlPoints;
     o.refine.style = o.sampling == "direction" ? ink::SampleStyle::Direction : ink::SampleStyle::Stipple;
     if (!o.axis.empty()) o.refine.axis = Eigen::Vector3d(o.axis[0], o.axis[1], o.axis[2]);
-    o.lines.hatch.axis = o.refine.axis;
     if (!(o.refine.axis.norm() > 0) || !o.refine.axis.allFinite()) throw ink::Error("--axis must be a non-zero vector");
     o.refine.keepAllLevels = o.keepLevels == "all";
     o.refine.distribution =
@@ -658,18 +657,21 @@ void printPlot(const ink::Plot& plot) {
 json linesJson(const ink::Scene& scene) {
     const ink::HatchStats& h = scene.hatchStats;
     const ink::ContourStats& c = scene.contourStats;
-    return {
-        {"hatching",
-         {{"strokes", scene.hatching.size()}, {"vertices", h.vertices}, {"length", h.length}, {"seconds", h.seconds}}},
-        {"contours",
-         {{"curves", c.curves},
-          {"closed_curves", c.closedCurves},
-          {"pieces", scene.contours.size()},
-          {"cusps", c.cusps},
-          {"small_loops_dropped", c.smallLoops},
-          {"seeds_tried", c.seedsTried},
-          {"vertices", c.vertices},
-          {"seconds", c.seconds}}}};
+    return {{"hatching",
+             {{"strokes", scene.hatching.size()},
+              {"vertices", h.vertices},
+              {"length", h.length},
+              {"field_seconds", h.fieldSeconds},
+              {"seconds", h.seconds}}},
+            {"contours",
+             {{"curves", c.curves},
+              {"closed_curves", c.closedCurves},
+              {"pieces", scene.contours.size()},
+              {"cusps", c.cusps},
+              {"small_loops_dropped", c.smallLoops},
+              {"seeds_tried", c.seedsTried},
+              {"vertices", c.vertices},
+              {"seconds", c.seconds}}}};
 }
 
 json deviceJson(const ink::Context& ctx) { return {{"device", ctx.properties.deviceName}, {"driver", ctx.driverInfo}}; }

@@ -151,8 +151,7 @@ bool sameRefinement(const ink::RefineOptions& a, const ink::RefineOptions& b) {
 // The pen-line options a change of which needs the lines traced again (the hatching, or the seeds of both).
 bool sameHatching(const ink::LineOptions& a, const ink::LineOptions& b) {
     return a.hatching == b.hatching &&
-           (!a.hatching || (a.hatch.spacing == b.hatch.spacing && a.hatch.families == b.hatch.families &&
-                            a.hatch.axis == b.hatch.axis));
+           (!a.hatching || (a.hatch.spacing == b.hatch.spacing && a.hatch.families == b.hatch.families));
 }
 bool sameLines(const ink::LineOptions& a, const ink::LineOptions& b) {
     return a.contours == b.contours && sameHatching(a, b);

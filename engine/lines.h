@@ -1,7 +1,6 @@
-// Pen lines on the HRBF surface, traced on the CPU in object space (docs/lines.md): the occluding contour as
-// polylines (Bremer & Hughes 1998), and hatching strokes as evenly spaced streamlines of a direction field
-// (Jobard & Lefer 1997; Hertzmann & Zorin 2000). The device decides each frame which pieces show (lines.comp).
-// No Vulkan here.
+// Pen lines on the HRBF surface, traced on the CPU in object space (docs/lines.md): the strokes every kind of line
+// is made of, and the occluding contour as polylines (Bremer & Hughes 1998); hatching is in hatching.h. The device
+// decides each frame which pieces show (lines.comp). No Vulkan here.
 #pragma once
 
 #include "surface.h"
@@ -62,31 +61,5 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Eigen::Vector3d&
 
 // Corrects x onto the contour (f = 0, g = 0) by Newton steps; false when it does not converge.
 bool projectToContour(const Surface& hrbf, const Eigen::Vector3d& eye, Eigen::Vector3d& x);
-
-// ---- Hatching ------------------------------------------------------------------------------------------------
-// The field is the tangent projection of an axis, d = a − (a·n)n, and for the crossing family n × d: smooth
-// everywhere but at the two poles where n ∥ a (strokes end there). docs/lines.md says why not principal directions.
-struct HatchOptions {
-    Eigen::Vector3d axis = Eigen::Vector3d::UnitY();
-    double spacing = 0.007;  // separation of the finest level, normalized units: about 6 pixels at the default view
-    double testRatio = 0.6;  // a stroke stops closer than this × its separation to another (d_test / d_sep)
-    uint32_t families = 2;   // 1: no crossing strokes
-    uint32_t levels = 2;     // level k is traced at spacing · 2^(levels − 1 − k)
-    double minLengthRatio = 3.0;  // strokes shorter than this × their separation are dropped
-};
-
-struct HatchStats {
-    size_t strokes = 0, vertices = 0;
-    double length = 0;  // normalized units
-    double seconds = 0;
-};
-
-// Streamlines of the field on f = 0 (Euler steps of spacing/2, each projected back onto the surface by Newton
-// steps along ∇f), seeded à la Jobard & Lefer: beside every accepted stroke at the separation, then from the
-// samples for what those do not reach; a stroke ends where the field vanishes or turns sharply, where it comes
-// closer than d_test to another stroke of its family (tested against a spatial hash), or where it closes.
-// Families are traced in parallel, each on its own thread.
-std::vector<PenStroke> traceHatching(const Surface& hrbf, const std::vector<SurfaceSample>& samples,
-                                     const HatchOptions& options = {}, HatchStats* stats = nullptr);
 
 }  // namespace ink

@@ -42,6 +42,9 @@ struct RenderStyle {
     // (along, coarse), (along, fine), (across, coarse), (across, fine).
     glm::vec4 hatchThresholds{0.25f, 0.45f, 0.65f, 0.85f};
     float hatchMinFacing = 0.1f;  // hatching where |n·v| is below this is not drawn (foreshortened strokes)
+    // Where the tone and facing would show a hatching stroke over a shorter run than this (a fraction of the image's
+    // shorter side: 40 pixels at 1024²), that run is not drawn: no dashes where a stroke grazes the edge of a tone.
+    float hatchMinRun = 0.04f;
     // How pen lines reach the pixels: antialiased quads in a graphics pipeline (GPUs), or stamped into the
     // coverage bits in compute like the dots (CPU drivers, whose triangle setup is serial); Auto picks by driver.
     enum class LineRaster { Auto, Quads, Stamps } lineRaster = LineRaster::Auto;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "camera.h"
+#include "hatching.h"
 #include "lines.h"
 #include "model.h"
 #include "refine.h"

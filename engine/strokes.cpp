@@ -23,6 +23,9 @@ constexpr uint32_t kTexelsPerSegment = gpu::LINE_TEXELS;
 constexpr VkDeviceSize kSegmentBytes = kTexelsPerSegment * 16;
 constexpr VkDeviceSize kDrawListHeader = 16;  // the draw list's VkDrawIndirectCommand, then the segments
 constexpr float kTaper = 0.02f;               // hatching tapers over this much at each end (model units)
+// Hatching's tone is read from its normals averaged over this much of the stroke either side (model units): a stroke
+// shows or not by the tone of the form it crosses, not by the ripples of the fit, which would cut it into dashes.
+constexpr float kToneWindow = 0.015f;
 using LineStyleBlock = gpu::LineStyle;
 
 float floatOf(uint32_t u) {
@@ -45,11 +48,28 @@ std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, bool hat
             if (!hatching || s.closed) return 1.0f;
             return 0.25f + 0.75f * std::min(1.0f, std::min(arc[i], length - arc[i]) / taper);
         };
-        const uint32_t kind = hatching ? gpu::KIND_HATCH | (s.family & 1u) << 1 | (s.level & 1u) << 2 : 0u;
+        // Box-filtered normals along the stroke (prefix sums over arc length) for hatching's tone and facing.
+        std::vector<Eigen::Vector3f> normals = s.normals;
+        if (hatching && m > 2) {
+            std::vector<Eigen::Vector3f> sum(m + 1, Eigen::Vector3f::Zero());
+            for (size_t i = 0; i < m; ++i) sum[i + 1] = sum[i] + s.normals[i];
+            size_t lo = 0, hi = 0;
+            for (size_t i = 0; i < m; ++i) {
+                while (arc[i] - arc[lo] > kToneWindow) ++lo;
+                while (hi + 1 < m && arc[hi + 1] - arc[i] <= kToneWindow) ++hi;
+                Eigen::Vector3f n = sum[hi + 1] - sum[lo];
+                if (n.norm() > 1e-6f) normals[i] = n.normalized();
+            }
+        }
+        const uint32_t kind0 = hatching ? gpu::KIND_HATCH | (s.family & 1u) << 1 | (s.level & 1u) << 2 : 0u;
         const size_t segments = m - 1 + (s.closed ? 1 : 0);
         for (size_t i = 0; i < segments; ++i) {
+            const uint32_t kind =
+                hatching ? kind0 | uint32_t(std::min<size_t>(i, gpu::HATCH_REACH)) << gpu::HATCH_BEFORE_SHIFT |
+                               uint32_t(std::min<size_t>(segments - 1 - i, gpu::HATCH_REACH)) << gpu::HATCH_AFTER_SHIFT
+                         : 0u;
             size_t j = (i + 1) % m;
-            Eigen::Vector3f n = (s.normals[i] + s.normals[j]).normalized();
+            Eigen::Vector3f n = (normals[i] + normals[j]).normalized();
             const float texels[12] = {s.points[i].x(), s.points[i].y(), s.points[i].z(), width(i),
                                       s.points[j].x(), s.points[j].y(), s.points[j].z(), width(j),
                                       n.x(),           n.y(),           n.z(),           floatOf(kind)};
@@ -171,7 +191,7 @@ void LineRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pix
     b.widths = glm::vec4(s.penWidth, s.hiddenPenWidth, s.hatchWidth, s.haloWidth) * pixelScale;
     b.thresholds = s.hatchThresholds;
     b.light = glm::vec4(shaderLight(s), s.toneGamma);
-    b.tone = glm::vec4(s.inkDensity, s.ambient, s.hatchMinFacing, 0.0f);
+    b.tone = glm::vec4(s.inkDensity, s.ambient, s.hatchMinFacing, s.hatchMinRun);
     b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.hiddenLines ? 1.0f : 0.0f, 0.0f, 0.0f);
     stageBarrier(cmd,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |

@@ -5,8 +5,9 @@
 // - Contours: visible when not behind the surface (tested two push-backs nearer the camera, as silhouette dots
 //   are), else hidden; interior when there is surface on both sides of it in the image (it lies in front of more
 //   surface), which gets the halo.
-// - Hatching: drawn where its surface faces the camera, its tone is dark enough for its family and level, and it
-//   is not behind the surface. The strokes are fixed to the model; only these per-frame decisions change.
+// - Hatching: drawn where its surface faces the camera, its tone is dark enough for its family and level, over a run
+//   of its stroke long enough to read as a stroke (tone.w pixels), and it is not behind the surface. The strokes
+//   are fixed to the model; only these per-frame decisions change.
 // What shows is appended to the draw list (one atomic a subgroup); hidden hatching is dropped.
 #include "lines_common.glsl"
 
@@ -19,6 +20,22 @@ uint depthAt(vec2 pixel) {
 }
 
 vec2 toPixels(vec4 clip) { return (clip.xy / clip.w * 0.5 + 0.5) * cam.viewport.xy; }
+
+// Whether hatching segment `index` faces the camera and its tone is dark enough for its family and level; `pixels`
+// its length in the image.
+bool hatchWanted(uint index, out float pixels) {
+    vec4 t0 = texelFetch(segments, int(3u * index)), t1 = texelFetch(segments, int(3u * index + 1u)),
+         t2 = texelFetch(segments, int(3u * index + 2u));
+    uint kind = floatBitsToUint(t2.w);
+    vec3 a = (cam.view * vec4(t0.xyz, 1.0)).xyz, b = (cam.view * vec4(t1.xyz, 1.0)).xyz;
+    vec3 mid = 0.5 * (a + b), n = mat3(cam.view) * t2.xyz;
+    pixels = -a.z > 1e-6 && -b.z > 1e-6 ? length(toPixels(project(b)) - toPixels(project(a))) : 0.0;
+    float nv = dot(n, -normalize(mid));
+    uint family = (kind >> 1u) & 1u, level = (kind >> 2u) & 1u;
+    float lit = max(0.0, dot(lineStyle.options.x != 0.0 ? t2.xyz : n, lineStyle.light.xyz));
+    float darkness = (lineStyle.tone.y + pow(1.0 - lit, max(lineStyle.light.w, 1e-3))) * lineStyle.tone.x;
+    return nv > lineStyle.tone.z && darkness > lineStyle.thresholds[family * 2u + level];
+}
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -39,11 +56,18 @@ void main() {
     keep = keep && all(greaterThan(hi, vec2(-8.0))) && all(lessThan(lo, cam.viewport.xy + 8.0));
     float width;
     if (hatch) {
-        float nv = dot(n, -normalize(mid));
-        uint family = (kind >> 1u) & 1u, level = (kind >> 2u) & 1u;
-        float lit = max(0.0, dot(lineStyle.options.x != 0.0 ? t2.xyz : n, lineStyle.light.xyz));
-        float darkness = (lineStyle.tone.y + pow(1.0 - lit, max(lineStyle.light.w, 1e-3))) * lineStyle.tone.x;
-        keep = keep && nv > lineStyle.tone.z && darkness > lineStyle.thresholds[family * 2u + level];
+        // Wanted by its tone and facing, and within a run of wanted segments of its stroke at least tone.w of the
+        // image long: walked both ways along the stroke until the run ends or is long enough.
+        const float minRun = lineStyle.tone.w * min(cam.viewport.x, cam.viewport.y);
+        float run;
+        keep = keep && hatchWanted(index, run);
+        uint before = (kind >> HATCH_BEFORE_SHIFT) & HATCH_REACH, after = (kind >> HATCH_AFTER_SHIFT) & HATCH_REACH;
+        float pixels;
+        for (uint k = 1u; keep && k <= before && run < minRun && hatchWanted(index - k, pixels); ++k)
+            run += pixels;
+        for (uint k = 1u; keep && k <= after && run < minRun && hatchWanted(index + k, pixels); ++k)
+            run += pixels;
+        keep = keep && run >= minRun;
         vec4 nearer = project(mid - normalize(mid) * cam.params.x);
         keep = keep && nearer.z / nearer.w <= uintBitsToFloat(depthAt(toPixels(nearer)));
         flags = SEG_VISIBLE;

@@ -39,6 +39,11 @@ INK_CONST uint FAR_DEPTH = 0x7F7FFFFFu;
 
 // Pen lines: a traced segment's kind bits (KIND_HATCH, family << 1, level << 2), and a drawn segment's flags.
 INK_CONST uint KIND_HATCH = 1u;
+// Hatching segments also carry how many segments of their stroke lie before them (bits 8–15) and after them
+// (bits 16–23), each clamped to HATCH_REACH: lines.comp walks along the stroke to measure the run a segment is in.
+INK_CONST uint HATCH_BEFORE_SHIFT = 8u;
+INK_CONST uint HATCH_AFTER_SHIFT = 16u;
+INK_CONST uint HATCH_REACH = 255u;
 INK_CONST uint SEG_VISIBLE = 1u;
 INK_CONST uint SEG_HIDDEN = 2u;
 INK_CONST uint SEG_INTERIOR = 4u;

@@ -9,7 +9,8 @@
 INK_BEGIN
 
 // Traced segments, fixed in object space: LINE_TEXELS RGBA32F texels each, (p0, width factor 0), (p1, width
-// factor 1), (unit normal, kind bits: limits.h's KIND_HATCH, family << 1, level << 2).
+// factor 1), (unit normal, kind bits: limits.h's KIND_HATCH, family << 1, level << 2, and for hatching the segments
+// before and after it in its stroke).
 INK_CONST uint LINE_TEXELS = 3u;
 
 // A segment that shows this frame, in pixels (std430). The draw list is a uvec4 header (VkDrawIndirectCommand: 6
@@ -33,7 +34,9 @@ struct LineStyle {
     vec4 widths;      // pen widths in pixels: contour, hidden contour, hatching; w: halo width beyond the pen
     vec4 thresholds;  // darkness from which each hatching (family, level) shows: (0,0), (0,1), (1,0), (1,1)
     vec4 light;       // xyz: unit direction towards the light (model space, or view space when options.x = 0); w: γ
-    vec4 tone;        // x: ink density, y: ambient darkness, z: |n·v| below which hatching is not drawn
+    vec4 tone;        // x: ink density, y: ambient darkness, z: |n·v| below which hatching is not drawn,
+                      // w: hatching whose tone shows it over a shorter run of its stroke than this fraction of the
+                      // image's shorter side is not drawn
     vec4 options;     // x: 1 when the light is fixed to the model; y: 1 = draw hidden contours
 };
 INK_ASSERT_SIZE(LineStyle, 128);

@@ -1,0 +1,139 @@
+// Hatching (hatching.h) and its cross field (cross_field.h) on a fitted torus, whose principal directions are known:
+// around the axis (the smaller curvature) and around the tube.
+#include "cross_field.h"
+#include "hatching.h"
+#include "model.h"
+#include "shapes.h"
+
+#include <doctest/doctest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+using Eigen::Vector3d;
+
+namespace {
+
+constexpr double kR = 0.3, kr = 0.1;  // torusPoints' default radii (input units), around the z axis
+
+const ink::Model& torus() {
+    static const ink::Model model = ink::fitModel(ink::torusPoints(48, 16, kR, kr), {});
+    return model;
+}
+
+// Samples of the analytic torus in the model's normalized coordinates, and the direction around the axis at each.
+std::vector<ink::SurfaceSample> torusSamples(const ink::Model& m, int nu, int nv, std::vector<Vector3d>* around) {
+    std::vector<ink::SurfaceSample> s;
+    for (int i = 0; i < nu; ++i)
+        for (int j = 0; j < nv; ++j) {
+            double u = 2 * M_PI * (i + 0.5) / nu, v = 2 * M_PI * (j + 0.25) / nv;
+            Vector3d c(std::cos(u), std::sin(u), 0), n = std::cos(v) * c + std::sin(v) * Vector3d::UnitZ();
+            s.push_back({m.surface.frame.toNormalized(kR * c + kr * n), n});
+            if (around) around->push_back(Vector3d(-std::sin(u), std::cos(u), 0));
+        }
+    return s;
+}
+
+// The angle (degrees, 0..45) between a cross {±d, ±n × d} and the nearest of its directions to t.
+double crossAngle(const Vector3d& d, const Vector3d& n, const Vector3d& t) {
+    Vector3d t1 = (t - t.dot(n) * n).normalized();
+    Eigen::Vector2d z = ink::fourthPower(d, t1, n.cross(t1));
+    return std::abs(std::atan2(z.y(), z.x())) / 4 * 180 / M_PI;
+}
+
+double quantile(std::vector<double> v, double q) {
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
+}
+
+}  // namespace
+
+TEST_CASE("cross field: on a torus it follows the principal directions, the same for any number of threads" *
+          doctest::test_suite("unit")) {
+    const ink::Model& m = torus();
+    std::vector<Vector3d> around;
+    const std::vector<ink::SurfaceSample> samples = torusSamples(m, 96, 32, &around);
+    ink::CrossFieldOptions one, four;
+    one.threads = 1;
+    four.threads = 4;
+    const ink::CrossField a(m.surface, samples, one), b(m.surface, samples, four);
+    REQUIRE(a.size() == samples.size());
+    CHECK(a.directions() == b.directions());  // bitwise: Jacobi sweeps read only the last sweep
+    CHECK(a.combed() == b.combed());
+
+    std::vector<double> errors, seedErrors, combErrors;
+    double confidence = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+        const Vector3d& n = a.normals()[i];
+        CHECK(std::abs(a.directions()[i].dot(n)) < 1e-9);  // tangent
+        errors.push_back(crossAngle(a.directions()[i], n, around[i]));
+        seedErrors.push_back(crossAngle(a.principal()[i], n, around[i]));
+        // The comb picks the smaller curvature's direction, around the axis, everywhere (one region, no cut).
+        combErrors.push_back(std::acos(std::min(1.0, std::abs(a.combed()[i].dot(around[i])))) * 180 / M_PI);
+        confidence += a.confidence()[i];
+    }
+    confidence /= double(a.size());
+    MESSAGE("cross field on the torus: angle to the principal directions, median "
+            << quantile(errors, 0.5) << "°, 95% " << quantile(errors, 0.95) << "° (seeds: median "
+            << quantile(seedErrors, 0.5) << "°); mean confidence " << confidence);
+    CHECK(quantile(errors, 0.5) < 2.0);
+    CHECK(quantile(errors, 0.95) < 5.0);
+    CHECK(quantile(combErrors, 0.95) < 5.0);
+    CHECK(confidence > 0.3);
+
+    // Looked up between the points, matched to any reference: still a principal direction, the one nearest it.
+    for (size_t i = 0; i < a.size(); i += 97) {
+        const Vector3d x = samples[i].position, n = a.normals()[i];
+        Vector3d d;
+        double coherence = 0;
+        REQUIRE(a.lookup(x, n, around[i] + 0.3 * n.cross(around[i]), d, &coherence));
+        CHECK(std::abs(d.dot(around[i])) > std::cos(5 * M_PI / 180));
+        CHECK(coherence > 0.9);
+    }
+}
+
+TEST_CASE("hatching: on a torus the strokes are long, evenly spaced rings along the principal directions" *
+          doctest::test_suite("unit")) {
+    const ink::Model& m = torus();
+    const std::vector<ink::SurfaceSample> samples = torusSamples(m, 96, 32, nullptr);
+    ink::HatchOptions options;
+    ink::HatchStats stats;
+    const std::vector<ink::PenStroke> strokes = ink::traceHatching(m.surface, samples, options, &stats);
+    options.field.threads = 1;
+    const std::vector<ink::PenStroke> again = ink::traceHatching(m.surface, samples, options);
+    REQUIRE(again.size() == strokes.size());
+    for (size_t k = 0; k < strokes.size(); ++k) CHECK(again[k].points == strokes[k].points);
+
+    // Family 0 runs around the axis (|t·z| = 0, constant distance from the axis), family 1 around the tube.
+    std::vector<double> lengths[2];
+    size_t closed[2] = {0, 0}, along = 0, segments = 0;
+    const Vector3d axis = Vector3d::UnitZ();
+    for (const ink::PenStroke& s : strokes) {
+        lengths[s.family].push_back(s.length());
+        closed[s.family] += s.closed;
+        for (size_t i = 0; i + 1 < s.points.size(); ++i) {
+            Vector3d p = s.points[i].cast<double>(), t = (s.points[i + 1] - s.points[i]).cast<double>().normalized();
+            Vector3d radial = Vector3d(p.x(), p.y(), 0).normalized(), u = axis.cross(radial);
+            const double c = std::abs(t.dot(u));
+            along += s.family == 0 ? c > std::cos(10 * M_PI / 180) : c < std::sin(10 * M_PI / 180);
+            ++segments;
+        }
+    }
+    REQUIRE(!lengths[0].empty());
+    REQUIRE(!lengths[1].empty());
+    const double share = double(along) / double(segments);
+    MESSAGE("torus hatching: " << stats.strokes << " strokes (" << lengths[0].size() << " around the axis, "
+                               << closed[0] << " closed; " << lengths[1].size() << " around the tube, " << closed[1]
+                               << " closed), median length " << quantile(lengths[0], 0.5) << " and "
+                               << quantile(lengths[1], 0.5) << " (spacing " << options.spacing << "), " << share
+                               << " of segments within 10° of their principal direction, field " << stats.fieldSeconds
+                               << " s of " << stats.seconds << " s");
+    CHECK(share > 0.95);
+    // Whole rings, mostly: the tube's circumference is 2π r = 0.55 of the diagonal (1.15), around the axis from
+    // 2π (R − r) = 1.09 to 2π (R + r) = 2.19 (a ring ends a step short where it meets its own start beside it).
+    CHECK(quantile(lengths[0], 0.5) > 1.0);
+    CHECK(quantile(lengths[1], 0.5) > 0.45);
+    CHECK(stats.strokes == strokes.size());
+}
