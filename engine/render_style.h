@@ -32,7 +32,8 @@ struct RenderStyle {
     float ambient = 0.04f;
     // Screen spacing (docs/algorithm.md): the candidates of a tone are spaced on the page, no two closer than a
     // radius the tone sets, so that tone is even however the surface turns away; off: the rank prefix alone.
-    bool screenSpacing = true;
+    // Off by default until its per-frame cost fits the frame budget (178 ms a frame on lavapipe, docs).
+    bool screenSpacing = false;
     float splatScale = 2.0f;  // splat radius in units of the finest level's ρ
     bool drawDots = true;     // off: the point sets only give the depth the pen lines are tested against
     // Pen lines (strokes.h, docs/lines.md), widths in output pixels.

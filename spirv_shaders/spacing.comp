@@ -55,8 +55,8 @@ void main() {
     if (pass == PASS_CLAIM_KEY) {
         // Rejected when a dot accepted in an earlier round lies within reach, else a candidate for its cell.
         bool covered = false;
-        for (int y = max(c.y - reach, 0); y <= min(c.y + reach, size.y - 1); ++y)
-            for (int x = max(c.x - reach, 0); x <= min(c.x + reach, size.x - 1); ++x) {
+        for (int y = max(c.y - reach, 0); y <= min(c.y + reach, size.y - 1) && !covered; ++y)
+            for (int x = max(c.x - reach, 0); x <= min(c.x + reach, size.x - 1) && !covered; ++x) {
                 uint a = grid[3u * cells + uint(y) * uint(size.x) + uint(x)];
                 if (a != NONE && conflict(d, list.dots[a])) covered = true;
             }
@@ -71,8 +71,8 @@ void main() {
     } else if (grid[2u * cells + cell] == i) {
         // Elected: accepted unless another cell's elected dot of a lower key is within reach.
         bool blocked = false;
-        for (int y = max(c.y - reach, 0); y <= min(c.y + reach, size.y - 1); ++y)
-            for (int x = max(c.x - reach, 0); x <= min(c.x + reach, size.x - 1); ++x) {
+        for (int y = max(c.y - reach, 0); y <= min(c.y + reach, size.y - 1) && !blocked; ++y)
+            for (int x = max(c.x - reach, 0); x <= min(c.x + reach, size.x - 1) && !blocked; ++x) {
                 uint n = uint(y) * uint(size.x) + uint(x);
                 if (n == cell || grid[n] == NONE) continue;
                 if (before(grid[n], grid[cells + n], d.key, point) && conflict(d, list.dots[grid[2u * cells + n]]))

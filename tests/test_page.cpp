@@ -29,6 +29,7 @@ struct EvenTorus {
         style.lightFollowsCamera = true;
         style.toneGamma = 60.0f;
         style.ambient = 0.12f;
+        style.screenSpacing = true;
     }
 };
 
@@ -56,8 +57,10 @@ std::vector<Window> windows(const std::vector<ink::gpu::Dot>& list, uint32_t ext
     std::vector<const ink::gpu::Dot*> drawn, outline;
     for (const auto& d : list) {
         uint32_t cls = (d.cls >> 2) & 3u;
-        if (drawnFront(d)) drawn.push_back(&d);
-        else if (cls == ink::gpu::SILHOUETTE || cls == ink::gpu::HIDDEN || (cls == ink::gpu::FRONT && d.state == ink::gpu::SPACE_FIXED))
+        if (drawnFront(d))
+            drawn.push_back(&d);
+        else if (cls == ink::gpu::SILHOUETTE || cls == ink::gpu::HIDDEN ||
+                 (cls == ink::gpu::FRONT && d.state == ink::gpu::SPACE_FIXED))
             outline.push_back(&d);
     }
     std::vector<Window> out;
@@ -77,7 +80,8 @@ std::vector<Window> windows(const std::vector<ink::gpu::Dot>& list, uint32_t ext
                 if (!inside(d)) continue;
                 double best = INFINITY;
                 for (const ink::gpu::Dot* e : drawn)
-                    if (e != d) best = std::min(best, double(std::hypot(e->pixel.x - d->pixel.x, e->pixel.y - d->pixel.y)));
+                    if (e != d)
+                        best = std::min(best, double(std::hypot(e->pixel.x - d->pixel.x, e->pixel.y - d->pixel.y)));
                 nearest.push_back(best);
             }
             if (nearest.size() < 20) continue;
