@@ -89,7 +89,7 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
         double preprocess = secondsSince(start);
 
         // Frames with the camera moving every frame; the first few warm caches and pipelines up.
-        std::vector<double> frameMs, splatMs, stampMs, inkMs, traceMs;
+        std::vector<double> frameMs, splatMs, spaceMs, stampMs, inkMs, traceMs;
         uint32_t dots = 0;  // drawn in the first timed frame
         ink::Camera camera;
         for (uint32_t i = 0; i < frames + 3; ++i) {
@@ -107,6 +107,7 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
             frameMs.push_back(1000.0 * secondsSince(t));
             ink::PointRenderer::Timings passes = renderer.timings();
             splatMs.push_back(passes.splatMs);
+            spaceMs.push_back(passes.spaceMs);
             stampMs.push_back(passes.stampMs);
             inkMs.push_back(passes.inkMs);
             if (i == 3) dots = renderer.drawnDots();
@@ -140,7 +141,10 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
                {"preprocess_seconds", preprocess},
                {"frame_ms_median", median(frameMs)},
                {"frame_passes_ms_median",
-                {{"splat", median(splatMs)}, {"stamp", median(stampMs)}, {"ink", median(inkMs)}}},
+                {{"splat", median(splatMs)},
+                 {"space", median(spaceMs)},
+                 {"stamp", median(stampMs)},
+                 {"ink", median(inkMs)}}},
                {"fps", 1000.0 / median(frameMs)},
                {"dots_drawn_first_frame", dots},
                {"cpu_refine_seconds", cpuRefine},

@@ -9,6 +9,7 @@
 
 #include "ink.frag.h"
 #include "ink.vert.h"
+#include "spacing.comp.h"
 #include "splat.comp.h"
 #include "stamp.comp.h"
 
@@ -30,7 +31,35 @@ constexpr VkShaderStageFlags kStages =
     VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
 constexpr uint32_t kComputeGroup = gpu::GROUP_SIZE;
 constexpr uint32_t kFarDepth = gpu::FAR_DEPTH;  // FLT_MAX: positive floats order as their bits do
+constexpr uint32_t kTimestamps = 5;             // start, splat, visibility and spacing, stamp, ink
 constexpr float kMaxDotPixels = 64.0f;          // dot diameters are clamped to this (times the pixel scale)
+// The tone curve with screen spacing (docs/algorithm.md): at darkness d the dots are spread to an ink coverage of
+// kCoverage·d (dots of area a, a density of kCoverage·d / a on the page), each kept at least its radius
+// kSpaceRadius / √(density) from every other: with the ranked candidates that leaves about the density asked for
+// (random sequential adsorption, radius r: a maximal density of about 0.70 / r²).
+constexpr float kCoverage = 0.5f;
+constexpr float kSpaceRadius = 0.71f;
+// Candidates per dot asked for: the point set's own density on the screen is only estimated (its surface area
+// over the projected area, n·v and depth), and the spacing needs more candidates than it keeps.
+constexpr float kSupply = 3.0f;
+// The screen spacing's radius at darkness 1 and its grid's cell (a side of at most the smallest radius over
+// √2, so that a cell holds at most one accepted dot), in target pixels; (0, 0) without spacing.
+glm::vec2 spacingRadius(const RenderStyle& s, float pixelScale) {
+    if (!s.screenSpacing || s.toneGamma <= 0.0f || !s.drawDots) return glm::vec2(0.0f);
+    float dotPixels = float(M_PI) * 0.25f * std::pow(s.frontSize * pixelScale, 2.0f);
+    float maxDarkness = (s.ambient + 1.0f) * s.inkDensity;
+    float radius = kSpaceRadius * std::sqrt(dotPixels / kCoverage);
+    // At least √2 pixels at the darkest tone (overlapping dots): a cell at least a pixel.
+    radius = std::max(radius, std::sqrt(2.0f * maxDarkness));
+    float cell = radius / std::sqrt(maxDarkness) / std::sqrt(2.0f);
+    return glm::vec2(radius, 1.0f / cell);
+}
+// The spacing grid's cells for a target: ceil(extent / cell) a side, as spacing.comp computes it.
+uint32_t spacingCells(VkExtent2D extent, float inverseCell) {
+    if (inverseCell <= 0.0f) return 1;
+    return uint32_t(std::ceil(float(extent.width) * inverseCell)) *
+           uint32_t(std::ceil(float(extent.height) * inverseCell));
+}
 // The splat depth grid, a float for every 2×2 pixels, is one storage-buffer binding; coverage is smaller.
 VkDeviceSize depthGridBytes(VkExtent2D extent) {
     return VkDeviceSize((extent.width + 1) / 2) * ((extent.height + 1) / 2) * 4;
@@ -58,18 +87,20 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
             viewInfo.format = VK_FORMAT_R32G32B32A32_SFLOAT;
             viewInfo.range = VK_WHOLE_SIZE;
             sets_.push_back({VK_NULL_HANDLE, splatSpacing(*r), draw[0], draw[2],
-                             r->options.style == SampleStyle::Direction ? "direction" : "stipple"});
+                             r->options.style == SampleStyle::Direction ? "direction" : "stipple",
+                             r->selection ? float(r->selection->plan.areaEstimate) : 0.0f});
             VK_CHECK(vkCreateBufferView(ctx.device, &viewInfo, nullptr, &sets_.back().texels));
         }
         const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
         VkQueryPoolCreateInfo query{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
         query.queryType = VK_QUERY_TYPE_TIMESTAMP;
-        query.queryCount = 4;
+        query.queryCount = kTimestamps;
         for (Frame& f : frames_) {
             f.drawn =
                 createBuffer(ctx, sizeof(kNothingDrawn), storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Device);
             f.depth = createBuffer(ctx, 4, storage, MemoryUse::Device);
             f.coverage = createBuffer(ctx, 4, storage, MemoryUse::Device);
+            f.spaceGrid = createBuffer(ctx, 16, storage, MemoryUse::Device);
             for (const Set& set : sets_)
                 // `DotList`: the indirect dispatch, then up to one `Dot` a point.
                 f.dots.push_back(
@@ -82,6 +113,7 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
         layout_ = createPipelineLayout(ctx, frames_.front().descriptors.front().layout, sizeof(Push), kStages);
         splat_ = createComputePipeline(ctx, layout_, spv_splat_comp);
         stamp_ = createComputePipeline(ctx, layout_, spv_stamp_comp);
+        space_ = createComputePipeline(ctx, layout_, spv_spacing_comp);
         ink_ = createBlendedPipeline(ctx, layout_, colorFormat, spv_ink_vert, spv_ink_frag);
         if (strokes) lines_ = std::make_unique<LineRenderer>(ctx, *strokes, colorFormat, uint32_t(frames_.size()));
     } catch (...) {
@@ -94,19 +126,19 @@ PointRenderer::~PointRenderer() { release(); }
 
 void PointRenderer::release() {
     lines_.reset();
-    for (VkPipeline p : {splat_, stamp_, ink_}) vkDestroyPipeline(ctx_.device, p, nullptr);
+    for (VkPipeline p : {splat_, stamp_, space_, ink_}) vkDestroyPipeline(ctx_.device, p, nullptr);
     vkDestroyPipelineLayout(ctx_.device, layout_, nullptr);
     for (Frame& f : frames_) {
         vkDestroyQueryPool(ctx_.device, f.timestamps, nullptr);
         for (DescriptorSet& d : f.descriptors) destroyDescriptorSet(ctx_, d);
         for (Buffer& b : f.dots) destroyBuffer(ctx_, b);
-        for (Buffer* b : {&f.coverage, &f.depth, &f.drawn}) destroyBuffer(ctx_, *b);
+        for (Buffer* b : {&f.coverage, &f.depth, &f.drawn, &f.spaceGrid}) destroyBuffer(ctx_, *b);
     }
     for (Set& s : sets_) vkDestroyBufferView(ctx_.device, s.texels, nullptr);
     destroyBuffer(ctx_, styleBuffer_);
     frames_.clear();
     sets_.clear();
-    splat_ = stamp_ = ink_ = VK_NULL_HANDLE;
+    splat_ = stamp_ = space_ = ink_ = VK_NULL_HANDLE;
     layout_ = VK_NULL_HANDLE;
 }
 
@@ -122,7 +154,8 @@ void PointRenderer::bindDescriptors(Frame& f) {
                                  {gpu::RENDER_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.depth.buffer},
                                  {gpu::RENDER_POINT_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1,
                                   0, 0, sets_[k].texels},
-                                 {gpu::RENDER_COVERAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.coverage.buffer}},
+                                 {gpu::RENDER_COVERAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.coverage.buffer},
+                                 {gpu::RENDER_SPACE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.spaceGrid.buffer}},
                                 kStages));
 }
 
@@ -134,7 +167,8 @@ void PointRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pi
     b.color[1] = s.hiddenInk;
     b.size = glm::vec4(s.silhouetteSize * pixelScale, s.frontSize * pixelScale, s.hiddenSize * pixelScale, s.tau);
     b.light = glm::vec4(shaderLight(s), s.toneGamma);
-    b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.drawDots ? 0.0f : 1.0f, 0.0f, 0.0f);
+    spacing_ = spacingRadius(s, pixelScale);
+    b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.drawDots ? 0.0f : 1.0f, spacing_.x, spacing_.y);
     b.tone = glm::vec4(s.inkDensity, s.ambient, 1.0f, kMaxDotPixels * pixelScale);
     // A frame still in flight may be reading the block: its reads finish before this write.
     stageBarrier(cmd,
@@ -150,18 +184,22 @@ void PointRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pi
 
 PointRenderer::Push PointRenderer::push(const Set& s, const Camera& camera, VkExtent2D extent) const {
     glm::mat4 p = camera.projection(float(extent.width) / float(extent.height));
-    // Tone: expected dots per pixel where the model faces the camera — half the points are on the visible
-    // side, spread over about the projected bounding sphere (radius ½ in normalized units) — and k keeping
-    // λ·(dot area) ≈ 0.9, so a fully dark region is about 60% ink at any zoom, size and point count.
+    // Tone: expected dots per pixel where the model faces the camera — the set's points over its surface area
+    // when known, else half of them over the projected bounding sphere (radius ½ in normalized units).
     float pixelsPerUnit = std::abs(p[1][1]) * 0.5f * float(extent.height) / camera.distance;
-    float modelPixels = float(M_PI) * 0.25f * pixelsPerUnit * pixelsPerUnit;
+    float points = float(std::max(1u, s.points));
+    float sphereLambda = 0.5f * points / (float(M_PI) * 0.25f * pixelsPerUnit * pixelsPerUnit);
+    float lambda = s.area > 0 ? points / (s.area * pixelsPerUnit * pixelsPerUnit) : sphereLambda;
     float dotPixels = float(M_PI) * 0.25f * std::pow(style_.frontSize * pixelScale_, 2.0f);
-    float lambda = 0.5f * float(std::max(1u, s.points)) / modelPixels;
-    float k = std::min(1.0f, 0.9f / (lambda * dotPixels));
+    // k: with screen spacing, kSupply times the candidates the tone asks for (splat.comp corrects for n·v and
+    // depth); without, λ·(dot area)·k ≈ 0.9, so a fully dark region is about 60% ink at any zoom and point count.
+    float k =
+        spacing_.x > 0 ? kSupply * kCoverage / (dotPixels * lambda) : std::min(1.0f, 0.9f / (sphereLambda * dotPixels));
     float radius = style_.occlusion ? style_.splatScale * s.splatRadius : 0.0f;
     return Push{camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]),
                 glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
-                glm::vec4(radius, radius, k, 0.0f), glm::uvec4(s.points, style_.hiddenLines ? 1u : 0u, s.first, 0u)};
+                glm::vec4(radius, radius, k, camera.distance * camera.distance),
+                glm::uvec4(s.points, style_.hiddenLines ? 1u : 0u, s.first, gpu::PASS_VISIBILITY)};
 }
 
 void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent, uint32_t frame) {
@@ -181,6 +219,16 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
         f.extent = extent;
         bindDescriptors(f);
     }
+    const uint32_t cells = spacingCells(extent, spacing_.y);
+    if (cells > f.spaceCells) {
+        vkDeviceWaitIdle(ctx_.device);
+        destroyBuffer(ctx_, f.spaceGrid);
+        f.spaceGrid =
+            createBuffer(ctx_, VkDeviceSize(cells) * 16,
+                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
+        f.spaceCells = cells;
+        bindDescriptors(f);
+    }
     if (lines_) lines_->sync(frame, f.depth, f.coverage, f.drawn);
     const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     const auto rw = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
@@ -196,26 +244,59 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
     for (const Buffer& dots : f.dots) vkCmdUpdateBuffer(cmd, dots.buffer, 0, sizeof(noDots), noDots);
     if (lines_) lines_->recordReset(cmd, frame);
     stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute, rw);
-    vkCmdResetQueryPool(cmd, f.timestamps, 0, 4);
+    vkCmdResetQueryPool(cmd, f.timestamps, 0, kTimestamps);
     vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, f.timestamps, 0);
 
-    auto bind = [&](size_t k) {
+    auto bind = [&](size_t k, uint32_t pass) {
         Push constants = push(sets_[k], camera, extent);
+        constants.counts.w = pass;
         vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(constants), &constants);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &f.descriptors[k].set, 0, nullptr);
+    };
+    auto passBarrier = [&] {
+        stageBarrier(cmd, compute, rw, compute | indirect, rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
     };
     // Every set splats before any is tested: sets occlude each other.
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, splat_);
     for (size_t k = 0; k < sets_.size(); ++k) {
-        bind(k);
+        bind(k, gpu::PASS_VISIBILITY);
         vkCmdDispatch(cmd, (sets_[k].points + kComputeGroup - 1) / kComputeGroup, 1, 1);
     }
     vkCmdWriteTimestamp2(cmd, compute, f.timestamps, 1);
-    stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, compute | indirect,
-                 rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+    passBarrier();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, stamp_);
     for (size_t k = 0; k < sets_.size(); ++k) {
-        bind(k);
+        bind(k, gpu::PASS_VISIBILITY);
+        vkCmdDispatchIndirect(cmd, f.dots[k].buffer, 0);
+    }
+    passBarrier();
+    if (spacing_.x > 0) {
+        // The screen spacing, a set at a time (spacing.comp): the grid cleared, then its rounds, each clearing the
+        // cells' elections.
+        const VkDeviceSize plane = VkDeviceSize(cells) * 4;
+        auto clear = [&](VkDeviceSize bytes) {
+            stageBarrier(cmd, compute, rw, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+            vkCmdFillBuffer(cmd, f.spaceGrid.buffer, 0, bytes, 0xFFFFFFFFu);
+            stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute, rw);
+        };
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, space_);
+        for (size_t k = 0; k < sets_.size(); ++k) {
+            clear(4 * plane);
+            for (uint32_t round = 0; round < gpu::SPACE_ROUNDS; ++round) {
+                if (round > 0) clear(2 * plane);
+                for (uint32_t pass :
+                     {gpu::PASS_CLAIM_KEY, gpu::PASS_CLAIM_POINT, gpu::PASS_CLAIM_DOT, gpu::PASS_DECIDE}) {
+                    bind(k, pass);
+                    vkCmdDispatchIndirect(cmd, f.dots[k].buffer, 0);
+                    passBarrier();
+                }
+            }
+        }
+    }
+    vkCmdWriteTimestamp2(cmd, compute, f.timestamps, 2);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, stamp_);
+    for (size_t k = 0; k < sets_.size(); ++k) {
+        bind(k, gpu::PASS_STAMP);
         vkCmdDispatchIndirect(cmd, f.dots[k].buffer, 0);
     }
     if (lines_) {
@@ -230,7 +311,7 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
             lines_->recordStamp(cmd, frame);
         }
     }
-    vkCmdWriteTimestamp2(cmd, compute, f.timestamps, 2);
+    vkCmdWriteTimestamp2(cmd, compute, f.timestamps, 3);
     stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, graphics | indirect,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
 }
@@ -302,16 +383,16 @@ void PointRenderer::recordFrame(VkCommandBuffer cmd, const Camera& camera, const
 }
 
 void PointRenderer::writeEnd(VkCommandBuffer cmd, uint32_t frame) const {
-    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, frames_.at(frame).timestamps, 3);
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, frames_.at(frame).timestamps, kTimestamps - 1);
 }
 
 PointRenderer::Timings PointRenderer::timings(uint32_t frame) const {
-    uint64_t t[4] = {};
-    if (vkGetQueryPoolResults(ctx_.device, frames_.at(frame).timestamps, 0, 4, sizeof(t), t, sizeof(uint64_t),
+    uint64_t t[kTimestamps] = {};
+    if (vkGetQueryPoolResults(ctx_.device, frames_.at(frame).timestamps, 0, kTimestamps, sizeof(t), t, sizeof(uint64_t),
                               VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
         return {};
     double ms = ctx_.properties.limits.timestampPeriod * 1e-6;
-    return {double(t[1] - t[0]) * ms, double(t[2] - t[1]) * ms, double(t[3] - t[2]) * ms};
+    return {double(t[1] - t[0]) * ms, double(t[3] - t[2]) * ms, double(t[4] - t[3]) * ms, double(t[2] - t[1]) * ms};
 }
 
 void checkOffscreenSize(const Context& ctx, uint32_t width, uint32_t height, uint32_t supersample) {
@@ -340,13 +421,18 @@ std::vector<DrawnSegment> PointRenderer::drawnSegments(StrokeBuffers::Kind kind,
     return lines_ ? lines_->drawn(kind, frame) : std::vector<DrawnSegment>{};
 }
 
-std::vector<uint32_t> PointRenderer::drawnPoints(size_t set, uint32_t frame) const {
+std::vector<gpu::Dot> PointRenderer::dotList(size_t set, uint32_t frame) const {
     vkDeviceWaitIdle(ctx_.device);
     const Buffer& list = frames_.at(frame).dots.at(set);
     uint32_t header[4];
     downloadBuffer(ctx_, list, 0, header, sizeof(header));
     std::vector<gpu::Dot> dots(header[3]);
     if (!dots.empty()) downloadBuffer(ctx_, list, gpu::DOT_LIST_HEADER, dots.data(), dots.size() * sizeof(gpu::Dot));
+    return dots;
+}
+
+std::vector<uint32_t> PointRenderer::drawnPoints(size_t set, uint32_t frame) const {
+    std::vector<gpu::Dot> dots = dotList(set, frame);
     std::vector<uint32_t> points;
     for (const gpu::Dot& d : dots)
         if (((d.cls >> 2) & 3u) != gpu::BACK) points.push_back(d.cls >> 4);

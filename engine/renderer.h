@@ -58,10 +58,10 @@ public:
     const RenderStyle& style() const { return style_; }
     uint32_t framesInFlight() const { return uint32_t(frames_.size()); }
 
-    // Milliseconds of the last frame's passes, from timestamps: splat (with the dot selection), stamp, and ink
-    // (which ends at writeEnd).
+    // Milliseconds of the last frame's passes, from timestamps: splat (with the dot selection), stamp, ink
+    // (which ends at writeEnd), and between splat and stamp the occlusion test and the screen spacing.
     struct Timings {
-        double splatMs = 0, stampMs = 0, inkMs = 0;
+        double splatMs = 0, stampMs = 0, inkMs = 0, spaceMs = 0;
     };
     void writeEnd(VkCommandBuffer cmd, uint32_t frame = 0) const;
     Timings timings(uint32_t frame = 0) const;
@@ -70,6 +70,11 @@ public:
     // The points of set `set` whose dots frame `frame` drew last, as indices into its drawn points (reads the
     // dot list back; waits for the device).
     std::vector<uint32_t> drawnPoints(size_t set, uint32_t frame = 0) const;
+    // Set `set`'s dot list of frame `frame` as stamp.comp left it (reads it back; waits for the device): every dot
+    // that passed class, tone and frustum, its visible class, and its screen spacing state (shared/render.h).
+    std::vector<gpu::Dot> dotList(size_t set, uint32_t frame = 0) const;
+    // The screen spacing's radius at darkness 1 and 1 / its grid's cell, target pixels; (0, 0) when off.
+    glm::vec2 spacing() const { return spacing_; }
     // The marks frame `frame` drew, as vectors in its target's pixels (reads the dot lists back; waits for the
     // device): what stamp.comp decided, not decided again. A layer a set ("stipple", "direction") with its
     // visible silhouette and front dots, and the hidden silhouettes in a layer "hidden" below them; dots in
@@ -85,10 +90,13 @@ private:
         uint32_t points = 0;           // in the refinement's draw, read once at setup
         uint32_t first = 0;            // its first point: not 0 when only the last level is kept
         const char* name = "stipple";  // its vector layer's
+        float area = 0;                // the surface's, normalized units (the selection's estimate); 0: unknown
     };
     // What one frame in flight writes.
     struct Frame {
         Buffer drawn, depth, coverage;  // depth and coverage follow the target's extent
+        Buffer spaceGrid;               // the screen spacing's grid (spacing.comp), spaceCells cells
+        uint32_t spaceCells = 0;
         VkExtent2D extent{0, 0};
         std::vector<Buffer> dots;                // a set's `DotList`: the dots that may show, and stamp.comp's dispatch
         std::vector<DescriptorSet> descriptors;  // a set's
@@ -102,11 +110,12 @@ private:
     Context& ctx_;
     RenderStyle style_;
     float pixelScale_ = 1.0f;
+    glm::vec2 spacing_{0.0f};  // the screen spacing's radius at darkness 1 and 1 / its cell, target pixels
     Buffer styleBuffer_;
     std::vector<Set> sets_;
     std::vector<Frame> frames_;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
-    VkPipeline splat_ = VK_NULL_HANDLE, stamp_ = VK_NULL_HANDLE, ink_ = VK_NULL_HANDLE;
+    VkPipeline splat_ = VK_NULL_HANDLE, stamp_ = VK_NULL_HANDLE, space_ = VK_NULL_HANDLE, ink_ = VK_NULL_HANDLE;
     std::unique_ptr<LineRenderer> lines_;
 };
 
@@ -128,6 +137,9 @@ public:
     PointRenderer::Timings timings() const { return renderer_.timings(); }
     uint32_t drawnDots() const { return renderer_.drawnDots(); }
     std::vector<uint32_t> drawnPoints(size_t set) const { return renderer_.drawnPoints(set); }
+    // The dot list and the spacing, in the supersampled target's pixels (PointRenderer).
+    std::vector<gpu::Dot> dotList(size_t set) const { return renderer_.dotList(set); }
+    glm::vec2 spacing() const { return renderer_.spacing(); }
     // The last frame's marks as vectors, in pixels of the requested width × height (renderer.vectorDrawing).
     VectorDrawing vectorDrawing() const;
     std::vector<DrawnSegment> drawnSegments(StrokeBuffers::Kind kind) const { return renderer_.drawnSegments(kind); }

@@ -54,14 +54,26 @@ void splat(vec3 c, vec3 n) {
 bool selectDot(Point p, uint index, vec3 c, vec3 n, float nv, out Dot d) {
     uint cls = classify(nv);
     d.cls = cls | (index << 2u);
+    d.radius = 0.0;
+    d.key = floatBitsToUint(p.tone);
+    d.state = SPACE_FIXED;
+    d.pad = 0u;
     if (cls == BACK) return false;
     if (cls == FRONT && style.light.w > 0.0) {
         // Drawn when its rank (or, for the report's look, its fixed random value) is below the darkness: the
         // stipples of a tone are a prefix of the ranking, evenly spaced, a darker tone only adds dots, and a dot
         // keeps its state while the light on it does not change (a light fixed to the model: as the camera moves).
         float lit = max(0.0, dot(style.options.x != 0.0 ? p.normal : n, style.light.xyz));
-        float darkness = (style.tone.y + pow(1.0 - lit, style.light.w)) * style.tone.x * cam.splat.z;
-        if (p.tone >= darkness) return false;
+        float darkness = (style.tone.y + pow(1.0 - lit, style.light.w)) * style.tone.x;
+        float threshold = darkness * cam.splat.z;
+        if (style.options.z > 0.0) {
+            // Screen spacing (spacing.comp): the candidates of a tone, about SPACE_SUPPLY times the dots it asks
+            // for, on the page, where the surface turns away (n·v) and recedes (depth²) they crowd on the screen.
+            threshold *= nv * (c.z * c.z) / cam.splat.w;
+            d.radius = min(style.options.z / sqrt(max(darkness, 1e-3)), SPACE_MAX_CELLS / style.options.w);
+            d.state = SPACE_OPEN;
+        }
+        if (p.tone >= threshold) return false;
     }
     vec4 clip = project(c);
     vec3 ndc = clip.xyz / clip.w;

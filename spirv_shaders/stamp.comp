@@ -2,9 +2,10 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-// The dots splat.comp selected: each is tested against the splat depth (occluded ones vanish, or become
-// hidden silhouettes), and the visible ones are stamped into the coverage bits that ink.frag turns into
-// colour. Dots are rasterized here rather than drawn as point primitives: a CPU driver sets up each point
+// The dots splat.comp selected, in two passes (cam.counts.w). PASS_VISIBILITY tests each against the splat depth
+// (occluded ones vanish, or become hidden silhouettes) and opens the visible toned ones to the screen spacing
+// (spacing.comp); PASS_STAMP stamps the visible ones the spacing kept into the coverage bits that ink.frag turns
+// into colour. Dots are rasterized here rather than drawn as point primitives: a CPU driver sets up each point
 // primitive on one thread (lavapipe: ~0.45 µs a point, whatever its size and shaders), while a stamp is a few
 // atomic ORs.
 #include "render_common.glsl"
@@ -43,14 +44,22 @@ uint visibleClass(Dot d) {
 void main() {
     uint i = gl_GlobalInvocationID.x;
     Dot d = list.dots[min(i, list.dispatch.w - 1u)];
-    uint cls = i < list.dispatch.w ? visibleClass(d) : BACK;
-    bool visible = cls != BACK;
-    if (i < list.dispatch.w) list.dots[i].cls = d.cls >> 2u << 4u | cls << 2u | (d.cls & 3u);
+    if (cam.counts.w == PASS_VISIBILITY) {
+        if (i >= list.dispatch.w) return;
+        uint cls = visibleClass(d);
+        list.dots[i].cls = d.cls >> 2u << 4u | cls << 2u | (d.cls & 3u);
+        if (cls == BACK) list.dots[i].state = SPACE_FIXED;
+        return;
+    }
+    uint cls = (d.cls >> 2u) & 3u;
+    bool visible = i < list.dispatch.w && cls != BACK && (d.state == SPACE_FIXED || d.state == SPACE_ACCEPTED);
     ivec4 box = ivec4(0x7FFFFFFF, 0x7FFFFFFF, -1, -1);
     if (visible) {
         uint sizeSlot = cls == HIDDEN ? 2u : cls;
         box = stamp(d.pixel, clamp(style.size[sizeSlot], style.tone.z, style.tone.w),
                     cls == HIDDEN ? HIDDEN_BIT : INK_BIT);
+    } else if (i < list.dispatch.w && cls != BACK) {
+        list.dots[i].cls = d.cls & ~12u | BACK << 2u;  // spaced out: not drawn
     }
     // One atomic a subgroup for the count and the bounds.
     uint dots = subgroupBallotBitCount(subgroupBallot(visible));

@@ -15,7 +15,9 @@ struct DotStyle {
     vec4 light;     // xyz: unit direction towards the light, in view space or (options.x) model space; w: tone
                     // gamma (0: no tone)
     vec4 tone;      // x: ink density, y: ambient darkness, zw: dot diameter range in pixels
-    vec4 options;   // x: 1 when the light is fixed to the model; y: 1 = no dots (the points only splat depth)
+    vec4 options;   // x: 1 when the light is fixed to the model; y: 1 = no dots (the points only splat depth);
+                    // z: the screen spacing's radius at darkness 1, pixels (0: no screen spacing); w: 1 / its
+                    // grid's cell side, pixels (spacing.comp)
 };
 INK_ASSERT_SIZE(DotStyle, 96);
 INK_ASSERT_OFFSET(DotStyle, size, 32);
@@ -24,14 +26,42 @@ INK_ASSERT_OFFSET(DotStyle, options, 80);
 // A dot that passed class, tone and frustum (splat.comp), for stamp.comp (std430). The dot list is a uvec4
 // header (workgroups, 1, 1, dots: stamp.comp's indirect dispatch, one workgroup per GROUP_SIZE dots), then the dots.
 struct Dot {
-    vec2 pixel;  // the centre, in pixels
-    float z;     // normalized depth
-    uint cls;    // SILHOUETTE or FRONT | the point's index in its set << 2; stamp.comp then makes it the class
-                 // | the visible class (BACK: hidden) << 2 | the index << 4, for PointRenderer::drawnPoints
+    vec2 pixel;    // the centre, in pixels
+    float z;       // normalized depth
+    uint cls;      // SILHOUETTE or FRONT | the point's index in its set << 2; stamp.comp then makes it the class
+                   // | the visible class (BACK: hidden) << 2 | the index << 4, for PointRenderer::drawnPoints
+    float radius;  // the screen spacing's radius, pixels: no two spaced dots closer than the smaller radius
+    uint key;      // the point's rank's bits: the lower key wins a conflict (then the lower point index)
+    uint state;    // SPACE_* below
+    uint pad;
 };
-INK_ASSERT_SIZE(Dot, 16);
+INK_ASSERT_SIZE(Dot, 32);
 INK_ASSERT_OFFSET(Dot, z, 8);
 INK_ASSERT_OFFSET(Dot, cls, 12);
+INK_ASSERT_OFFSET(Dot, radius, 16);
+INK_ASSERT_OFFSET(Dot, state, 24);
+
+// A dot's state in the screen spacing (spacing.comp, engine/screen_spacing.h): FIXED dots take no part (silhouettes,
+// hidden ones, dots drawn without tone), the others start OPEN and end ACCEPTED (drawn) or REJECTED; a dot
+// still OPEN after the last round is not drawn.
+INK_CONST uint SPACE_FIXED = 0u;
+INK_CONST uint SPACE_OPEN = 1u;
+INK_CONST uint SPACE_ACCEPTED = 2u;
+INK_CONST uint SPACE_REJECTED = 3u;
+// Rounds of the spacing: each accepts every open dot that no open dot of a lower key within its radius blocks.
+// The radii of round k are scaled by 1 + SPACE_SHRINK · max(0, SPACE_ROUNDS − 2 − k): coarse first, then the
+// holes filled, as farthest-point sampling does, which spaces the dots more evenly than one radius throughout.
+INK_CONST uint SPACE_ROUNDS = 10u;
+INK_CONST float SPACE_SHRINK = 0.22;
+// A dot's spacing radius is at most this many grid cells (the lightest tones), which bounds its search.
+INK_CONST float SPACE_MAX_CELLS = 8.0;
+// What the push constants' counts.w asks of stamp.comp and spacing.comp (the pass).
+INK_CONST uint PASS_VISIBILITY = 0u;   // stamp.comp: classes after occlusion, spaced dots OPEN
+INK_CONST uint PASS_STAMP = 1u;        // stamp.comp: the visible, accepted dots into the coverage
+INK_CONST uint PASS_CLAIM_KEY = 2u;    // spacing.comp: each cell's lowest open key
+INK_CONST uint PASS_CLAIM_POINT = 3u;  // spacing.comp: of the dots with that key, the lowest point index
+INK_CONST uint PASS_CLAIM_DOT = 4u;    // spacing.comp: that dot's list index, the cell's owner
+INK_CONST uint PASS_DECIDE = 5u;       // spacing.comp: owners no lower owner blocks are accepted
 INK_CONST uint DOT_LIST_HEADER = 16u;  // bytes before dots[0]
 
 // A point's class (report §5): silhouette |n·v| < τ, front n·v > τ, back n·v < −τ; hidden: an occluded silhouette.
@@ -54,8 +84,9 @@ struct Camera {
     mat4 view;        // model → view (rigid)
     vec4 projection;  // P00, P11, P22, P32 of the perspective projection (clip.w = −z_view)
     vec4 viewport;    // width, height of the target in pixels; width, height of the depth grid
-    vec4 splat;       // x: splat radius, y: push-back (model units), 0: no occlusion; z: tone scale k
-    uvec4 counts;     // x: points in the set; y: 1 = draw hidden silhouettes; z: the set's first point
+    vec4 splat;       // x: splat radius, y: push-back (model units), 0: no occlusion; z: tone scale k; w: the
+                      // squared distance of the model's centre from the eye (the depth the tone scale is for)
+    uvec4 counts;     // x: points in the set; y: 1 = draw hidden silhouettes; z: the set's first point; w: PASS_*
 };
 INK_ASSERT_SIZE(Camera, 128);
 INK_ASSERT_OFFSET(Camera, projection, 64);
@@ -68,6 +99,7 @@ INK_CONST uint RENDER_DRAWN = 2u;         // DrawnCounts (storage)
 INK_CONST uint RENDER_DEPTH = 3u;         // uint[]: the splat depth (float bits, half res)
 INK_CONST uint RENDER_POINT_TEXELS = 4u;  // the points as RGBA32F texels, two a point (uniform texel buffer)
 INK_CONST uint RENDER_COVERAGE = 5u;      // uint[]: the coverage bits (limits.h)
+INK_CONST uint RENDER_SPACE_GRID = 6u;    // uint[4 · cells]: the screen spacing's grid (spacing.comp)
 
 INK_END
 
