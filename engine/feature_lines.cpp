@@ -63,8 +63,8 @@ std::vector<Chain> chainEdges(const std::vector<Edge>& edges) {
 
 // The chain resampled at `step` along its edges and laid onto the surface; pieces between points that do not
 // reach it, shorter than minLength, are dropped.
-void layOnSurface(const Chain& chain, const OrientedPoints& mesh, const Surface& surface,
-                  const FeatureOptions& options, std::vector<PenStroke>& out) {
+void layOnSurface(const Chain& chain, const OrientedPoints& mesh, const Surface& surface, const FeatureOptions& options,
+                  std::vector<PenStroke>& out) {
     PenStroke stroke;
     bool broken = false;
     auto flush = [&] {

@@ -11,10 +11,12 @@ namespace ink {
 namespace {
 
 // Drops the drawn points of `r` that `support` does not hold, keeping the others in order (a stipple keeps its
-// rank); returns how many went.
-size_t trimRefinement(Context& ctx, GpuRefinement& r, const Support& support) {
+// rank); returns how many went, and how many there were in `total`.
+size_t trimRefinement(Context& ctx, GpuRefinement& r, const Support& support, size_t& total) {
+    total = 0;
     if (support.empty()) return 0;
     const std::vector<PointRecord> points = readDrawnPoints(ctx, r);
+    total = points.size();
     std::vector<PointRecord> kept;
     kept.reserve(points.size());
     for (const PointRecord& p : points)
@@ -59,8 +61,9 @@ Scene::Sets Scene::build(DrawStyle style, const RefineOptions& options) const {
         r.style = sampling;
         made.push_back(std::make_unique<Refinement>(ctx, model.surface, r));
         runRefinement(ctx, made.back()->gpu());
-        if (const size_t trimmed = trimRefinement(ctx, made.back()->gpu(), model.support))
-            note("trimmed " + std::to_string(trimmed) + " " +
+        size_t total = 0;
+        if (const size_t trimmed = trimRefinement(ctx, made.back()->gpu(), model.support, total))
+            note("trimmed " + std::to_string(trimmed) + " of " + std::to_string(total) + " " +
                  (sampling == SampleStyle::Stipple ? "stipple" : "direction") +
                  " points where the input has no points (an open surface's holes; --no-trim keeps them)");
     }

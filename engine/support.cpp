@@ -57,7 +57,8 @@ Support::Support(const std::vector<Eigen::Vector3d>& points) {
 namespace {
 
 // The squared distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
-float distance2(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c) {
+float distance2(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                const Eigen::Vector3f& c) {
     const Eigen::Vector3f ab = b - a, ac = c - a, ap = p - a;
     const float d1 = ab.dot(ap), d2 = ac.dot(ap);
     if (d1 <= 0 && d2 <= 0) return ap.squaredNorm();
@@ -88,10 +89,18 @@ Support::Support(const OrientedPoints& mesh) {
     for (const Triangle& t : mesh.triangles) {
         const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
         if (!((b - a).cross(c - a).norm() > 0) || !a.allFinite() || !b.allFinite() || !c.allFinite()) continue;
-        const Eigen::Vector3d grow = Eigen::Vector3d::Constant(kMeshSupport);
+        double offset = 0;
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                offset =
+                    std::max(offset, std::abs((mesh.positions[t[j]] - mesh.positions[t[i]]).dot(mesh.normals[t[i]])));
+        const double reach = std::max(kMeshSupport, 0.5 * offset);
+        if (!std::isfinite(reach)) continue;
+        const Eigen::Vector3d grow = Eigen::Vector3d::Constant(reach);
         const Cell lo = cellOf(a.cwiseMin(b).cwiseMin(c) - grow), hi = cellOf(a.cwiseMax(b).cwiseMax(c) + grow);
         const uint32_t index = uint32_t(triangles_.size());
         triangles_.push_back(t);
+        reach2_.push_back(float(reach * reach));
         for (int z = lo.z; z <= hi.z; ++z)
             for (int y = lo.y; y <= hi.y; ++y)
                 for (int x = lo.x; x <= hi.x; ++x) grid_[{x, y, z}].push_back(index);
@@ -106,10 +115,9 @@ bool Support::supports(const Eigen::Vector3d& x) const {
     if (!triangles_.empty()) {
         auto it = grid_.find(c);
         if (it == grid_.end()) return false;
-        const float reach2 = float(kMeshSupport * kMeshSupport);
         for (uint32_t j : it->second) {
             const Triangle& t = triangles_[j];
-            if (distance2(xf, points_[t[0]], points_[t[1]], points_[t[2]]) <= reach2) return true;
+            if (distance2(xf, points_[t[0]], points_[t[1]], points_[t[2]]) <= reach2_[j]) return true;
         }
         return false;
     }

@@ -21,9 +21,11 @@ namespace ink {
 // across a hole it ends the surface about this far past the rim.
 constexpr double kSupportReach = 2.0;
 constexpr int kSupportNeighbours = 4;
-// A mesh supports the points within this of its triangles (normalized units): three times the 0.1% of the
+// A mesh supports the points within this of a triangle (normalized units): three times the 0.1% of the
 // diagonal within which the fit follows every face sample it was given (model.cpp), and less than the inradius of
-// a hole of one missing triangle at the face samples' spacing (kFaceSpacing, 1%).
+// a hole of one missing triangle at the face samples' spacing (kFaceSpacing, 1%). A curved triangle reaches
+// farther: the fit follows its curved patch (surface_sampling.h), which leaves the flat triangle by up to about
+// half its largest corner offset |(p_j − p_i)·n_i| (n_i the vertex normals).
 constexpr double kMeshSupport = 0.003;
 
 class Support {
@@ -51,7 +53,7 @@ private:
 
     std::vector<Eigen::Vector3f> points_;
     std::vector<Triangle> triangles_;  // a mesh's: points_ are its vertices, the grid holds triangles
-    std::vector<float> reach2_;  // squared reach of each point
+    std::vector<float> reach2_;        // squared reach of each point, or of each triangle of a mesh
     std::unordered_map<Cell, std::vector<uint32_t>, CellHash> grid_;
     double cell_ = 1;
 };

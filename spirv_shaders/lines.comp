@@ -7,8 +7,8 @@
 //   surface), which gets the halo.
 // - Hatching: drawn where its surface faces the camera, its tone is dark enough for its family and level, and it
 //   is not behind the surface. The strokes are fixed to the model; only these per-frame decisions change.
-// - Crease and boundary lines: visible when not behind the surface at their own pixel (tested as contours are,
-//   two push-backs nearer the camera: they run along the surface, not beside it), else hidden like contours.
+// - Crease and boundary lines: visible when not behind the surface at their own pixel (tested four push-backs
+//   nearer the camera: they run along the surface, not beside it), else hidden like contours.
 // What shows is appended to the draw list (one atomic a subgroup); hidden hatching is dropped.
 #include "lines_common.glsl"
 
@@ -51,7 +51,9 @@ void main() {
         flags = SEG_VISIBLE;
         width = lineStyle.widths.z;
     } else if (feature) {
-        vec4 nearer = project(mid - normalize(mid) * (2.0 * cam.params.x));
+        // Four push-backs: the fit rounds a crease, and the splat disks of the faces either side stand out past
+        // the rounded edge (two left the fandisk's curved creases dashed).
+        vec4 nearer = project(mid - normalize(mid) * (4.0 * cam.params.x));
         bool visible = nearer.z / nearer.w <= uintBitsToFloat(depthAt(toPixels(nearer)));
         flags = visible ? SEG_VISIBLE : SEG_HIDDEN;
         keep = keep && (visible || lineStyle.options.y != 0.0);
