@@ -327,17 +327,6 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
                 a.restyle = true;
             }
         }
-        // A mesh's feature lines, each on its own pen (docs/lines.md); the switches set --creases/--boundaries.
-        bool creases = o.lines.creases, boundaries = o.lines.boundaries;
-        a.rerefine |= ImGui::Checkbox("creases", &creases);
-        ImGui::SameLine();
-        a.rerefine |= ImGui::Checkbox("boundaries", &boundaries);
-        if (creases != o.lines.creases || boundaries != o.lines.boundaries) {
-            o.lines.creases = creases;
-            o.lines.boundaries = boundaries;
-            o.creases = creases ? "on" : "off";
-            o.boundaries = boundaries ? "on" : "off";
-        }
         if (o.lines.hatching) {
             a.rerefine |= sliderOnRelease("hatch spacing", o.lines.hatch.spacing, 0.002f, 0.05f, "%.4f", spacingEdit_);
             if (ImGui::IsItemHovered()) ImGui::SetTooltip("of the finest hatching, a fraction of the diagonal");
@@ -397,12 +386,6 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
         if (o.lines.hatching)
             changed |=
                 ImGui::SliderFloat("hatch pen (px)", &s.hatchWidth, 0.25f, 8.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
-        if (o.lines.creases)
-            changed |= ImGui::SliderFloat("crease pen (px)", &s.creaseWidth, 0.25f, 12.0f, "%.2f",
-                                          ImGuiSliderFlags_AlwaysClamp);
-        if (o.lines.boundaries)
-            changed |= ImGui::SliderFloat("boundary pen (px)", &s.boundaryWidth, 0.25f, 12.0f, "%.2f",
-                                          ImGuiSliderFlags_AlwaysClamp);
         changed |= ImGui::Checkbox("hidden lines", &s.hiddenLines);
         ImGui::SameLine();
         changed |= ImGui::Checkbox("occlusion", &s.occlusion);
@@ -515,6 +498,24 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
         if (ImGui::Button("save preset")) a.savePreset = true;
         ImGui::EndDisabled();
         a.presetPath = presetPath_;
+    }
+    // A mesh's feature lines, each on its own pen (docs/lines.md): last and closed at first, so that the sections
+    // above keep their places. The switches set --creases and --boundaries.
+    if (ImGui::CollapsingHeader("Creases and boundaries")) {
+        bool creases = o.lines.creases, boundaries = o.lines.boundaries;
+        a.rerefine |= ImGui::Checkbox("creases", &creases);
+        ImGui::SameLine();
+        a.rerefine |= ImGui::Checkbox("boundaries", &boundaries);
+        if (creases != o.lines.creases || boundaries != o.lines.boundaries) {
+            o.lines.creases = creases;
+            o.lines.boundaries = boundaries;
+            o.creases = creases ? "on" : "off";
+            o.boundaries = boundaries ? "on" : "off";
+        }
+        a.restyle |=
+            ImGui::SliderFloat("crease pen (px)", &s.creaseWidth, 0.25f, 12.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+        a.restyle |= ImGui::SliderFloat("boundary pen (px)", &s.boundaryWidth, 0.25f, 12.0f, "%.2f",
+                                        ImGuiSliderFlags_AlwaysClamp);
     }
     if (!info.message.empty()) {
         ImGui::Separator();

@@ -139,8 +139,8 @@ FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, co
     const double creaseCos = std::cos(options.creaseAngleDeg * M_PI / 180.0);
     // A coarse scan has sharp edges where its triangles are large for its curvature (the bunny's 1,839 vertices:
     // 58 edges past 60°); the fit, which follows the vertex normals, is smooth there. A crease is kept where the
-    // fitted surface turns too: its normals at the two faces' centres (laid onto it) by more than half the angle.
-    const double fitCos = std::cos(0.5 * options.creaseAngleDeg * M_PI / 180.0);
+    // fitted surface turns too: its normals at the two faces' centres (laid onto it) by more than ¾ of the angle.
+    const double fitCos = std::cos(0.75 * options.creaseAngleDeg * M_PI / 180.0);
     auto fitAgrees = [&](uint32_t t0, uint32_t t1) {
         Eigen::Vector3d n[2];
         for (int k = 0; k < 2; ++k) {

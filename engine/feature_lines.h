@@ -26,7 +26,7 @@ struct FeatureLines {
 struct FeatureOptions {
     double creaseAngleDeg = kCreaseAngleDeg;
     // Chains shorter than this (normalized units) are dropped: a lone sharp edge of a noisy scan, not a feature.
-    double minLength = 0.01;
+    double minLength = 0.03;
     // The lines are resampled at this spacing along the edges before they are laid onto the surface (as the
     // contour's predictor step, ContourOptions::step).
     double step = 0.003;

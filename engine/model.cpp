@@ -320,8 +320,10 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     model.fit.maxNormalAngleDeg = measured.maxNormalAngleDeg;
     measureInputs(model, inputs.positions, inputs.normals);
     model.features = meshFeatures(mesh, surface, {options.creaseAngleDeg});
-    // A mesh supports the surface near its triangles, points near themselves.
-    if (options.trim) model.support = mesh.triangles.empty() ? Support(inputs.positions) : Support(mesh);
+    // A mesh supports the surface near its triangles, by twice what the fit misses its vertices by where that is
+    // more (a fit of fewer control points); points near themselves.
+    if (options.trim)
+        model.support = mesh.triangles.empty() ? Support(inputs.positions) : Support(mesh, 2 * model.inputMaxDistance);
     model.fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return model;
 }

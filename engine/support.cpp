@@ -81,7 +81,7 @@ float distance2(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen:
 
 }  // namespace
 
-Support::Support(const OrientedPoints& mesh) {
+Support::Support(const OrientedPoints& mesh, double slack) {
     if (mesh.triangles.empty()) return;
     // Cells of 2% of the diagonal: a triangle goes into every cell its box, grown by the tolerance, touches.
     cell_ = 0.02;
@@ -94,7 +94,7 @@ Support::Support(const OrientedPoints& mesh) {
             for (int j = 0; j < 3; ++j)
                 offset =
                     std::max(offset, std::abs((mesh.positions[t[j]] - mesh.positions[t[i]]).dot(mesh.normals[t[i]])));
-        const double reach = std::max(kMeshSupport, 0.5 * offset);
+        const double reach = std::max({kMeshSupport, 0.5 * offset, slack});
         if (!std::isfinite(reach)) continue;
         const Eigen::Vector3d grow = Eigen::Vector3d::Constant(reach);
         const Cell lo = cellOf(a.cwiseMin(b).cwiseMin(c) - grow), hi = cellOf(a.cwiseMax(b).cwiseMax(c) + grow);

@@ -33,8 +33,9 @@ public:
     Support() = default;  // supports everything
     // From the input's points (normalized coordinates): a mesh's vertices and face samples, or a point cloud.
     explicit Support(const std::vector<Eigen::Vector3d>& points);
-    // From a mesh (normalized coordinates); its triangles without area support nothing.
-    explicit Support(const OrientedPoints& mesh);
+    // From a mesh (normalized coordinates); its triangles without area support nothing. `slack` widens every
+    // triangle's reach: a fit of fewer control points than the mesh has (--control-points) leaves it by more.
+    explicit Support(const OrientedPoints& mesh, double slack = 0);
 
     bool empty() const { return points_.empty(); }
     bool supports(const Eigen::Vector3d& x) const;

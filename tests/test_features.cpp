@@ -1,8 +1,8 @@
 // Crease and boundary lines of a mesh (engine/feature_lines.h), the trimming of what the input does not support
 // (engine/support.h), and their options, pens and layers (docs/lines.md, Creases and boundaries).
 #include "feature_lines.h"
-#include "points.h"
 #include "model.h"
+#include "points.h"
 #include "run_command.h"
 #include "shapes.h"
 #include "support.h"
@@ -236,13 +236,12 @@ TEST_CASE("cli: crease and boundary options refuse bad values with one line, wri
     struct Case {
         std::string args, message;
     };
-    for (const Case& c : {Case{"--crease-width 0", "inkwell: pen widths must be in (0, 32] pixels\n"},
-                          Case{"--boundary-width 40", "inkwell: pen widths must be in (0, 32] pixels\n"},
-                          Case{"--boundary-width nan", "inkwell: pen widths must be in (0, 32] pixels\n"},
-                          Case{"--crease-angle 180",
-                               "inkwell: the crease angle (--crease-angle) must be in (0, 180) degrees\n"},
-                          Case{"--crease-angle -5",
-                               "inkwell: the crease angle (--crease-angle) must be in (0, 180) degrees\n"}}) {
+    for (const Case& c :
+         {Case{"--crease-width 0", "inkwell: pen widths must be in (0, 32] pixels\n"},
+          Case{"--boundary-width 40", "inkwell: pen widths must be in (0, 32] pixels\n"},
+          Case{"--boundary-width nan", "inkwell: pen widths must be in (0, 32] pixels\n"},
+          Case{"--crease-angle 180", "inkwell: the crease angle (--crease-angle) must be in (0, 180) degrees\n"},
+          Case{"--crease-angle -5", "inkwell: the crease angle (--crease-angle) must be in (0, 180) degrees\n"}}) {
         CAPTURE(c.args);
         Run r = runInkwell("render " + model + " --style contours -o " + out + " " + c.args);
         CHECK(r.status != 0);
