@@ -12,11 +12,13 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 namespace app {
 
 ink::ModelOptions modelOptions(const Options& o) {
-    return {o.controlPoints, o.fit == "global" ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity};
+    return {o.controlPoints, o.fit == "global" ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity,
+            o.creaseAngle, o.trim};
 }
 
 void addModelOptions(CLI::App* cmd, Options& o) {
@@ -25,6 +27,12 @@ void addModelOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--control-points", o.controlPoints,
                     "Control points chosen by farthest-point sampling (default: all; at most 1000 for --fit global)")
         ->check(nonNegativeInteger());
+    cmd->add_option("--crease-angle", o.creaseAngle,
+                    "A mesh's crease lines: edges whose faces turn by more than this, degrees (0-180)")
+        ->capture_default_str();
+    cmd->add_flag("!--no-trim", o.trim,
+                  "Keep the surface the input does not support (by default an open scan's holes stay open: the "
+                  "fit's caps over them are dropped)");
     cmd->add_option("--fit", o.fit,
                     "pu: local HRBFs blended by a partition of unity (any size, float on the device); global: the "
                     "report's single dense HRBF (at most 4000 points, needs shaderFloat64)")
@@ -87,6 +95,16 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--hatch-width", s.hatchWidth, "Hatching pen width in pixels")->capture_default_str();
     cmd->add_option("--halo", s.haloWidth, "Paper kept clear each side of an interior contour, in pixels")
         ->capture_default_str();
+    cmd->add_option("--creases", o.creases,
+                    "A mesh's crease lines (sharp edges), on their own pen: auto draws them with contours or hatching")
+        ->check(CLI::IsMember({"auto", "on", "off"}))
+        ->capture_default_str();
+    cmd->add_option("--boundaries", o.boundaries,
+                    "A mesh's boundary lines (open edges, holes' rims), on their own pen: auto as --creases")
+        ->check(CLI::IsMember({"auto", "on", "off"}))
+        ->capture_default_str();
+    cmd->add_option("--crease-width", s.creaseWidth, "Crease pen width in pixels")->capture_default_str();
+    cmd->add_option("--boundary-width", s.boundaryWidth, "Boundary pen width in pixels")->capture_default_str();
     cmd->add_option("--hatch-spacing", o.lines.hatch.spacing,
                     "Spacing of the finest hatching, as a fraction of the bounding-box diagonal")
         ->capture_default_str();
@@ -212,6 +230,10 @@ static void applyPreset(Options& o) {
     set(o.render.haloWidth, p.halo, "--halo");
     if (p.hatchSpacing && !given("--hatch-spacing")) o.lines.hatch.spacing = double(*p.hatchSpacing);
     set(o.lines.hatch.families, p.hatchFamilies, "--hatch-families");
+    set(o.creases, p.creases, "--creases");
+    set(o.boundaries, p.boundaries, "--boundaries");
+    set(o.render.creaseWidth, p.creaseWidth, "--crease-width");
+    set(o.render.boundaryWidth, p.boundaryWidth, "--boundary-width");
 }
 
 // "--style contours+hatching+stipple": at most one dot style (stipple, direction, both) and any pen lines. Without
@@ -239,6 +261,14 @@ static void parseStyle(Options& o) {
                              "joined by '+', at most one of stipple, direction and both)");
     }
     o.style = dots == "direction" ? DrawStyle::Direction : dots == "both" ? DrawStyle::Both : DrawStyle::Stipple;
+    // A mesh's creases and boundaries go with the pen lines unless asked for or against.
+    const bool pen = o.lines.contours || o.lines.hatching;
+    for (auto [setting, on, option] : {std::tuple{&o.creases, &o.lines.creases, "--creases"},
+                                       std::tuple{&o.boundaries, &o.lines.boundaries, "--boundaries"}}) {
+        if (*setting != "auto" && *setting != "on" && *setting != "off")
+            throw ink::Error(std::string(option) + " '" + *setting + "' is not auto, on or off");
+        *on = *setting == "on" || (*setting == "auto" && pen);
+    }
     o.render.drawDots = !dots.empty();
 }
 
@@ -312,7 +342,8 @@ void finishOptions(Options& o) {
     for (float v : {o.render.frontSize, o.render.silhouetteSize, o.render.hiddenSize})
         if (!(v > 0 && v <= 64)) throw ink::Error("dot sizes must be in (0, 64] pixels");
     if (!(o.render.tau >= 0 && o.render.tau < 1)) throw ink::Error("--tau must be in [0, 1)");
-    for (float v : {o.render.penWidth, o.render.hatchWidth, o.render.hiddenPenWidth})
+    for (float v : {o.render.penWidth, o.render.hatchWidth, o.render.hiddenPenWidth, o.render.creaseWidth,
+                    o.render.boundaryWidth})
         if (!(v > 0 && v <= 32)) throw ink::Error("pen widths must be in (0, 32] pixels");
     if (!(o.render.hiddenInk.a >= 0 && o.render.hiddenInk.a <= 1))
         throw ink::Error("--hidden-opacity must be in [0, 1]");
@@ -407,6 +438,10 @@ Preset presetFrom(const Options& o) {
     p.halo = o.render.haloWidth;
     p.hatchSpacing = float(o.lines.hatch.spacing);
     p.hatchFamilies = o.lines.hatch.families;
+    p.creases = o.creases;
+    p.boundaries = o.boundaries;
+    p.creaseWidth = o.render.creaseWidth;
+    p.boundaryWidth = o.render.boundaryWidth;
     return p;
 }
 
@@ -654,6 +689,13 @@ void printPlot(const ink::Plot& plot) {
             duration(l.plotSeconds).c_str());
 }
 
+// A mesh's feature lines: how many, how long (normalized units), and whether they were drawn.
+static json featureJson(const std::vector<ink::PenStroke>& strokes, bool drawn) {
+    double length = 0;
+    for (const ink::PenStroke& s : strokes) length += s.length();
+    return {{"strokes", strokes.size()}, {"length", length}, {"drawn", drawn}};
+}
+
 json linesJson(const ink::Scene& scene) {
     const ink::HatchStats& h = scene.hatchStats;
     const ink::ContourStats& c = scene.contourStats;
@@ -663,6 +705,8 @@ json linesJson(const ink::Scene& scene) {
               {"length", h.length},
               {"field_seconds", h.fieldSeconds},
               {"seconds", h.seconds}}},
+            {"creases", featureJson(scene.model.features.creases, scene.lines.creases)},
+            {"boundaries", featureJson(scene.model.features.boundaries, scene.lines.boundaries)},
             {"contours",
              {{"curves", c.curves},
               {"closed_curves", c.closedCurves},

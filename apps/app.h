@@ -48,7 +48,11 @@ struct Options {
     // Rendering
     DrawStyle style = DrawStyle::Stipple;
     ink::RenderStyle render;
-    ink::LineOptions lines;     // pen lines the style asks for
+    ink::LineOptions lines;  // pen lines the style asks for
+    // --creases, --boundaries: auto draws a mesh's crease and boundary lines with the pen-line styles
+    std::string creases = "auto", boundaries = "auto";
+    double creaseAngle = ink::kCreaseAngleDeg;
+    bool trim = true;
     std::vector<float> camera;  // azimuth, elevation, distance
     std::vector<uint32_t> size{1024, 1024};
     std::string ink = "#000000", paper = "#ffffff", preset;

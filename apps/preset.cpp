@@ -90,6 +90,14 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
             p.contourWidth = ranged(value, name, key, 0, 32, true, false, "(0, 32] pixels");
         else if (key == "hatch_width")
             p.hatchWidth = ranged(value, name, key, 0, 32, true, false, "(0, 32] pixels");
+        else if (key == "crease_width")
+            p.creaseWidth = ranged(value, name, key, 0, 32, true, false, "(0, 32] pixels");
+        else if (key == "boundary_width")
+            p.boundaryWidth = ranged(value, name, key, 0, 32, true, false, "(0, 32] pixels");
+        else if (key == "creases")
+            p.creases = text(value, name, key, {"auto", "on", "off"});
+        else if (key == "boundaries")
+            p.boundaries = text(value, name, key, {"auto", "on", "off"});
         else if (key == "halo")
             p.halo = ranged(value, name, key, 0, 32, false, false, "[0, 32] pixels");
         else if (key == "hatch_spacing")
@@ -178,6 +186,10 @@ std::string presetJson(const Preset& p) {
     putNumber("halo", p.halo);
     putNumber("hatch_spacing", p.hatchSpacing);
     put("hatch_families", p.hatchFamilies);
+    put("creases", p.creases);
+    putNumber("crease_width", p.creaseWidth);
+    put("boundaries", p.boundaries);
+    putNumber("boundary_width", p.boundaryWidth);
     if (p.light) j["light"] = {rounded((*p.light)[0]), rounded((*p.light)[1]), rounded((*p.light)[2])};
     put("up", p.up);
     return j.dump(2) + "\n";

@@ -14,7 +14,9 @@ namespace app {
 
 struct Preset {
     std::optional<std::string> style, ink, paper, up, direction;
+    std::optional<std::string> creases, boundaries;  // auto, on, off
     std::optional<float> dotSize, silhouetteSize, tau, tone, inkDensity, contourWidth, hatchWidth, halo, hatchSpacing;
+    std::optional<float> creaseWidth, boundaryWidth;
     std::optional<uint32_t> hatchFamilies;
     std::optional<bool> hiddenLines;
     std::optional<bool> lightFixed;  // the light fixed to the model (default: it follows the camera)

@@ -499,6 +499,24 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
         ImGui::EndDisabled();
         a.presetPath = presetPath_;
     }
+    // A mesh's feature lines, each on its own pen (docs/lines.md): last and closed at first, so that the sections
+    // above keep their places. The switches set --creases and --boundaries.
+    if (ImGui::CollapsingHeader("Creases and boundaries")) {
+        bool creases = o.lines.creases, boundaries = o.lines.boundaries;
+        a.rerefine |= ImGui::Checkbox("creases", &creases);
+        ImGui::SameLine();
+        a.rerefine |= ImGui::Checkbox("boundaries", &boundaries);
+        if (creases != o.lines.creases || boundaries != o.lines.boundaries) {
+            o.lines.creases = creases;
+            o.lines.boundaries = boundaries;
+            o.creases = creases ? "on" : "off";
+            o.boundaries = boundaries ? "on" : "off";
+        }
+        a.restyle |=
+            ImGui::SliderFloat("crease pen (px)", &s.creaseWidth, 0.25f, 12.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+        a.restyle |= ImGui::SliderFloat("boundary pen (px)", &s.boundaryWidth, 0.25f, 12.0f, "%.2f",
+                                        ImGuiSliderFlags_AlwaysClamp);
+    }
     if (!info.message.empty()) {
         ImGui::Separator();
         ImGui::TextWrapped("%s", info.message.c_str());

@@ -54,7 +54,8 @@ void checkLook(const Look& look) {
     if (!(look.hiddenOpacity >= 0 && look.hiddenOpacity <= 1)) throw Error("hiddenOpacity must be in [0, 1]");
     if (!(look.hiddenDotSize > 0 && look.hiddenDotSize <= 64)) throw Error("hiddenDotSize must be in (0, 64] pixels");
     if (!(look.penWidth > 0 && look.penWidth <= 32 && look.hatchWidth > 0 && look.hatchWidth <= 32 &&
-          look.hiddenPenWidth > 0 && look.hiddenPenWidth <= 32))
+          look.hiddenPenWidth > 0 && look.hiddenPenWidth <= 32 && look.creaseWidth > 0 && look.creaseWidth <= 32 &&
+          look.boundaryWidth > 0 && look.boundaryWidth <= 32))
         throw Error("pen widths must be in (0, 32] pixels");
     if (!(look.halo >= 0 && look.halo <= 32)) throw Error("halo must be in [0, 32] pixels");
     const float light = std::hypot(look.light[0], look.light[1], look.light[2]);
@@ -83,6 +84,8 @@ ink::RenderStyle toStyle(const Look& look) {
     s.hatchWidth = look.hatchWidth;
     s.hiddenPenWidth = look.hiddenPenWidth;
     s.haloWidth = look.halo;
+    s.creaseWidth = look.creaseWidth;
+    s.boundaryWidth = look.boundaryWidth;
     return s;
 }
 
@@ -121,7 +124,8 @@ struct Model::Impl {
 namespace {
 
 ink::ModelOptions toInk(const ModelOptions& o) {
-    return {o.controlPoints, o.method == FitMethod::Global ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity};
+    return {o.controlPoints, o.method == FitMethod::Global ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity,
+            o.creaseAngleDeg, o.trim};
 }
 
 }  // namespace
@@ -232,6 +236,8 @@ ink::LineOptions toLines(const DrawingOptions& o) {
     ink::LineOptions l;
     l.contours = o.contours;
     l.hatching = o.hatching;
+    l.creases = o.creases;
+    l.boundaries = o.boundaries;
     l.hatch.spacing = o.hatchSpacing;
     l.hatch.families = o.hatchFamilies;
     return l;
@@ -320,6 +326,14 @@ std::vector<Polyline> Drawing::hatching() const {
 std::vector<Polyline> Drawing::contours(const Camera& camera) const {
     impl_->traceFor(toCamera(camera));
     return toPolylines(impl_->scene.contours, impl_->scene.model.surface.frame);
+}
+
+std::vector<Polyline> Drawing::creases() const {
+    return toPolylines(impl_->scene.model.features.creases, impl_->scene.model.surface.frame);
+}
+
+std::vector<Polyline> Drawing::boundaries() const {
+    return toPolylines(impl_->scene.model.features.boundaries, impl_->scene.model.surface.frame);
 }
 
 size_t Drawing::sets() const { return impl_->scene.sets.size(); }

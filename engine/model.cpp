@@ -66,6 +66,8 @@ void checkModelOptions(const ModelOptions& options) {
         throw Error("--control-points " + std::to_string(options.controlPoints) +
                     " is more than the global fit can hold (at most " + std::to_string(kMaxControlPoints) +
                     ": the system needs (4m+4)² doubles); the default --fit pu takes any number");
+    if (!(options.creaseAngleDeg > 0 && options.creaseAngleDeg < 180))
+        throw Error("the crease angle (--crease-angle) must be in (0, 180) degrees");
     if (options.controlPoints > kMaxPuPoints)
         throw Error("--control-points " + std::to_string(options.controlPoints) +
                     " is more than the fit takes (at most " + std::to_string(kMaxPuPoints) + ")");
@@ -120,13 +122,15 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     // corners (a low-poly model's long thin triangles have no vertex along them).
     OrientedPoints samples;
     std::vector<bool> onRim;  // the sample lies on a triangle with an open edge
+    OrientedPoints mesh;      // welded, normalized: its feature lines
     if (!points.triangles.empty()) {
         // Welded by position first: a file that repeats a vertex at a seam (for its texture or its normals) has
         // open edges there that are no rim, and corners whose neighbours the patches would not see (the Wuson's
         // 1,088 repeated vertices made every one of its 96,795 samples a rim sample).
-        OrientedPoints mesh = weldByPosition(points);
+        mesh = weldByPosition(points);
         std::vector<uint32_t> triangleOf;
         samples = sampleFaces(mesh, faceSampleCount(mesh), 1, &triangleOf);
+        for (Eigen::Vector3d& x : mesh.positions) x = frame.toNormalized(x);
         std::unordered_map<uint64_t, uint32_t> edges;
         for (const Triangle& t : mesh.triangles)
             for (size_t e = 0; e < 3; ++e)
@@ -314,6 +318,11 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     model.fit.maxDistance = measured.maxDistance;
     model.fit.maxNormalAngleDeg = measured.maxNormalAngleDeg;
     measureInputs(model, inputs.positions, inputs.normals);
+    model.features = meshFeatures(mesh, surface, {options.creaseAngleDeg});
+    // A mesh supports the surface near its triangles, by twice what the fit misses its vertices by where that is
+    // more (a fit of fewer control points); points near themselves.
+    if (options.trim)
+        model.support = mesh.triangles.empty() ? Support(inputs.positions) : Support(mesh, 2 * model.inputMaxDistance);
     model.fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return model;
 }

@@ -2,7 +2,9 @@
 // farthest-point sampling, fit (ALGORITHM.md §1–2).
 #pragma once
 
+#include "feature_lines.h"
 #include "points.h"
+#include "support.h"
 #include "surface.h"
 
 #include <string>
@@ -18,6 +20,8 @@ struct ModelOptions {
     // 0: every input point for the partition of unity, up to kDefaultControlPoints for the global fit.
     size_t controlPoints = 0;
     FitMethod method = FitMethod::PartitionOfUnity;
+    double creaseAngleDeg = kCreaseAngleDeg;  // a mesh's feature lines (feature_lines.h), in (0, 180)
+    bool trim = true;  // drop what the input does not support (support.h): an open scan's extrapolated caps
 };
 
 struct Model {
@@ -31,6 +35,10 @@ struct Model {
     // The error at every point the fit was given (all input points, not only the control points), normalized
     // units (fractions of the diagonal), evaluated as the device evaluates.
     double inputMaxDistance = 0, inputMeanDistance = 0, inputMaxAngleDeg = 0;
+    // A mesh's creases and boundaries (none for points and .hrbf files), and where the input supports the
+    // surface (everywhere without ModelOptions::trim, and for .hrbf files: they keep no input points).
+    FeatureLines features;
+    Support support;
 };
 
 // Refuses options no model can satisfy (--control-points above kMaxControlPoints for the global fit) before any

@@ -42,6 +42,8 @@ struct RenderStyle {
     float hiddenPenWidth = 1.2f;  // hidden contours (with hiddenLines, in hiddenInk)
     float hatchWidth = 1.0f;      // hatching, tapering at the ends
     float haloWidth = 4.0f;       // paper kept clear on each side of an interior contour, beyond its pen
+    float creaseWidth = 1.5f;     // crease lines (feature_lines.h)
+    float boundaryWidth = 2.0f;   // boundary lines: an open surface's rim, drawn like an outline
     // The darkness (ambient + (1 − max(0, n·l))^γ) · inkDensity from which each hatching family and level shows:
     // (along, coarse), (along, fine), (across, coarse), (across, fine).
     glm::vec4 hatchThresholds{0.25f, 0.45f, 0.65f, 0.85f};

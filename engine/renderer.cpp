@@ -498,6 +498,11 @@ VectorDrawing PointRenderer::vectorDrawing(uint32_t frame) const {
         out.addStrokes("hatching", style_.ink, chains(StrokeBuffers::Hatching));
         out.addStrokes("contour", style_.ink, chains(StrokeBuffers::Contours),
                        style_.hiddenLines ? "hidden contour" : "", style_.hiddenInk);
+        // Crease and boundary lines on pens of their own (docs/lines.md); their hidden parts join the hidden contours.
+        out.addStrokes("creases", style_.ink, chains(StrokeBuffers::Creases),
+                       style_.hiddenLines ? "hidden contour" : "", style_.hiddenInk);
+        out.addStrokes("boundaries", style_.ink, chains(StrokeBuffers::Boundaries),
+                       style_.hiddenLines ? "hidden contour" : "", style_.hiddenInk);
         // Layers with nothing in them are left out.
         std::erase_if(out.layers, [](const VectorLayer& l) { return l.dots.empty() && l.lines.empty(); });
     }

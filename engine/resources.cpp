@@ -65,6 +65,22 @@ void uploadBuffer(Context& ctx, Buffer& dst, const void* data, VkDeviceSize size
     destroyBuffer(ctx, staging);
 }
 
+void uploadBufferAt(Context& ctx, Buffer& dst, VkDeviceSize offset, const void* data, VkDeviceSize size) {
+    if (size == 0) return;
+    Buffer staging = createBuffer(ctx, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload);
+    std::memcpy(staging.mapped, data, size);
+    submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+        stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                     VK_ACCESS_2_MEMORY_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                     VK_ACCESS_2_TRANSFER_WRITE_BIT);
+        VkBufferCopy region{0, offset, size};
+        vkCmdCopyBuffer(cmd, staging.buffer, dst.buffer, 1, &region);
+        stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    });
+    destroyBuffer(ctx, staging);
+}
+
 void downloadBuffer(Context& ctx, const Buffer& src, VkDeviceSize offset, void* data, VkDeviceSize size) {
     if (size == 0) return;
     Buffer staging = createBuffer(ctx, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback);

@@ -18,6 +18,9 @@ Buffer createBuffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, M
 void destroyBuffer(Context& ctx, Buffer& buffer);
 // Copies `size` bytes into a device buffer through a temporary staging buffer (setup only).
 void uploadBuffer(Context& ctx, Buffer& dst, const void* data, VkDeviceSize size);
+// Copies `size` bytes into a device buffer at `offset`, after whatever the device wrote there last and before
+// whatever reads it next (a host edit of a buffer the device made).
+void uploadBufferAt(Context& ctx, Buffer& dst, VkDeviceSize offset, const void* data, VkDeviceSize size);
 // Copies a device buffer range back to the host (readback for tests, exports and stats).
 void downloadBuffer(Context& ctx, const Buffer& src, VkDeviceSize offset, void* data, VkDeviceSize size);
 

@@ -22,14 +22,17 @@ const char* drawStyleName(DrawStyle style);  // "stipple", "direction", "both"
 struct LineOptions {
     bool contours = false;  // the occluding contour, traced for each view (traceContours)
     bool hatching = false;  // hatching strokes, traced once for the model
+    // A mesh's crease and boundary lines (Model::features, docs/lines.md), where it has them.
+    bool creases = false, boundaries = false;
     ContourOptions contour;
     HatchOptions hatch;
-    bool any() const { return contours || hatching; }
+    bool any() const { return contours || hatching || creases || boundaries; }
 };
 
 class Scene {
 public:
-    // Refines the model for the style: one submission a set, waited for; then traces the hatching.
+    // Refines the model for the style: one submission a set, waited for, its points the input does not support
+    // dropped (Model::support); then traces the hatching.
     Scene(Context& ctx, Model model, DrawStyle style, const RefineOptions& options, const LineOptions& lines = {});
     Scene(const Scene&) = delete;
     Scene& operator=(const Scene&) = delete;

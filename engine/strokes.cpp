@@ -36,7 +36,11 @@ float floatOf(uint32_t u) {
 
 }  // namespace
 
-std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, bool hatching) {
+std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, StrokeBuffers::Kind strokeKind) {
+    const bool hatching = strokeKind == StrokeBuffers::Hatching;
+    const uint32_t feature = strokeKind == StrokeBuffers::Creases      ? gpu::KIND_CREASE
+                             : strokeKind == StrokeBuffers::Boundaries ? gpu::KIND_BOUNDARY
+                                                                       : 0u;
     std::vector<float> out;
     for (const PenStroke& s : strokes) {
         const size_t m = s.points.size();
@@ -61,7 +65,7 @@ std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, bool hat
                 if (n.norm() > 1e-6f) normals[i] = n.normalized();
             }
         }
-        const uint32_t kind0 = hatching ? gpu::KIND_HATCH | (s.family & 1u) << 1 | (s.level & 1u) << 2 : 0u;
+        const uint32_t kind0 = hatching ? gpu::KIND_HATCH | (s.family & 1u) << 1 | (s.level & 1u) << 2 : feature;
         const size_t segments = m - 1 + (s.closed ? 1 : 0);
         for (size_t i = 0; i < segments; ++i) {
             const uint32_t kind =
@@ -90,8 +94,7 @@ std::vector<uint32_t> segmentStrokes(const std::vector<PenStroke>& strokes) {
 
 StrokeBuffers::StrokeBuffers(Context& ctx) : ctx_(ctx) {
     try {
-        set(Contours, {});
-        set(Hatching, {});
+        for (int kind = 0; kind < kKinds; ++kind) set(Kind(kind), {});
     } catch (...) {
         release();
         throw;
@@ -108,7 +111,7 @@ void StrokeBuffers::release() {
 }
 
 void StrokeBuffers::set(Kind kind, const std::vector<PenStroke>& strokes) {
-    std::vector<float> texels = segmentTexels(strokes, kind == Hatching);
+    std::vector<float> texels = segmentTexels(strokes, kind);
     const uint32_t count = uint32_t(texels.size() / (4 * kTexelsPerSegment));
     Segments& s = segments_[kind];
     vkDeviceWaitIdle(ctx_.device);  // a frame in flight may read the old segments
@@ -193,6 +196,7 @@ void LineRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pix
     b.light = glm::vec4(shaderLight(s), s.toneGamma);
     b.tone = glm::vec4(s.inkDensity, s.ambient, s.hatchMinFacing, s.hatchMinRun);
     b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.hiddenLines ? 1.0f : 0.0f, 0.0f, 0.0f);
+    b.features = glm::vec4(s.creaseWidth, s.boundaryWidth, 0.0f, 0.0f) * pixelScale;
     stageBarrier(cmd,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
@@ -206,7 +210,7 @@ void LineRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pix
 
 void LineRenderer::sync(uint32_t frame, const Buffer& depth, const Buffer& coverage, const Buffer& drawn) {
     Frame& f = frames_.at(frame);
-    for (int kind = 0; kind < 2; ++kind) {
+    for (int kind = 0; kind < StrokeBuffers::kKinds; ++kind) {
         List& l = f.lists[kind];
         const StrokeBuffers::Segments& s = strokes_.segments(StrokeBuffers::Kind(kind));
         if (l.generation == s.generation && l.depth == depth.buffer && l.coverage == coverage.buffer) continue;
@@ -247,7 +251,7 @@ void LineRenderer::recordCull(VkCommandBuffer cmd, const glm::mat4& view, const 
         Push{view, projection, glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
              glm::vec4(pushBack, pixelScale_, 0, 0), glm::uvec4(0)};
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, cull_);
-    for (int kind = 0; kind < 2; ++kind) {
+    for (int kind = 0; kind < StrokeBuffers::kKinds; ++kind) {
         const uint32_t count = strokes_.segments(StrokeBuffers::Kind(kind)).count;
         if (count == 0) continue;
         Push p = f.push;
@@ -263,7 +267,7 @@ void LineRenderer::recordStamp(VkCommandBuffer cmd, uint32_t frame) {
     if (!stamps_) return;
     Frame& f = frames_.at(frame);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, stamp_);
-    for (int kind = 0; kind < 2; ++kind) {
+    for (int kind = 0; kind < StrokeBuffers::kKinds; ++kind) {
         const uint32_t count = strokes_.segments(StrokeBuffers::Kind(kind)).count;
         if (count == 0) continue;
         Push p = f.push;
@@ -279,11 +283,12 @@ void LineRenderer::recordDraw(VkCommandBuffer cmd, VkExtent2D, uint32_t frame) c
     if (stamps_) return;  // the ink pass inks the stamped coverage
     const Frame& f = frames_.at(frame);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, draw_);
-    // Hatching, then hidden contours, the halos of interior contours and the visible contours over them.
-    const std::pair<int, uint32_t> passes[4] = {{StrokeBuffers::Hatching, 0u},
-                                                {StrokeBuffers::Contours, 1u},
-                                                {StrokeBuffers::Contours, 2u},
-                                                {StrokeBuffers::Contours, 3u}};
+    // Hatching, then hidden contours, creases and boundaries, the halos of interior contours and the visible
+    // lines over them.
+    const std::pair<int, uint32_t> passes[] = {{StrokeBuffers::Hatching, 0u},   {StrokeBuffers::Contours, 1u},
+                                               {StrokeBuffers::Creases, 1u},    {StrokeBuffers::Boundaries, 1u},
+                                               {StrokeBuffers::Contours, 2u},   {StrokeBuffers::Creases, 3u},
+                                               {StrokeBuffers::Boundaries, 3u}, {StrokeBuffers::Contours, 3u}};
     for (auto [kind, mode] : passes) {
         if (strokes_.segments(StrokeBuffers::Kind(kind)).count == 0) continue;
         Push p = f.push;

@@ -17,8 +17,8 @@ namespace ink {
 
 struct RenderStyle;
 
-// The strokes of a drawing on the device: hatching (fixed for the model) and contours (traced for a view, and
-// replaced when the view changes). Each replacement waits for the device to be idle.
+// The strokes of a drawing on the device: hatching, creases and boundaries (fixed for the model) and contours
+// (traced for a view, and replaced when the view changes). Each replacement waits for the device to be idle.
 class StrokeBuffers {
 public:
     explicit StrokeBuffers(Context& ctx);  // both empty
@@ -26,7 +26,8 @@ public:
     StrokeBuffers(const StrokeBuffers&) = delete;
     StrokeBuffers& operator=(const StrokeBuffers&) = delete;
 
-    enum Kind { Contours = 0, Hatching = 1 };
+    enum Kind { Contours = 0, Hatching = 1, Creases = 2, Boundaries = 3 };
+    static constexpr int kKinds = 4;
     void set(Kind kind, const std::vector<PenStroke>& strokes);
 
     struct Segments {
@@ -41,7 +42,7 @@ public:
 private:
     void release();
     Context& ctx_;
-    Segments segments_[2];
+    Segments segments_[kKinds];
 };
 
 // A segment that showed in a frame (tests, statistics): its ends in pixels, whether it was visible, hidden or an
@@ -91,7 +92,7 @@ private:
         VkBuffer depth = VK_NULL_HANDLE, coverage = VK_NULL_HANDLE;
     };
     struct Frame {
-        List lists[2];
+        List lists[StrokeBuffers::kKinds];
         Push push{};
     };
     void release();
@@ -109,9 +110,9 @@ private:
     VkPipeline cull_ = VK_NULL_HANDLE, stamp_ = VK_NULL_HANDLE, draw_ = VK_NULL_HANDLE;
 };
 
-// Segments of strokes as the device reads them: three RGBA32F texels each (lines_common.glsl). Hatching
-// strokes taper over their last `taper` (model units) at both ends.
-std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, bool hatching);
+// Segments of strokes of one kind as the device reads them: three RGBA32F texels each (lines_common.glsl).
+// Hatching strokes taper over their last `taper` (model units) at both ends.
+std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, StrokeBuffers::Kind kind);
 // The stroke each segment of segmentTexels belongs to.
 std::vector<uint32_t> segmentStrokes(const std::vector<PenStroke>& strokes);
 

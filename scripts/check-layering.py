@@ -38,7 +38,7 @@ cpu_only = [m for m in edges.keys() | set(module(f) for f in files)
             if m.startswith('io/') or os.path.basename(m) in ('clean', 'hrbf', 'hrbf_io', 'model', 'refine_plan', 'refine_cpu',
                                             'select_plan', 'select_cpu', 'select_math', 'export', 'spacing',
                                             'image', 'files', 'common', 'points', 'shapes', 'compare', 'vector',
-                                            'path_order')]
+                                            'path_order', 'feature_lines', 'support')]
 vulkan = {module(f) for f in files if '<vulkan/vulkan.h>' in open(f, encoding='utf-8').read()}
 def reaches(node, seen):
     for target in edges.get(node, ()):

@@ -8,6 +8,8 @@
 // - Hatching: drawn where its surface faces the camera, its tone is dark enough for its family and level, over a run
 //   of its stroke long enough to read as a stroke (tone.w pixels), and it is not behind the surface. The strokes
 //   are fixed to the model; only these per-frame decisions change.
+// - Crease and boundary lines: visible when not behind the surface at their own pixel (tested four push-backs
+//   nearer the camera: they run along the surface, not beside it), else hidden like contours.
 // What shows is appended to the draw list (one atomic a subgroup); hidden hatching is dropped.
 #include "lines_common.glsl"
 
@@ -43,7 +45,7 @@ void main() {
     vec4 t0 = texelFetch(segments, int(3u * index)), t1 = texelFetch(segments, int(3u * index + 1u)),
          t2 = texelFetch(segments, int(3u * index + 2u));
     uint kind = floatBitsToUint(t2.w);
-    bool hatch = (kind & KIND_HATCH) != 0u;
+    bool hatch = (kind & KIND_HATCH) != 0u, feature = (kind & (KIND_CREASE | KIND_BOUNDARY)) != 0u;
     vec3 a = (cam.view * vec4(t0.xyz, 1.0)).xyz, b = (cam.view * vec4(t1.xyz, 1.0)).xyz;
     vec3 mid = 0.5 * (a + b);
     vec3 n = mat3(cam.view) * t2.xyz;
@@ -72,6 +74,15 @@ void main() {
         keep = keep && nearer.z / nearer.w <= uintBitsToFloat(depthAt(toPixels(nearer)));
         flags = SEG_VISIBLE;
         width = lineStyle.widths.z;
+    } else if (feature) {
+        // Four push-backs: the fit rounds a crease, and the splat disks of the faces either side stand out past
+        // the rounded edge (two left the fandisk's curved creases dashed).
+        vec4 nearer = project(mid - normalize(mid) * (4.0 * cam.params.x));
+        bool visible = nearer.z / nearer.w <= uintBitsToFloat(depthAt(toPixels(nearer)));
+        flags = visible ? SEG_VISIBLE : SEG_HIDDEN;
+        keep = keep && (visible || lineStyle.options.y != 0.0);
+        width = visible ? ((kind & KIND_CREASE) != 0u ? lineStyle.features.x : lineStyle.features.y)
+                        : lineStyle.widths.y;
     } else {
         // Tested a little beyond the contour in the image, on the side its normal points to (its own surface lies
         // on the other): near the outline the splat disks of that surface stand almost edge-on and reach out in

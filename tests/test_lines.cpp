@@ -475,7 +475,7 @@ TEST_CASE("lines: render -o out.svg writes the pen lines as polylines in their o
     const std::string svg = dir / "pen.svg";
     Run r = runInkwell("render " INKWELL_SOURCE_DIR
                        "/assets/bunny.obj --control-points 150 --levels 3 "
-                       "--style contours+hatching --hidden-lines --size 256 256 -o " +
+                       "--style contours+hatching --creases off --hidden-lines --size 256 256 -o " +
                        svg);
     INFO(r.output);
     REQUIRE(r.status == 0);

@@ -43,6 +43,10 @@ struct ModelOptions {
     // Chosen by farthest-point sampling; 0: every point (PartitionOfUnity) or up to 1000 of them (Global).
     size_t controlPoints = 0;
     FitMethod method = FitMethod::PartitionOfUnity;
+    // A mesh's crease lines are the edges whose faces turn by more than this, degrees in (0, 180).
+    double creaseAngleDeg = 60;
+    // Drops what the input does not support: the fit's caps over an open scan's holes (docs/lines.md).
+    bool trim = true;
 };
 
 struct FitReport {
@@ -161,6 +165,10 @@ struct DrawingOptions {
     // when the eye moves: about 20–60 ms for the 684-point bunny), and hatching strokes once, along the surface.
     bool contours = false;
     bool hatching = false;
+    // A mesh's crease lines (sharp edges) and boundary lines (open edges, holes' rims), on pens of their own;
+    // a point cloud or a .hrbf model has none. The command line draws them with contours or hatching.
+    bool creases = false;
+    bool boundaries = false;
     float hatchSpacing = 0.007f;  // of the bounding-box diagonal, the finest level (the coarse one is twice this)
     uint32_t hatchFamilies = 2;   // 1, or 2 to cross the first in dark tones
     Distribution distribution = Distribution::BlueNoise;
@@ -217,6 +225,9 @@ public:
     Up firstUp() const;
     Camera firstView(float aspect = 1.0f) const;
     Camera firstView(Up up, float aspect = 1.0f) const;
+    // The model's crease and boundary lines on the surface (all of them, whatever DrawingOptions asks drawn).
+    std::vector<Polyline> creases() const;
+    std::vector<Polyline> boundaries() const;
 
 private:
     struct Impl;
@@ -260,6 +271,8 @@ struct Look {
     bool dots = true;             // off: only pen lines are drawn (the dots still hide what is behind the surface)
     float penWidth = 2.0f;        // contour pen width in output pixels, (0, 32]
     float hatchWidth = 1.0f;      // hatching pen width, tapering at the strokes' ends, (0, 32]
+    float creaseWidth = 1.5f;     // crease lines' pen width, (0, 32]
+    float boundaryWidth = 2.0f;   // boundary lines' pen width, (0, 32]
     float halo = 4.0f;            // paper kept clear each side of an interior contour (Brazil et al. 2011), [0, 32]
     // With hiddenLines: the hidden silhouette dots' diameter (0, 64] and the hidden contours' pen width (0, 32] in
     // output pixels, and how much of the ink they take over the paper, [0, 1] (0.45: a grey; --hidden-dot-size,

@@ -37,8 +37,11 @@ INK_CONST uint COVERAGE_BITS = 4u;
 // The splat depth of an empty cell: FLT_MAX's bits (positive floats order as their bits do).
 INK_CONST uint FAR_DEPTH = 0x7F7FFFFFu;
 
-// Pen lines: a traced segment's kind bits (KIND_HATCH, family << 1, level << 2), and a drawn segment's flags.
+// Pen lines: a traced segment's kind bits (KIND_HATCH, family << 1, level << 2; KIND_CREASE, KIND_BOUNDARY; none
+// for contours), and a drawn segment's flags.
 INK_CONST uint KIND_HATCH = 1u;
+INK_CONST uint KIND_CREASE = 8u;
+INK_CONST uint KIND_BOUNDARY = 16u;
 // Hatching segments also carry how many segments of their stroke lie before them (bits 8–15) and after them
 // (bits 16–23), each clamped to HATCH_REACH: lines.comp walks along the stroke to measure the run a segment is in.
 INK_CONST uint HATCH_BEFORE_SHIFT = 8u;

@@ -10,7 +10,7 @@ INK_BEGIN
 
 // Traced segments, fixed in object space: LINE_TEXELS RGBA32F texels each, (p0, width factor 0), (p1, width
 // factor 1), (unit normal, kind bits: limits.h's KIND_HATCH, family << 1, level << 2, and for hatching the segments
-// before and after it in its stroke).
+// before and after it in its stroke; or KIND_CREASE, KIND_BOUNDARY).
 INK_CONST uint LINE_TEXELS = 3u;
 
 // A segment that shows this frame, in pixels (std430). The draw list is a uvec4 header (VkDrawIndirectCommand: 6
@@ -38,8 +38,9 @@ struct LineStyle {
                       // w: hatching whose tone shows it over a shorter run of its stroke than this fraction of the
                       // image's shorter side is not drawn
     vec4 options;     // x: 1 when the light is fixed to the model; y: 1 = draw hidden contours
+    vec4 features;    // pen widths in pixels: x crease, y boundary lines
 };
-INK_ASSERT_SIZE(LineStyle, 128);
+INK_ASSERT_SIZE(LineStyle, 144);
 INK_ASSERT_OFFSET(LineStyle, widths, 48);
 INK_ASSERT_OFFSET(LineStyle, options, 112);
 
@@ -50,7 +51,7 @@ struct LineCamera {
     vec4 viewport;    // width, height in pixels; width, height of the depth grid
     vec4 params;      // x: push-back (model units); y: pixel scale (supersampling)
     uvec4 counts;     // x: segments; y: draw mode (line.vert): 0 hatching, 1 hidden contours, 2 halos, 3 contours;
-                      // lines_stamp.comp: 0 hatching, 1 contours
+                      // lines_stamp.comp: 0 hatching, 1 contours (and crease and boundary lines)
 };
 INK_ASSERT_SIZE(LineCamera, 128);
 INK_ASSERT_OFFSET(LineCamera, counts, 112);

@@ -1,0 +1,292 @@
+// Crease and boundary lines of a mesh (engine/feature_lines.h), the trimming of what the input does not support
+// (engine/support.h), and their options, pens and layers (docs/lines.md, Creases and boundaries).
+#include "feature_lines.h"
+#include "model.h"
+#include "points.h"
+#include "run_command.h"
+#include "shapes.h"
+#include "support.h"
+#include "temp_dir.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+using Eigen::Vector3d;
+
+namespace {
+
+const std::string kModels = INKWELL_SOURCE_DIR "/tests/models/";
+
+// A grid of (n+1)² vertices on each face of the cube [-½, ½]³, two triangles a cell, outward winding; each face has
+// its own vertices (as a flat-shaded file gives them; the fit welds them by position).
+ink::OrientedPoints cubeMesh(int n) {
+    ink::OrientedPoints m;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side : {-1, 1}) {
+            Vector3d normal = Vector3d::Zero();
+            normal[axis] = side;
+            const Vector3d u = Vector3d::Unit((axis + 1) % 3), v = Vector3d::Unit((axis + 2) % 3);
+            const uint32_t base = uint32_t(m.positions.size());
+            for (int j = 0; j <= n; ++j)
+                for (int i = 0; i <= n; ++i) {
+                    m.positions.push_back(0.5 * normal + (double(i) / n - 0.5) * u + (double(j) / n - 0.5) * v);
+                    m.normals.push_back(normal);
+                }
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i) {
+                    uint32_t a = base + j * (n + 1) + i, b = a + 1, c = a + (n + 1), d = c + 1;
+                    if (side > 0) {
+                        m.triangles.push_back({a, b, d});
+                        m.triangles.push_back({a, d, c});
+                    } else {
+                        m.triangles.push_back({a, d, b});
+                        m.triangles.push_back({a, c, d});
+                    }
+                }
+        }
+    return m;
+}
+
+// A triangulated (u, v) grid of a parametric surface, closed in u and (when closedV) in v.
+template <class F>
+ink::OrientedPoints gridMesh(int nu, int nv, bool closedV, F point) {
+    ink::OrientedPoints m;
+    const int rows = closedV ? nv : nv + 1;
+    for (int j = 0; j < rows; ++j)
+        for (int i = 0; i < nu; ++i) {
+            Vector3d p, n;
+            point(2 * M_PI * i / nu, double(j) / nv, p, n);
+            m.positions.push_back(p);
+            m.normals.push_back(n);
+        }
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            uint32_t a = j * nu + i, b = j * nu + (i + 1) % nu, c = ((j + 1) % rows) * nu + i,
+                     d = ((j + 1) % rows) * nu + (i + 1) % nu;
+            m.triangles.push_back({a, b, d});
+            m.triangles.push_back({a, d, c});
+        }
+    return m;
+}
+
+ink::OrientedPoints torusMesh() {
+    return gridMesh(48, 24, true, [](double u, double t, Vector3d& p, Vector3d& n) {
+        const double v = 2 * M_PI * t, R = 0.3, r = 0.1;
+        n = Vector3d(std::cos(u) * std::cos(v), std::sin(u) * std::cos(v), std::sin(v));
+        p = Vector3d(R * std::cos(u), R * std::sin(u), 0) + r * n;
+    });
+}
+
+// A sphere without its poles' fans: latitude rings from 80° south to 80° north, the two polar caps closed by a
+// fan each is left out (it would be a rim); instead the rings reach the poles as a closed UV sphere.
+ink::OrientedPoints sphereMesh() {
+    ink::OrientedPoints m = gridMesh(48, 22, false, [](double u, double t, Vector3d& p, Vector3d& n) {
+        const double lat = M_PI * (t * 22.0 + 1.0) / 24.0 - M_PI / 2;  // 23 rings, poles excluded
+        n = Vector3d(std::cos(u) * std::cos(lat), std::sin(u) * std::cos(lat), std::sin(lat));
+        p = 0.5 * n;
+    });
+    // The poles, fanned to the first and last rings.
+    for (int s : {-1, 1}) {
+        const uint32_t pole = uint32_t(m.positions.size()), ring = s < 0 ? 0 : 22 * 48;
+        m.positions.emplace_back(0, 0, 0.5 * s);
+        m.normals.emplace_back(0, 0, s);
+        for (uint32_t i = 0; i < 48; ++i) {
+            const uint32_t a = ring + i, b = ring + (i + 1) % 48;
+            m.triangles.push_back(s < 0 ? ink::Triangle{pole, b, a} : ink::Triangle{pole, a, b});
+        }
+    }
+    return m;
+}
+
+double totalLength(const std::vector<ink::PenStroke>& strokes) {
+    double l = 0;
+    for (const ink::PenStroke& s : strokes) l += s.length();
+    return l;
+}
+
+void writeObj(const std::string& path, const ink::OrientedPoints& m) {
+    std::ofstream out(path);
+    for (const Vector3d& p : m.positions) out << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+    for (const ink::Triangle& t : m.triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+}
+
+}  // namespace
+
+TEST_CASE("features: a cube's twelve edges are crease lines on the surface, with its normals" *
+          doctest::test_suite("unit")) {
+    const ink::Model model = ink::fitModel(cubeMesh(8), {});
+    const std::vector<ink::PenStroke>& creases = model.features.creases;
+    // Three creases meet at each corner: twelve chains, one an edge, each the side's length (the diagonal √3 is 1).
+    CHECK(creases.size() == 12);
+    const double side = 1 / std::sqrt(3.0);
+    CHECK(totalLength(creases) == doctest::Approx(12 * side).epsilon(0.03));
+    CHECK(model.features.boundaries.empty());
+    for (const ink::PenStroke& s : creases) {
+        CHECK_FALSE(s.closed);
+        CHECK(s.length() == doctest::Approx(side).epsilon(0.05));
+        for (size_t i = 0; i < s.points.size(); ++i) {
+            Vector3d g;
+            const double f = model.surface.eval(s.points[i].cast<double>(), g);
+            CHECK(std::abs(f) / g.norm() < 1e-5);
+            CHECK(s.normals[i].cast<double>().dot(g.normalized()) > 0.9999);
+            // Near the edge: two coordinates within a rounding of ±side/2 (normalized).
+            const Eigen::Vector3d x = model.surface.frame.toInput(s.points[i].cast<double>()).cwiseAbs();
+            CHECK(int(x.x() > 0.47) + int(x.y() > 0.47) + int(x.z() > 0.47) >= 2);
+        }
+    }
+    // A larger crease angle than the cube's 90° finds none.
+    ink::ModelOptions blunt;
+    blunt.creaseAngleDeg = 100;
+    CHECK(ink::fitModel(cubeMesh(8), blunt).features.creases.empty());
+}
+
+TEST_CASE("features: a torus and a sphere, smooth closed meshes, have no crease or boundary lines" *
+          doctest::test_suite("unit")) {
+    for (const ink::OrientedPoints& mesh : {torusMesh(), sphereMesh()}) {
+        const ink::Model model = ink::fitModel(mesh, {});
+        CHECK(model.features.creases.empty());
+        CHECK(model.features.boundaries.empty());
+        // Closed: the trimming keeps all of it (points on the fitted surface all over it are supported).
+        for (const Vector3d& c : model.surface.centers) CHECK(model.support.supports(c));
+    }
+}
+
+TEST_CASE("features: an open hemisphere's rim is one closed boundary line, and the fit's cap beyond it is trimmed" *
+          doctest::test_suite("unit")) {
+    const ink::Model model = ink::fitModel(ink::loadPoints(kModels + "hemisphere.obj"), {});
+    const ink::Frame& frame = model.surface.frame;
+    REQUIRE(model.features.boundaries.size() == 1);
+    const ink::PenStroke& rim = model.features.boundaries[0];
+    CHECK(rim.closed);
+    CHECK(model.features.creases.empty());
+    // The rim of 32 segments around the unit circle at y = 0 (input units): its length and place.
+    double length = 0;
+    for (size_t i = 0; i < rim.points.size(); ++i)
+        length += (frame.toInput(rim.points[i].cast<double>()) -
+                   frame.toInput(rim.points[(i + 1) % rim.points.size()].cast<double>()))
+                      .norm();
+    CHECK(length == doctest::Approx(2 * M_PI).epsilon(0.02));
+    for (const Eigen::Vector3f& p : rim.points) {
+        const Vector3d x = frame.toInput(p.cast<double>());
+        CHECK(std::abs(x.y()) < 0.03);
+        CHECK(std::hypot(x.x(), x.z()) == doctest::Approx(1).epsilon(0.03));
+    }
+    // Points of the fitted surface in every direction from the centre: those on the hemisphere are kept, those
+    // the fit extrapolated beyond the rim dropped once past the reach of the rim's triangles (this coarse mesh's
+    // curved triangles reach about a tenth of the radius: half their corner offsets).
+    size_t below = 0, above = 0;
+    for (int i = 0; i < 400; ++i) {
+        const double z = 1 - 2 * (i + 0.5) / 400, a = i * 2.399963, r = std::sqrt(1 - z * z);
+        Vector3d x = frame.toNormalized(Vector3d(0.9 * r * std::cos(a), 0.9 * z, 0.9 * r * std::sin(a))), n;
+        if (!ink::projectToSurface(model.surface, x, n, 0.5)) continue;
+        const double y = frame.toInput(x).y();
+        const bool kept = model.support.supports(x);
+        if (y > 0.02) {
+            ++above;
+            CHECK(kept);
+        } else if (y < -0.15) {
+            ++below;
+            CHECK_FALSE(kept);
+        }
+    }
+    CHECK(above > 150);
+    CHECK(below > 0);  // the fit does reach below the rim: there is something to trim
+    ink::ModelOptions keep;
+    keep.trim = false;
+    CHECK(ink::fitModel(ink::loadPoints(kModels + "hemisphere.obj"), keep).support.empty());
+}
+
+TEST_CASE("features: a point cloud's support holds near its points, not across a gap" * doctest::test_suite("unit")) {
+    // The sphere's points, less a cap: the gap's middle is unsupported, the points' surroundings are.
+    ink::OrientedPoints sphere = ink::spherePoints(4000);
+    std::vector<Vector3d> kept;
+    for (const Vector3d& p : sphere.positions)
+        if (p.z() < 0.3) kept.push_back(p);
+    const ink::Support support(kept);
+    CHECK(support.supports(Vector3d(0.5, 0, 0)));
+    CHECK(support.supports(Vector3d(0, 0, -0.5)));
+    CHECK_FALSE(support.supports(Vector3d(0, 0, 0.5)));
+    for (const Vector3d& p : kept) CHECK(support.supports(p));
+
+    // Strokes cut where they leave it: a meridian from the south pole over the north one is kept up to the gap.
+    ink::PenStroke meridian;
+    for (int i = 0; i <= 100; ++i) {
+        const double a = M_PI * i / 100;
+        meridian.points.emplace_back(float(0.5 * std::sin(a)), 0.0f, float(-0.5 * std::cos(a)));
+        meridian.normals.emplace_back(float(std::sin(a)), 0.0f, float(-std::cos(a)));
+    }
+    size_t dropped = 0;
+    const std::vector<ink::PenStroke> cut = ink::trimStrokes({meridian}, support, &dropped);
+    REQUIRE(cut.size() == 1);
+    CHECK(cut[0].points.front().z() == doctest::Approx(-0.5f));
+    CHECK(cut[0].points.back().z() < 0.4f);
+    CHECK(dropped == meridian.points.size() - cut[0].points.size());
+    CHECK(dropped > 10);
+}
+
+TEST_CASE("cli: crease and boundary options refuse bad values with one line, writing nothing" *
+          doctest::test_suite("cli")) {
+    TempDir dir;
+    const std::string out = dir / "x.png", model = kModels + "hemisphere.obj";
+    struct Case {
+        std::string args, message;
+    };
+    for (const Case& c :
+         {Case{"--crease-width 0", "inkwell: pen widths must be in (0, 32] pixels\n"},
+          Case{"--boundary-width 40", "inkwell: pen widths must be in (0, 32] pixels\n"},
+          Case{"--boundary-width nan", "inkwell: pen widths must be in (0, 32] pixels\n"},
+          Case{"--crease-angle 180", "inkwell: the crease angle (--crease-angle) must be in (0, 180) degrees\n"},
+          Case{"--crease-angle -5", "inkwell: the crease angle (--crease-angle) must be in (0, 180) degrees\n"}}) {
+        CAPTURE(c.args);
+        Run r = runInkwell("render " + model + " --style contours -o " + out + " " + c.args);
+        CHECK(r.status != 0);
+        CHECK(r.output == c.message);
+        CHECK_FALSE(std::filesystem::exists(out));
+    }
+    Run r = runInkwell("render " + model + " -o " + out + " --creases maybe");
+    CHECK(r.status != 0);
+    CHECK(r.output.find("--creases") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(out));
+    const std::string preset = dir / "p.json";
+    std::ofstream(preset) << "{\"creases\": \"always\"}";
+    r = runInkwell("render " + model + " -o " + out + " --preset " + preset);
+    CHECK(r.status != 0);
+    CHECK(r.output.find("creases") != std::string::npos);
+    CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
+    CHECK_FALSE(std::filesystem::exists(out));
+}
+
+TEST_CASE("cli: a cube's SVG has its creases on a pen of their own, an open hemisphere's rim on another" *
+          doctest::test_suite("cli")) {
+    TempDir dir;
+    const std::string cube = dir / "cube.obj";
+    writeObj(cube, cubeMesh(6));
+    Run r = runInkwell("render " + cube + " --style contours --size 256 256 -o " + dir / "cube.svg");
+    REQUIRE(r.status == 0);
+    std::ifstream in(dir / "cube.svg");
+    const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    CHECK(svg.find("inkscape:label=\"1 contour\"") != std::string::npos);
+    CHECK(svg.find("inkscape:label=\"2 creases\"") != std::string::npos);
+    CHECK(svg.find("boundaries") == std::string::npos);
+
+    // Off: no crease layer.
+    r = runInkwell("render " + cube + " --style contours --creases off --size 256 256 -o " + dir / "off.svg");
+    REQUIRE(r.status == 0);
+    std::ifstream off(dir / "off.svg");
+    const std::string plain((std::istreambuf_iterator<char>(off)), std::istreambuf_iterator<char>());
+    CHECK(plain.find("creases") == std::string::npos);
+
+    r = runInkwell("render " + kModels + "hemisphere.obj --style contours --camera 30 40 1.6 --size 256 256 -o " +
+                   dir / "hemi.svg");
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("trimmed") != std::string::npos);  // the fit's cap below the rim
+    std::ifstream hemi(dir / "hemi.svg");
+    const std::string open((std::istreambuf_iterator<char>(hemi)), std::istreambuf_iterator<char>());
+    CHECK(open.find(" boundaries\"") != std::string::npos);
+    CHECK(open.find("creases") == std::string::npos);
+}
