@@ -480,7 +480,7 @@ ViewReport resolveView(Options& o, ink::Scene& scene, float aspect) {
     ViewReport r;
     const auto start = Clock::now();
     ink::ViewSamples samples;
-    if (!scene.sets.empty()) samples = ink::viewSamples(ink::readDrawnPoints(scene.ctx, scene.sets.front()->gpu()));
+    if (!scene.sets.empty()) samples = ink::viewSamples(ink::readPoints(scene.ctx, scene.sets.front()->gpu()));
     if (!o.autoUp) {
         r.upReason = "--up";
     } else if (auto convention = ink::formatUpAxis(o.model)) {

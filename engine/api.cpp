@@ -282,7 +282,7 @@ Up Drawing::firstUp() const {
     if (impl_->convention) return Up(int(*impl_->convention));
     ink::Scene& scene = impl_->scene;
     if (scene.sets.empty()) return Up::Y;
-    return Up(int(ink::detectUpAxis(ink::viewSamples(ink::readDrawnPoints(scene.ctx, scene.sets[0]->gpu()))).up));
+    return Up(int(ink::detectUpAxis(ink::viewSamples(ink::readPoints(scene.ctx, scene.sets[0]->gpu()))).up));
 }
 
 Camera Drawing::firstView(float aspect) const { return firstView(firstUp(), aspect); }
@@ -291,7 +291,7 @@ Camera Drawing::firstView(Up up, float aspect) const {
     if (!(aspect >= 0.01f && aspect <= 100.0f)) throw Error("firstView: aspect must be in [0.01, 100]");
     ink::Scene& scene = impl_->scene;
     ink::ViewSamples samples;
-    if (!scene.sets.empty()) samples = ink::viewSamples(ink::readDrawnPoints(scene.ctx, scene.sets[0]->gpu()));
+    if (!scene.sets.empty()) samples = ink::viewSamples(ink::readPoints(scene.ctx, scene.sets[0]->gpu()));
     ink::Camera c;
     c.up = ink::UpAxis(int(up));
     const ink::ViewChoice view = ink::chooseView(samples, c.up);

@@ -10,8 +10,11 @@
 
 namespace ink {
 
-ViewSamples viewSamples(const std::vector<PointRecord>& points, size_t maxCount) {
+ViewSamples viewSamples(const std::vector<PointRecord>& all, size_t maxCount, uint32_t maxLevel) {
     ViewSamples s;
+    std::vector<PointRecord> points;
+    for (const PointRecord& p : all)
+        if (p.level <= maxLevel) points.push_back(p);
     if (points.empty() || maxCount == 0) return s;
     const double stride = std::max(1.0, double(points.size()) / double(maxCount));
     for (double i = 0; size_t(i) < points.size(); i += stride) {

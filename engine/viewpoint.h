@@ -18,8 +18,10 @@ namespace ink {
 struct ViewSamples {
     std::vector<glm::vec3> positions, normals;
 };
-// At most `maxCount` of `points`, taken at an even stride (the refined points are spread evenly: so are these).
-ViewSamples viewSamples(const std::vector<PointRecord>& points, size_t maxCount = 20000);
+// At most `maxCount` of the refined `points` of levels up to `maxLevel`, taken at an even stride (the refined
+// points are spread evenly: so are these). The first levels are the same whatever the style and the number of
+// levels, so every style of a model gets the same first picture.
+ViewSamples viewSamples(const std::vector<PointRecord>& points, size_t maxCount = 20000, uint32_t maxLevel = 1);
 
 // The up axis a file format fixes: glTF's is +y by its specification. None for the others.
 std::optional<UpAxis> formatUpAxis(const std::string& path);
