@@ -10,6 +10,7 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <unordered_map>
@@ -321,7 +322,14 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     model.features = meshFeatures(mesh, surface, {options.creaseAngleDeg});
     // A mesh supports the surface near its triangles, by twice what the fit misses its vertices by where that is
     // more (a fit of fewer control points); points near themselves.
-    if (options.trim)
+    if (options.trim && !mesh.triangles.empty() && 2 * model.inputMaxDistance > kMaxMeshSupport) {
+        char text[160];
+        std::snprintf(text, sizeof text,
+                      "not trimmed: the fit misses the mesh's vertices by up to %.1f%% of the diagonal (more control "
+                      "points follow it closer)",
+                      100 * model.inputMaxDistance);
+        note(text);
+    } else if (options.trim)
         model.support = mesh.triangles.empty() ? Support(inputs.positions) : Support(mesh, 2 * model.inputMaxDistance);
     model.fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return model;

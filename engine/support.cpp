@@ -94,7 +94,7 @@ Support::Support(const OrientedPoints& mesh, double slack) {
             for (int j = 0; j < 3; ++j)
                 offset =
                     std::max(offset, std::abs((mesh.positions[t[j]] - mesh.positions[t[i]]).dot(mesh.normals[t[i]])));
-        const double reach = std::max({kMeshSupport, 0.5 * offset, slack});
+        const double reach = std::min(std::max({kMeshSupport, 0.5 * offset, slack}), kMaxMeshSupport);
         if (!std::isfinite(reach)) continue;
         const Eigen::Vector3d grow = Eigen::Vector3d::Constant(reach);
         const Cell lo = cellOf(a.cwiseMin(b).cwiseMin(c) - grow), hi = cellOf(a.cwiseMax(b).cwiseMax(c) + grow);

@@ -27,6 +27,10 @@ constexpr int kSupportNeighbours = 4;
 // farther: the fit follows its curved patch (surface_sampling.h), which leaves the flat triangle by up to about
 // half its largest corner offset |(p_j − p_i)·n_i| (n_i the vertex normals).
 constexpr double kMeshSupport = 0.003;
+// The most a mesh's triangle reaches (normalized units). A fit that misses the mesh by more than half this (few
+// control points) is not trimmed: its surface lies away from the mesh everywhere, and the grid of reaches would
+// grow with the cube of the miss (a 64-point fit of the bunny: 100 million cells, minutes).
+constexpr double kMaxMeshSupport = 0.03;
 
 class Support {
 public:

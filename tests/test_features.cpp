@@ -290,3 +290,16 @@ TEST_CASE("cli: a cube's SVG has its creases on a pen of their own, an open hemi
     CHECK(open.find(" boundaries\"") != std::string::npos);
     CHECK(open.find("creases") == std::string::npos);
 }
+
+// A fit of few control points misses its mesh by far more than a triangle's reach: it is not trimmed (its
+// surface lies off the mesh everywhere), and the support is not built at all (its grid would grow with the cube
+// of the miss: minutes and gigabytes for the bunny at 64 control points).
+TEST_CASE("features: a fit far from its mesh (few control points) is not trimmed" * doctest::test_suite("unit")) {
+    ink::ModelOptions coarse;
+    coarse.controlPoints = 64;
+    const ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", coarse);
+    REQUIRE(model.inputMaxDistance > ink::kMaxMeshSupport / 2);
+    CHECK(model.support.supports(Eigen::Vector3d(0.45, 0.45, 0.45)));  // a corner of the box, far from the mesh
+    const ink::Model fine = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {});
+    CHECK_FALSE(fine.support.supports(Eigen::Vector3d(0.45, 0.45, 0.45)));
+}
