@@ -1,8 +1,8 @@
 // The cross field of the hatching (cross_field.h).
 #include "cross_field.h"
+#include "point_tree.h"
 
 #include <Eigen/Geometry>
-#include <nanoflann.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -47,17 +47,6 @@ Vector3d atAngle(const Vector3d& t1, const Vector3d& n, double theta) {
     return std::cos(theta) * t1 + std::sin(theta) * n.cross(t1);
 }
 
-struct Cloud {
-    const std::vector<Vector3d>& points;
-    size_t kdtree_get_point_count() const { return points.size(); }
-    double kdtree_get_pt(size_t i, size_t k) const { return points[i][Eigen::Index(k)]; }
-    template <class Box>
-    bool kdtree_get_bbox(Box&) const {
-        return false;
-    }
-};
-using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3>;
-
 // One level of the hierarchy: points, their seeds and the current field, and the k nearest neighbours on the
 // same side of the surface (UINT32_MAX where fewer).
 struct Level {
@@ -73,8 +62,8 @@ void findNeighbours(Level& level, uint32_t k, unsigned threads) {
     level.neighbours.assign(m * k, UINT32_MAX);
     level.nearest.assign(m, 0.0);
     if (m < 2) return;
-    Cloud cloud{level.p};
-    const Tree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    PointCloud cloud{level.p};
+    const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     parallelChunks(m, threads, [&](size_t begin, size_t end) {
         std::vector<uint32_t> index(k + 1);
         std::vector<double> squared(k + 1);

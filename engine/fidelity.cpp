@@ -1,12 +1,11 @@
 // Fidelity of points to a mesh (fidelity.h): a k-d tree of the points for coverage, a grid of the triangles
 // for accuracy.
 #include "fidelity.h"
+#include "point_tree.h"
 
 #include "common.h"
 #include "surface_sampling.h"
 #include "triangle.h"
-
-#include <nanoflann.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -131,17 +130,6 @@ private:
     std::vector<uint32_t> start_, items_;
 };
 
-// nanoflann's view of the points.
-struct Cloud {
-    const std::vector<Vector3d>& points;
-    size_t kdtree_get_point_count() const { return points.size(); }
-    double kdtree_get_pt(size_t i, size_t k) const { return points[i][Eigen::Index(k)]; }
-    template <class Box>
-    bool kdtree_get_bbox(Box&) const {
-        return false;
-    }
-};
-
 double percentile(std::vector<double> values, double q) {
     if (values.empty()) return 0;
     auto at = values.begin() + std::ptrdiff_t(std::floor(q * double(values.size() - 1)));
@@ -191,9 +179,8 @@ Fidelity measureFidelity(const OrientedPoints& mesh, const std::vector<Vector3d>
     const double within = tolerance * f.diagonal;
 
     // Surface → points.
-    Cloud cloud{points};
-    using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3>;
-    const Tree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));  // built here
+    PointCloud cloud{points};
+    const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));  // built here
     std::vector<double> gaps(surface.size());
     parallelChunks(surface.size(), [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
