@@ -4,6 +4,7 @@
 #include "hatching.h"
 #include "model.h"
 #include "shapes.h"
+#include "torus_fixture.h"
 
 #include <doctest/doctest.h>
 
@@ -14,27 +15,9 @@
 
 using Eigen::Vector3d;
 
+using namespace torus_fixture;
+
 namespace {
-
-constexpr double kR = 0.3, kr = 0.1;  // torusPoints' default radii (input units), around the z axis
-
-const ink::Model& torus() {
-    static const ink::Model model = ink::fitModel(ink::torusPoints(48, 16, kR, kr), {});
-    return model;
-}
-
-// Samples of the analytic torus in the model's normalized coordinates, and the direction around the axis at each.
-std::vector<ink::SurfaceSample> torusSamples(const ink::Model& m, int nu, int nv, std::vector<Vector3d>* around) {
-    std::vector<ink::SurfaceSample> s;
-    for (int i = 0; i < nu; ++i)
-        for (int j = 0; j < nv; ++j) {
-            double u = 2 * M_PI * (i + 0.5) / nu, v = 2 * M_PI * (j + 0.25) / nv;
-            Vector3d c(std::cos(u), std::sin(u), 0), n = std::cos(v) * c + std::sin(v) * Vector3d::UnitZ();
-            s.push_back({m.surface.frame.toNormalized(kR * c + kr * n), n});
-            if (around) around->push_back(Vector3d(-std::sin(u), std::cos(u), 0));
-        }
-    return s;
-}
 
 // The angle (degrees, 0..45) between a cross {±d, ±n × d} and the nearest of its directions to t.
 double crossAngle(const Vector3d& d, const Vector3d& n, const Vector3d& t) {
