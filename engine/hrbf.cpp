@@ -1,6 +1,7 @@
 #include "hrbf.h"
 
 #include "common.h"
+#include "r3_term.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -52,22 +53,8 @@ double Hrbf::eval(const Vector3d& x, Vector3d& gradient, Matrix3d* hessian) cons
     double sum = a.dot(x) + b;
     Vector3d g = a;
     Matrix3d h = Matrix3d::Zero();
-    for (size_t j = 0; j < centers.size(); ++j) {
-        Vector3d d = x - centers[j];
-        double r = d.norm();
-        double db = beta[j].dot(d);
-        sum += alpha[j] * r * r * r - 3.0 * r * db;
-        if (r == 0.0) continue;  // ∇ψ, Hψ and their derivatives vanish at the centre
-        // ∇f_j = α ∇ψ(d) − Hψ(d) β = 3α r d − 3(r β + d ⟨d,β⟩ / r)
-        g += 3.0 * alpha[j] * r * d - 3.0 * (r * beta[j] + d * (db / r));
-        if (hessian) {
-            // α Hψ(d) − ∂(Hψ(d) β)/∂x; the third derivative of ψ contracted with β.
-            Matrix3d ddT = d * d.transpose();
-            h += 3.0 * alpha[j] * (r * Matrix3d::Identity() + ddT / r);
-            h -= (3.0 / r) *
-                 (beta[j] * d.transpose() + d * beta[j].transpose() + db * Matrix3d::Identity() - ddT * (db / (r * r)));
-        }
-    }
+    for (size_t j = 0; j < centers.size(); ++j)
+        addR3Node<double>(x, centers[j], alpha[j], beta[j], sum, g, hessian ? &h : nullptr);
     gradient = g;
     if (hessian) *hessian = h;
     return sum;

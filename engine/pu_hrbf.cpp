@@ -3,6 +3,7 @@
 #include "clean.h"
 #include "common.h"
 #include "parallel.h"
+#include "r3_term.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -33,22 +34,6 @@ template <class T>
 using Vec = Eigen::Matrix<T, 3, 1>;
 template <class T>
 using Mat = Eigen::Matrix<T, 3, 3>;
-
-// One node's term of eq. 6 at q (d = q − p, r = ‖d‖): α r³ − 3 r ⟨d, β⟩, its gradient 3α r d − 3(r β + d⟨d,β⟩/r)
-// and, when asked, its Hessian (α Hψ(d) − the third derivative of ψ contracted with β; engine/hrbf.cpp).
-template <class T>
-void addNode(const Vec<T>& q, const Vec<T>& p, T alpha, const Vec<T>& beta, T& f, Vec<T>& g, Mat<T>* H) {
-    Vec<T> d = q - p;
-    T r = d.norm(), db = beta.dot(d);
-    f += alpha * r * r * r - T(3) * r * db;
-    if (r == T(0)) return;
-    g += T(3) * alpha * r * d - T(3) * (r * beta + d * (db / r));
-    if (H) {
-        Mat<T> ddT = d * d.transpose(), I = Mat<T>::Identity();
-        *H += T(3) * alpha * (r * I + ddT / r);
-        *H -= (T(3) / r) * (beta * d.transpose() + d * beta.transpose() + db * I - ddT * (db / (r * r)));
-    }
-}
 
 // The PU blend's sums and their derivatives: S = Σ w_i, N = Σ w_i f_i (PU blend); then F = N / S with
 // ∇F = (∇N − F ∇S) / S and HF = (HN − ∇F ∇Sᵀ − ∇S ∇Fᵀ − F HS) / S.
@@ -259,7 +244,7 @@ double PuHrbf::eval(const Vector3d& x, Vector3d& gradient, Matrix3d* hessian) co
             Vector3d g = patch.a;
             Matrix3d H = Matrix3d::Zero();
             for (uint32_t j = patch.first; j < patch.first + patch.count; ++j)
-                addNode<double>(q, nodes[j].p, nodes[j].alpha, nodes[j].beta, f, g, hessian ? &H : nullptr);
+                addR3Node<double>(q, nodes[j].p, nodes[j].alpha, nodes[j].beta, f, g, hessian ? &H : nullptr);
             blend.addPatch(q, patch.radius, f, g, H);
         }
     auto far = [&](Vector3d& g, Matrix3d* H) { return coarse.eval(x, g, H); };
@@ -321,7 +306,7 @@ PuSeams measureSeams(const PuHrbf& model, size_t maxSamples) {
             Vector3d g = other.a;
             Matrix3d H = Matrix3d::Zero();
             for (uint32_t j = other.first; j < other.first + other.count; ++j)
-                addNode<double>(q, model.nodes[j].p, model.nodes[j].alpha, model.nodes[j].beta, f, g, &H);
+                addR3Node<double>(q, model.nodes[j].p, model.nodes[j].alpha, model.nodes[j].beta, f, g, &H);
             const double w = wendland(q.norm());
             S += w;
             ownGradient += w * g;
@@ -567,7 +552,7 @@ float PuFloat::farField(const Vector3f& x, Vector3f& g, Eigen::Matrix3f* H) cons
     float f = coarseA_[0] * x.x() + coarseA_[1] * x.y() + coarseA_[2] * x.z() + coarseA_[3];
     g = Vector3f(coarseA_[0], coarseA_[1], coarseA_[2]);
     for (size_t j = 0; j < coarse_.size(); j += 8)
-        addNode<float>(x, Vector3f(&coarse_[j]), coarse_[j + 3], Vector3f(&coarse_[j + 4]), f, g, H);
+        addR3Node<float>(x, Vector3f(&coarse_[j]), coarse_[j + 3], Vector3f(&coarse_[j + 4]), f, g, H);
     return f;
 }
 
@@ -636,7 +621,8 @@ float PuFloat::evalHessian(const Vector3f& x, Vector3f& gradient, Eigen::Matrix3
         float f = a.dot(q) + p.b;
         Eigen::Matrix3f H = Eigen::Matrix3f::Zero();
         for (uint32_t j = p.first; j < p.first + p.count; ++j)
-            addNode<float>(q, Vector3f(px_[j], py_[j], pz_[j]), alpha_[j], Vector3f(bx_[j], by_[j], bz_[j]), f, g, &H);
+            addR3Node<float>(q, Vector3f(px_[j], py_[j], pz_[j]), alpha_[j], Vector3f(bx_[j], by_[j], bz_[j]), f, g,
+                             &H);
         blend.addPatch(q, p.radius, f, g, H);
     });
     auto far = [&](Vector3f& g, Eigen::Matrix3f* H) { return farField(x, g, H); };

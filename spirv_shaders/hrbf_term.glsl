@@ -2,7 +2,8 @@
 // (engine/hrbf.cpp is the host's). For a node (p, α, β) at d = x − p, r = ‖d‖:
 //   term      α r³ − 3 r ⟨d, β⟩
 //   gradient  3 (α r − ⟨d, β⟩ / r) d − 3 r β
-//   Hessian   3 α (r I + d dᵀ / r) − (3 / r) (β dᵀ + d βᵀ + ⟨d, β⟩ I − d dᵀ ⟨d, β⟩ / r²)
+//   Hessian   3 α (r I + d dᵀ / r) − (3 / r) (β dᵀ + d βᵀ + ⟨d, β⟩ I − d dᵀ ⟨d, β⟩ / r²), the β part faded in
+//             within R3_HESSIAN_FADE of the node (shared/limits.h says why)
 // INK_R3_NODE(T, V4, V, M, S) writes them for one precision (scalar T, vectors V4 and V, matrix M), as
 //   void hrbfNodeS(V x, V4 pa, V beta, inout T f, inout V g)                 f and ∇f
 //   void hrbfNodeHessianS(V x, V4 pa, V beta, inout T f, inout V g, inout M H)  f, ∇f and the Hessian
@@ -11,6 +12,8 @@
 // (divided by 3) rearranged into fused multiply-adds, for double precision only.
 #ifndef HRBF_TERM_GLSL
 #define HRBF_TERM_GLSL
+
+#include "shared/limits.h"  // R3_HESSIAN_FADE
 
 #define INK_R3_NODE(T, V4, V, M, S)                                                                  \
     void hrbfNode##S(V x, V4 pa, V beta, inout T f, inout V g) {                                     \
@@ -28,7 +31,9 @@
         g += T(3.0) * pa.w * r * d - T(3.0) * (r * beta + d * (db / r));                             \
         M ddT = outerProduct(d, d);                                                                  \
         H += T(3.0) * pa.w * (r * M(1.0) + ddT / r);                                                 \
-        H -= (T(3.0) / r) * (outerProduct(beta, d) + outerProduct(d, beta) + db * M(1.0) - ddT * (db / (r * r))); \
+        T fade = min(r * r / T(R3_HESSIAN_FADE * R3_HESSIAN_FADE), T(1.0));                         \
+        H -= (fade * T(3.0) / r) *                                                                   \
+             (outerProduct(beta, d) + outerProduct(d, beta) + db * M(1.0) - ddT * (db / (r * r)));   \
     }
 
 INK_R3_NODE(float, vec4, vec3, mat3, F)

@@ -24,6 +24,13 @@ INK_CONST uint DROP_REASONS = 4u;
 INK_CONST uint HRBF_BLOCK_SIZE = 1024u;
 INK_CONST uint HRBF_BLOCKS = 4u;
 
+// The HRBF node term's Hessian (hrbf_term.glsl, engine/r3_term.h): the part of it that comes from β (the third
+// derivative of ψ = r³) is bounded but depends on the direction of x − p alone, so it jumps at the node, and near
+// the node float rounding of x − p picks that direction: curvature there was noise, and differed by device. It
+// fades in as (r / R3_HESSIAN_FADE)² within R3_HESSIAN_FADE of the node (in the node's coordinates: a patch's
+// radius is 1), and at the node takes its average over directions, 0.
+INK_CONST float R3_HESSIAN_FADE = 1e-3;
+
 // The stipple selection's stages (kMaxSelectStages in engine/select_plan.h).
 INK_CONST uint MAX_STAGES = 48u;
 
