@@ -107,7 +107,7 @@ VkPipeline createComputePipeline(Context& ctx, VkPipelineLayout layout, std::spa
 }
 
 VkPipeline createBlendedPipeline(Context& ctx, VkPipelineLayout layout, VkFormat colorFormat,
-                                 std::span<const uint32_t> vertex, std::span<const uint32_t> fragment) {
+                                 std::span<const uint32_t> vertex, std::span<const uint32_t> fragment, VkBlendOp op) {
     VkShaderModule vert = createShaderModule(ctx, vertex);
     VkShaderModule frag = createShaderModule(ctx, fragment);
     VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
@@ -137,10 +137,10 @@ VkPipeline createBlendedPipeline(Context& ctx, VkPipelineLayout layout, VkFormat
     blendAttachment.blendEnable = VK_TRUE;
     blendAttachment.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
     blendAttachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-    blendAttachment.colorBlendOp = VK_BLEND_OP_ADD;
+    blendAttachment.colorBlendOp = op;  // MIN and MAX ignore the factors
     blendAttachment.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
     blendAttachment.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-    blendAttachment.alphaBlendOp = VK_BLEND_OP_ADD;
+    blendAttachment.alphaBlendOp = op;
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     blend.attachmentCount = 1;
     blend.pAttachments = &blendAttachment;

@@ -41,9 +41,11 @@ VkPipeline createComputePipeline(Context& ctx, VkPipelineLayout layout, std::spa
                                  std::span<const uint32_t> constants = {});
 
 // A graphics pipeline for dynamic rendering into one colour attachment of `colorFormat`: triangles from the vertex
-// index alone (no vertex input), no culling or depth, alpha blended over the target (occlusion is decided in
-// compute), dynamic viewport and scissor.
+// index alone (no vertex input), no culling or depth, blended into the target by `op` (occlusion is decided in
+// compute), dynamic viewport and scissor. VK_BLEND_OP_ADD: alpha over the target; VK_BLEND_OP_MIN / _MAX: the
+// darker / lighter of the fragment's colour and the target's, so that overlapping fragments blend only once.
 VkPipeline createBlendedPipeline(Context& ctx, VkPipelineLayout layout, VkFormat colorFormat,
-                                 std::span<const uint32_t> vertex, std::span<const uint32_t> fragment);
+                                 std::span<const uint32_t> vertex, std::span<const uint32_t> fragment,
+                                 VkBlendOp op = VK_BLEND_OP_ADD);
 
 }  // namespace ink

@@ -156,7 +156,10 @@ LineRenderer::LineRenderer(Context& ctx, const StrokeBuffers& strokes, VkFormat 
         layout_ = createPipelineLayout(ctx, setLayout_, sizeof(Push), kStages);
         cull_ = createComputePipeline(ctx, layout_, spv_lines_comp);
         stamp_ = createComputePipeline(ctx, layout_, spv_lines_stamp_comp);
-        draw_ = createBlendedPipeline(ctx, layout_, colorFormat, spv_line_vert, spv_line_frag);
+        // Ink takes the darker of the line and the target, a halo's paper the lighter: a pixel that several
+        // segments of a stroke cover (their round ends overlap at every joint) is inked once, as stamping does.
+        draw_ = createBlendedPipeline(ctx, layout_, colorFormat, spv_line_vert, spv_line_frag, VK_BLEND_OP_MIN);
+        halo_ = createBlendedPipeline(ctx, layout_, colorFormat, spv_line_vert, spv_line_frag, VK_BLEND_OP_MAX);
     } catch (...) {
         release();
         throw;
@@ -175,10 +178,11 @@ void LineRenderer::release() {
     vkDestroyPipeline(ctx_.device, cull_, nullptr);
     vkDestroyPipeline(ctx_.device, stamp_, nullptr);
     vkDestroyPipeline(ctx_.device, draw_, nullptr);
+    vkDestroyPipeline(ctx_.device, halo_, nullptr);
     vkDestroyPipelineLayout(ctx_.device, layout_, nullptr);
     vkDestroyDescriptorSetLayout(ctx_.device, setLayout_, nullptr);
     destroyBuffer(ctx_, styleBuffer_);
-    cull_ = stamp_ = draw_ = VK_NULL_HANDLE;
+    cull_ = stamp_ = draw_ = halo_ = VK_NULL_HANDLE;
     layout_ = VK_NULL_HANDLE;
     setLayout_ = VK_NULL_HANDLE;
 }
@@ -282,7 +286,6 @@ void LineRenderer::recordStamp(VkCommandBuffer cmd, uint32_t frame) {
 void LineRenderer::recordDraw(VkCommandBuffer cmd, VkExtent2D, uint32_t frame) const {
     if (stamps_) return;  // the ink pass inks the stamped coverage
     const Frame& f = frames_.at(frame);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, draw_);
     // Hatching, then hidden contours, creases and boundaries, the halos of interior contours and the visible
     // lines over them.
     const std::pair<int, uint32_t> passes[] = {{StrokeBuffers::Hatching, 0u},   {StrokeBuffers::Contours, 1u},
@@ -291,6 +294,7 @@ void LineRenderer::recordDraw(VkCommandBuffer cmd, VkExtent2D, uint32_t frame) c
                                                {StrokeBuffers::Boundaries, 3u}, {StrokeBuffers::Contours, 3u}};
     for (auto [kind, mode] : passes) {
         if (strokes_.segments(StrokeBuffers::Kind(kind)).count == 0) continue;
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, mode == 2u ? halo_ : draw_);
         Push p = f.push;
         p.counts = glm::uvec4(0, mode, 0, 0);
         vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(p), &p);
@@ -305,14 +309,13 @@ std::vector<DrawnSegment> LineRenderer::drawn(StrokeBuffers::Kind kind, uint32_t
     const List& l = frames_.at(frame).lists[kind];
     uint32_t header[4] = {};
     downloadBuffer(ctx_, l.buffer, 0, header, sizeof(header));
-    std::vector<DrawnSegment> out(header[0] / 6);
-    std::vector<gpu::DrawSegment> raw(out.size());
+    // A slot a segment; those that do not show have flags 0.
+    std::vector<gpu::DrawSegment> raw(header[0] / 6);
     if (!raw.empty())
         downloadBuffer(ctx_, l.buffer, kDrawListHeader, raw.data(), raw.size() * sizeof(gpu::DrawSegment));
-    for (size_t i = 0; i < out.size(); ++i) {
-        const gpu::DrawSegment& r = raw[i];
-        out[i] = {{r.ends.x, r.ends.y}, {r.ends.z, r.ends.w}, r.widths, r.flags, r.segment};
-    }
+    std::vector<DrawnSegment> out;
+    for (const gpu::DrawSegment& r : raw)
+        if (r.flags != 0) out.push_back({{r.ends.x, r.ends.y}, {r.ends.z, r.ends.w}, r.widths, r.flags, r.segment});
     return out;
 }
 

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // A pen line: the coverage of the capsule around the segment (its width interpolated along it, tapering at the
-// strokes' ends), antialiased over one pixel.
+// strokes' ends), antialiased over one pixel, over the paper.
 #include "lines_common.glsl"
 
 layout(location = 0) in vec2 pixel;
@@ -16,6 +16,12 @@ void main() {
     float coverage = clamp(mix(widths.x, widths.y, t) + 0.5 - distance, 0.0, 1.0);
     if (coverage <= 0.0) discard;
     uint mode = cam.counts.y;
-    vec4 color = mode == 1u ? lineStyle.hiddenInk : (mode == 2u ? lineStyle.paper : lineStyle.ink);
-    outColor = vec4(color.rgb, color.a * coverage);
+    // Blended by MIN (ink: the darker of this and the target) or MAX (a halo: the lighter), so the colour is the
+    // line's over the paper, and a pixel that overlapping segments cover takes it once.
+    if (mode == 2u) {
+        outColor = vec4(lineStyle.paper.rgb * coverage, 1.0);
+    } else {
+        vec4 color = mode == 1u ? lineStyle.hiddenInk : lineStyle.ink;
+        outColor = vec4(mix(lineStyle.paper.rgb, color.rgb, color.a * coverage), 1.0);
+    }
 }

@@ -1,8 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Six vertices a segment of the draw list: a quad around the capsule of its pen width (round ends, so joints
-// are smooth), plus a pixel for the antialiasing. The draw mode picks which segments this draw takes; the others
-// become empty triangles.
+// are smooth), plus a pixel for the antialiasing. The draw mode picks which segments this draw takes; the others,
+// and those that do not show (flags 0), become empty triangles.
 #include "lines_common.glsl"
 
 layout(location = 0) out vec2 pixel;
@@ -12,7 +12,7 @@ layout(location = 2) flat out vec2 widths;
 void main() {
     DrawSegment s = drawList.list[gl_VertexIndex / 6];
     uint mode = cam.counts.y;
-    bool take = mode == 0u || (mode == 1u && (s.flags & SEG_HIDDEN) != 0u) ||
+    bool take = (mode == 0u && s.flags != 0u) || (mode == 1u && (s.flags & SEG_HIDDEN) != 0u) ||
                 (mode == 2u && (s.flags & SEG_INTERIOR) != 0u) || (mode == 3u && (s.flags & SEG_VISIBLE) != 0u);
     vec2 w = s.widths;
     if (mode == 2u) w += lineStyle.widths.w;

@@ -1,6 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#extension GL_KHR_shader_subgroup_ballot : require
 // Once per traced segment and frame: whether it shows, against the splat depth grid the dots' pass built.
 // - Contours: visible when not behind the surface (tested two push-backs nearer the camera, as silhouette dots
 //   are), else hidden; interior when there is surface on both sides of it in the image (it lies in front of more
@@ -10,7 +9,9 @@
 //   are fixed to the model; only these per-frame decisions change.
 // - Crease and boundary lines: visible when not behind the surface at their own pixel (tested four push-backs
 //   nearer the camera: they run along the surface, not beside it), else hidden like contours.
-// What shows is appended to the draw list (one atomic a subgroup); hidden hatching is dropped.
+// Each segment's decision goes to its own slot of the draw list (flags 0 where nothing of it shows; hidden
+// hatching is dropped), so the list's order, and with it the blending of overlapping lines, does not depend on
+// how the device schedules the threads: a GPU draws every frame the same, bit for bit.
 #include "lines_common.glsl"
 
 layout(local_size_x = GROUP_SIZE) in;
@@ -105,11 +106,8 @@ void main() {
     DrawSegment s;
     s.ends = vec4(pa, pb);
     s.widths = 0.5 * width * vec2(t0.w, t1.w);
-    s.flags = flags;
+    s.flags = keep ? flags : 0u;
     s.segment = index;
-    uvec4 ballot = subgroupBallot(keep);
-    uint count = subgroupBallotBitCount(ballot), first = 0u;
-    if (subgroupElect() && count > 0u) first = atomicAdd(drawList.draw.x, 6u * count) / 6u;
-    first = subgroupBroadcastFirst(first);
-    if (keep) drawList.list[first + subgroupBallotExclusiveBitCount(ballot)] = s;
+    if (i < cam.counts.x) drawList.list[i] = s;
+    if (i == 0u) drawList.draw.x = 6u * cam.counts.x;
 }

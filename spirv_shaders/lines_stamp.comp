@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-// The pen lines lines.comp kept, stamped into the frame's coverage bits like the dots (stamp.comp) instead of
+// The pen lines lines.comp kept (flags not 0), stamped into the frame's coverage bits like the dots (stamp.comp) instead of
 // drawn as quads: what a CPU driver is given (lavapipe sets up each triangle on one thread, about 4 µs a
 // capsule's two here, 65 ms for the bunny's hatching), chosen by driver ID (LineRenderer). A pixel is inked
 // when its centre lies within the capsule (at least half a pixel wide, so thin lines stay connected); no
@@ -54,13 +54,15 @@ void main() {
     if (i < count) {
         DrawSegment s = drawList.list[i];
         vec2 a = s.ends.xy, b = s.ends.zw;
-        if (cam.counts.y == 0u) {
+        if (s.flags == 0u) {
+            // Does not show.
+        } else if (cam.counts.y == 0u) {
             box = stampCapsule(a, b, s.widths, INK_BIT);
         } else if ((s.flags & SEG_VISIBLE) != 0u) {
             if ((s.flags & SEG_INTERIOR) != 0u)
                 box = stampCapsule(a, b, s.widths + lineStyle.widths.w, HALO_BIT);
             box = merge(box, stampCapsule(a, b, s.widths, CONTOUR_BIT));
-        } else {
+        } else if ((s.flags & SEG_HIDDEN) != 0u) {
             box = stampCapsule(a, b, s.widths, HIDDEN_BIT);
         }
     }

@@ -447,6 +447,50 @@ TEST_CASE("contours: each frame decides on the device which contour segments are
     gpu.requireNoValidationErrors();
 }
 
+// Hidden contours are one grey, however many of a stroke's segments cover a pixel (their round ends overlap at
+// every joint, a wide pen's over several segments): with quads (a GPU's raster, blended by MIN) as with stamps.
+// Over alpha blending each overlap darkened the grey again, to black on an H200 (`cli: the hidden lines' ...`).
+TEST_CASE("contours: a wide hidden pen inks one grey, with quads as with stamps" * doctest::test_suite("gpu")) {
+    GpuFixture gpu;
+    ink::LineOptions lines;
+    lines.contours = true;
+    ink::RefineOptions options;
+    options.levels = 3;
+    ink::Scene scene(gpu.ctx, torus(), ink::DrawStyle::Stipple, options, lines);
+    ink::Camera camera;
+    camera.azimuthDeg = 80.0f;
+    camera.elevationDeg = 20.0f;
+    scene.traceContours(camera);
+    for (auto raster : {ink::RenderStyle::LineRaster::Quads, ink::RenderStyle::LineRaster::Stamps}) {
+        CAPTURE(raster == ink::RenderStyle::LineRaster::Stamps);
+        ink::RenderStyle style;
+        style.supersample = 1;
+        style.drawDots = false;
+        style.lineRaster = raster;
+        ink::RgbaImage visible =
+            ink::OffscreenRenderer(gpu.ctx, 512, 512, style, scene.pointers(), scene.strokes.get()).render(camera);
+        style.hiddenLines = true;
+        style.hiddenPenWidth = 4.0f;
+        ink::RgbaImage both =
+            ink::OffscreenRenderer(gpu.ctx, 512, 512, style, scene.pointers(), scene.strokes.get()).render(camera);
+        // The pixels the hidden lines alone ink: 255 − 0.45 · 255 = 140 where wholly covered, lighter at the edges.
+        size_t added = 0, full = 0;
+        int darkest = 255;
+        for (size_t i = 0; i < both.pixels.size(); i += 4)
+            if (visible.pixels[i] == 255 && both.pixels[i] < 255) {
+                ++added;
+                full += both.pixels[i] <= 141;
+                darkest = std::min(darkest, int(both.pixels[i]));
+            }
+        CAPTURE(added);
+        CAPTURE(full);
+        CHECK(added > 500);
+        CHECK(darkest >= 139);
+        CHECK(full > added / 4);  // a 4 px pen covers most of its pixels wholly
+    }
+    gpu.requireNoValidationErrors();
+}
+
 #include "run_command.h"
 #include "temp_dir.h"
 
