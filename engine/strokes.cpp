@@ -68,10 +68,10 @@ std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, StrokeBu
         const uint32_t kind0 = hatching ? gpu::KIND_HATCH | (s.family & 1u) << 1 | (s.level & 1u) << 2 : feature;
         const size_t segments = m - 1 + (s.closed ? 1 : 0);
         for (size_t i = 0; i < segments; ++i) {
-            const uint32_t kind =
-                hatching ? kind0 | uint32_t(std::min<size_t>(i, gpu::HATCH_REACH)) << gpu::HATCH_BEFORE_SHIFT |
-                               uint32_t(std::min<size_t>(segments - 1 - i, gpu::HATCH_REACH)) << gpu::HATCH_AFTER_SHIFT
-                         : 0u;
+            // The kind, and the segments before and after this one in its stroke (every kind: lines.comp walks them).
+            const uint32_t kind = kind0 | uint32_t(std::min<size_t>(i, gpu::HATCH_REACH)) << gpu::HATCH_BEFORE_SHIFT |
+                                  uint32_t(std::min<size_t>(segments - 1 - i, gpu::HATCH_REACH))
+                                      << gpu::HATCH_AFTER_SHIFT;
             size_t j = (i + 1) % m;
             Eigen::Vector3f n = (normals[i] + normals[j]).normalized();
             const float texels[12] = {s.points[i].x(), s.points[i].y(), s.points[i].z(), width(i),

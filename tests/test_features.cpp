@@ -1,6 +1,7 @@
 // Crease and boundary lines of a mesh (engine/feature_lines.h), the trimming of what the input does not support
 // (engine/support.h), and their options, pens and layers (docs/lines.md, Creases and boundaries).
 #include "feature_lines.h"
+#include "image.h"
 #include "model.h"
 #include "points.h"
 #include "run_command.h"
@@ -273,6 +274,20 @@ TEST_CASE("cli: a cube's SVG has its creases on a pen of their own, an open hemi
     CHECK(svg.find("inkscape:label=\"1 contour\"") != std::string::npos);
     CHECK(svg.find("inkscape:label=\"2 creases\"") != std::string::npos);
     CHECK(svg.find("boundaries") == std::string::npos);
+    // Drawn with the crease pen: a wider one inks more (the device once took creases for contours, with their pen).
+    auto ink = [&](const std::string& width) {
+        const std::string png = dir / ("cube-" + width + ".png");
+        REQUIRE(runInkwell("render " + cube + " --style contours --size 256 256 --crease-width " + width + " -o " + png)
+                    .status == 0);
+        ink::RgbaImage image = ink::readPng(png);
+        long sum = 0;
+        for (size_t i = 0; i < image.pixels.size(); i += 4) sum += 255 - image.pixels[i];
+        return sum;
+    };
+    const long thin = ink("1"), wide = ink("5");
+    CAPTURE(thin);
+    CAPTURE(wide);
+    CHECK(double(wide) > 1.5 * double(thin));
 
     // Off: no crease layer.
     r = runInkwell("render " + cube + " --style contours --creases off --size 256 256 -o " + dir / "off.svg");
