@@ -9,6 +9,7 @@
 #include "image.h"
 #include "path_order.h"
 #include "run_command.h"
+#include "skip.h"
 #include "temp_dir.h"
 #include "vector.h"
 
@@ -450,27 +451,36 @@ TEST_CASE("vector: render writes the frame's marks as SVG and PDF that independe
     CHECK(r.output.find("pen 1 (stipple):") != std::string::npos);
     ink::RgbaImage png = ink::readPng(dir / "a.png");
 
-    Run svg = runShell("rsvg-convert -w 320 -h 320 -b white -o " + dir / "svg.png" + " " + dir / "a.svg" + " 2>&1");
-    REQUIRE_MESSAGE(svg.status == 0, "rsvg-convert (librsvg2-bin, scripts/install-deps.sh): " << svg.output);
-    Difference ds = compareBlurred(png, ink::readPng(dir / "svg.png"));
-    MESSAGE("SVG vs PNG: " << ds.fraction * 100 << "% differ; ink " << ds.inkA << " vs " << ds.inkB);
-    CHECK(ds.fraction <= 0.02);
-    CHECK(ds.inkA > 5000);  // a drawing, not two blank pages
-    // The criterion fails a drawing two pixels off.
-    Difference off = compareBlurred(png, ink::readPng(dir / "svg.png"), 2);
-    MESSAGE("SVG two pixels off: " << off.fraction * 100 << "% differ");
-    CHECK(off.fraction > 0.02);
-    CHECK(double(ds.inkB) > 0.7 * double(ds.inkA));
-    CHECK(double(ds.inkB) < 1.3 * double(ds.inkA));
-
-    Run pdf = runShell("pdftoppm -png -singlefile -scale-to-x 320 -scale-to-y 320 " + dir / "a.pdf" + " " +
-                       dir / "pdf" + " 2>&1");
-    REQUIRE_MESSAGE(pdf.status == 0, "pdftoppm (poppler-utils, scripts/install-deps.sh): " << pdf.output);
-    Difference dp = compareBlurred(png, ink::readPng(dir / "pdf.png"));
-    MESSAGE("PDF vs PNG: " << dp.fraction * 100 << "% differ; ink " << dp.inkA << " vs " << dp.inkB);
-    CHECK(dp.fraction <= 0.02);
-    CHECK(double(dp.inkB) > 0.7 * double(dp.inkA));
-
+    // The independent renderers come with scripts/install-deps.sh (librsvg2-bin, poppler-utils); where one is
+    // missing (a machine set up otherwise), its comparison is skipped, and said so at the end.
+    std::string missing;
+    if (runShell("command -v rsvg-convert").status != 0) {
+        missing += " rsvg-convert";
+    } else {
+        Run svg = runShell("rsvg-convert -w 320 -h 320 -b white -o " + dir / "svg.png" + " " + dir / "a.svg" + " 2>&1");
+        REQUIRE_MESSAGE(svg.status == 0, "rsvg-convert (librsvg2-bin, scripts/install-deps.sh): " << svg.output);
+        Difference ds = compareBlurred(png, ink::readPng(dir / "svg.png"));
+        MESSAGE("SVG vs PNG: " << ds.fraction * 100 << "% differ; ink " << ds.inkA << " vs " << ds.inkB);
+        CHECK(ds.fraction <= 0.02);
+        CHECK(ds.inkA > 5000);  // a drawing, not two blank pages
+        // The criterion fails a drawing two pixels off.
+        Difference off = compareBlurred(png, ink::readPng(dir / "svg.png"), 2);
+        MESSAGE("SVG two pixels off: " << off.fraction * 100 << "% differ");
+        CHECK(off.fraction > 0.02);
+        CHECK(double(ds.inkB) > 0.7 * double(ds.inkA));
+        CHECK(double(ds.inkB) < 1.3 * double(ds.inkA));
+    }
+    if (runShell("command -v pdftoppm").status != 0) {
+        missing += " pdftoppm";
+    } else {
+        Run pdf = runShell("pdftoppm -png -singlefile -scale-to-x 320 -scale-to-y 320 " + dir / "a.pdf" + " " +
+                           dir / "pdf" + " 2>&1");
+        REQUIRE_MESSAGE(pdf.status == 0, "pdftoppm (poppler-utils, scripts/install-deps.sh): " << pdf.output);
+        Difference dp = compareBlurred(png, ink::readPng(dir / "pdf.png"));
+        MESSAGE("PDF vs PNG: " << dp.fraction * 100 << "% differ; ink " << dp.inkA << " vs " << dp.inkB);
+        CHECK(dp.fraction <= 0.02);
+        CHECK(double(dp.inkB) > 0.7 * double(dp.inkA));
+    }
     // The stats: the layer, its paths, travel ordered and not.
     nlohmann::json stats = nlohmann::json::parse(readFile(dir / "a.json"));
     REQUIRE(stats["vector"]["layers"].size() == 1);
@@ -487,6 +497,10 @@ TEST_CASE("vector: render writes the frame's marks as SVG and PDF that independe
     CHECK(hidden.layers[0].label == "1 hidden");
     CHECK(hidden.layers[1].label == "2 stipple");
     CHECK(hidden.layers[0].paths.size() > 10);
+    if (!missing.empty()) {
+        skipTest("not installed:" + missing + " (scripts/install-deps.sh): no independent renderer drew those files");
+        return;
+    }
     REQUIRE(runShell("rsvg-convert -w 320 -h 320 -b white -o " + dir / "hsvg.png" + " " + dir / "h.svg").status == 0);
     Difference dh = compareBlurred(ink::readPng(dir / "h.png"), ink::readPng(dir / "hsvg.png"));
     MESSAGE("hidden lines, SVG vs PNG: " << dh.fraction * 100 << "% differ");
