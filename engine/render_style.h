@@ -51,6 +51,10 @@ struct RenderStyle {
     // Where the tone and facing would show a hatching stroke over a shorter run than this (a fraction of the image's
     // shorter side: 40 pixels at 1024²), that run is not drawn: no dashes where a stroke grazes the edge of a tone.
     float hatchMinRun = 0.04f;
+    // Contour, crease and boundary lines: each segment shows as visible or hidden as most of its stroke within this
+    // fraction of the image's shorter side either way does (15 pixels at 1024²): a median along the stroke, which
+    // keeps where visibility truly changes and drops the shorter runs that the depth grid's cells flip (dashes).
+    float lineMinRun = 0.015f;
     // How pen lines reach the pixels: antialiased quads in a graphics pipeline (GPUs), or stamped into the
     // coverage bits in compute like the dots (CPU drivers, whose triangle setup is serial); Auto picks by driver.
     enum class LineRaster { Auto, Quads, Stamps } lineRaster = LineRaster::Auto;

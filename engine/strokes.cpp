@@ -9,6 +9,7 @@
 #include "line.frag.h"
 #include "line.vert.h"
 #include "lines.comp.h"
+#include "lines_runs.comp.h"
 #include "lines_stamp.comp.h"
 
 namespace ink {
@@ -155,6 +156,7 @@ LineRenderer::LineRenderer(Context& ctx, const StrokeBuffers& strokes, VkFormat 
         VK_CHECK(vkCreateDescriptorSetLayout(ctx.device, &info, nullptr, &setLayout_));
         layout_ = createPipelineLayout(ctx, setLayout_, sizeof(Push), kStages);
         cull_ = createComputePipeline(ctx, layout_, spv_lines_comp);
+        runs_ = createComputePipeline(ctx, layout_, spv_lines_runs_comp);
         stamp_ = createComputePipeline(ctx, layout_, spv_lines_stamp_comp);
         // Ink takes the darker of the line and the target, a halo's paper the lighter: a pixel that several
         // segments of a stroke cover (their round ends overlap at every joint) is inked once, as stamping does.
@@ -177,12 +179,13 @@ void LineRenderer::release() {
     frames_.clear();
     vkDestroyPipeline(ctx_.device, cull_, nullptr);
     vkDestroyPipeline(ctx_.device, stamp_, nullptr);
+    vkDestroyPipeline(ctx_.device, runs_, nullptr);
     vkDestroyPipeline(ctx_.device, draw_, nullptr);
     vkDestroyPipeline(ctx_.device, halo_, nullptr);
     vkDestroyPipelineLayout(ctx_.device, layout_, nullptr);
     vkDestroyDescriptorSetLayout(ctx_.device, setLayout_, nullptr);
     destroyBuffer(ctx_, styleBuffer_);
-    cull_ = stamp_ = draw_ = halo_ = VK_NULL_HANDLE;
+    cull_ = runs_ = stamp_ = draw_ = halo_ = VK_NULL_HANDLE;
     layout_ = VK_NULL_HANDLE;
     setLayout_ = VK_NULL_HANDLE;
 }
@@ -200,7 +203,7 @@ void LineRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pix
     b.light = glm::vec4(shaderLight(s), s.toneGamma);
     b.tone = glm::vec4(s.inkDensity, s.ambient, s.hatchMinFacing, s.hatchMinRun);
     b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.hiddenLines ? 1.0f : 0.0f, 0.0f, 0.0f);
-    b.features = glm::vec4(s.creaseWidth, s.boundaryWidth, 0.0f, 0.0f) * pixelScale;
+    b.features = glm::vec4(glm::vec2(s.creaseWidth, s.boundaryWidth) * pixelScale, s.lineMinRun, 0.0f);
     stageBarrier(cmd,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
@@ -265,6 +268,21 @@ void LineRenderer::recordCull(VkCommandBuffer cmd, const glm::mat4& view, const 
                                 nullptr);
         vkCmdDispatch(cmd, (count + kGroup - 1) / kGroup, 1, 1);
     }
+    // Contour, crease and boundary lines: the visibility of most of the stroke around each segment.
+    stageBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, runs_);
+    for (int kind = 0; kind < StrokeBuffers::kKinds; ++kind) {
+        const uint32_t count = strokes_.segments(StrokeBuffers::Kind(kind)).count;
+        if (count == 0 || kind == StrokeBuffers::Hatching) continue;
+        Push p = f.push;
+        p.counts = glm::uvec4(count, 0, 0, 0);
+        vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(p), &p);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &f.lists[kind].descriptors.set, 0,
+                                nullptr);
+        vkCmdDispatch(cmd, (count + kGroup - 1) / kGroup, 1, 1);
+    }
 }
 
 void LineRenderer::recordStamp(VkCommandBuffer cmd, uint32_t frame) {
@@ -315,7 +333,9 @@ std::vector<DrawnSegment> LineRenderer::drawn(StrokeBuffers::Kind kind, uint32_t
         downloadBuffer(ctx_, l.buffer, kDrawListHeader, raw.data(), raw.size() * sizeof(gpu::DrawSegment));
     std::vector<DrawnSegment> out;
     for (const gpu::DrawSegment& r : raw)
-        if (r.flags != 0) out.push_back({{r.ends.x, r.ends.y}, {r.ends.z, r.ends.w}, r.widths, r.flags, r.segment});
+        if (r.flags != 0)
+            out.push_back(
+                {{r.ends.x, r.ends.y}, {r.ends.z, r.ends.w}, r.widths, r.flags, r.segment & gpu::SEG_INDEX_MASK});
     return out;
 }
 

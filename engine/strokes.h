@@ -107,7 +107,8 @@ private:
     VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;  // a throwaway set's, for the pipeline layout
     DescriptorSet layoutSet_;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
-    VkPipeline cull_ = VK_NULL_HANDLE, stamp_ = VK_NULL_HANDLE, draw_ = VK_NULL_HANDLE, halo_ = VK_NULL_HANDLE;
+    VkPipeline cull_ = VK_NULL_HANDLE, runs_ = VK_NULL_HANDLE, stamp_ = VK_NULL_HANDLE, draw_ = VK_NULL_HANDLE,
+               halo_ = VK_NULL_HANDLE;
 };
 
 // Segments of strokes of one kind as the device reads them: three RGBA32F texels each (lines_common.glsl).

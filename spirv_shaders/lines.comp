@@ -9,6 +9,8 @@
 //   are fixed to the model; only these per-frame decisions change.
 // - Crease and boundary lines: visible when not behind the surface at their own pixel (tested four push-backs
 //   nearer the camera: they run along the surface, not beside it), else hidden like contours.
+// Contour, crease and boundary lines then take the visibility most of their stroke around them has
+// (lines_runs.comp).
 // Each segment's decision goes to its own slot of the draw list (flags 0 where nothing of it shows; hidden
 // hatching is dropped), so the list's order, and with it the blending of overlapping lines, does not depend on
 // how the device schedules the threads: a GPU draws every frame the same, bit for bit.
@@ -51,7 +53,7 @@ void main() {
     vec3 mid = 0.5 * (a + b);
     vec3 n = mat3(cam.view) * t2.xyz;
     bool keep = i < cam.counts.x && -a.z > 1e-6 && -b.z > 1e-6;
-    uint flags = 0u;
+    uint flags = 0u, raw = 0u;  // raw: this pass's decision for lines_runs.comp (contour, crease, boundary)
     vec4 ca = project(a), cb = project(b);
     vec2 pa = toPixels(ca), pb = toPixels(cb);
     // Off screen (with a margin for the pen).
@@ -81,9 +83,9 @@ void main() {
         vec4 nearer = project(mid - normalize(mid) * (4.0 * cam.params.x));
         bool visible = nearer.z / nearer.w <= uintBitsToFloat(depthAt(toPixels(nearer)));
         flags = visible ? SEG_VISIBLE : SEG_HIDDEN;
+        raw = (keep ? SEG_RAW_SHOWN : 0u) | (visible ? SEG_RAW_VISIBLE : 0u);
         keep = keep && (visible || lineStyle.options.y != 0.0);
-        width = visible ? ((kind & KIND_CREASE) != 0u ? lineStyle.features.x : lineStyle.features.y)
-                        : lineStyle.widths.y;
+        width = lineWidth(kind, visible);
     } else {
         // Tested a little beyond the contour in the image, on the side its normal points to (its own surface lies
         // on the other): near the outline the splat disks of that surface stand almost edge-on and reach out in
@@ -94,6 +96,7 @@ void main() {
         vec2 beyond = pm + (length(outward) > 1e-6 ? outward / length(outward) : vec2(0.0)) * 3.0;
         bool visible = nearer.z / nearer.w <= uintBitsToFloat(depthAt(beyond));
         flags = visible ? SEG_VISIBLE : SEG_HIDDEN;
+        raw = (keep ? SEG_RAW_SHOWN : 0u) | (visible ? SEG_RAW_VISIBLE : 0u);
         keep = keep && (visible || lineStyle.options.y != 0.0);
         // Surface on both sides in the image: the contour lies in front of more surface (interior).
         vec2 dir = pb - pa;
@@ -101,13 +104,13 @@ void main() {
         float reach = 0.5 * lineStyle.widths.x + lineStyle.widths.w + 2.0 * cam.params.y;
         if (visible && depthAt(pm + side * reach) != FAR_DEPTH && depthAt(pm - side * reach) != FAR_DEPTH)
             flags |= SEG_INTERIOR;
-        width = visible ? lineStyle.widths.x : lineStyle.widths.y;
+        width = lineWidth(kind, visible);
     }
     DrawSegment s;
     s.ends = vec4(pa, pb);
     s.widths = 0.5 * width * vec2(t0.w, t1.w);
     s.flags = keep ? flags : 0u;
-    s.segment = index;
+    s.segment = index | raw;
     if (i < cam.counts.x) drawList.list[i] = s;
     if (i == 0u) drawList.draw.x = 6u * cam.counts.x;
 }

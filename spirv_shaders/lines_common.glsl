@@ -26,6 +26,13 @@ layout(std430, binding = LINES_DRAWN) buffer DrawnBlock { DrawnCounts drawn; };
 
 layout(push_constant) uniform LineCameraBlock { LineCamera cam; };
 
+// The pen width in pixels of a contour, crease or boundary segment of kind bits `kind`, shown or hidden.
+float lineWidth(uint kind, bool visible) {
+    if (!visible) return lineStyle.widths.y;
+    return (kind & KIND_CREASE) != 0u ? lineStyle.features.x
+                                      : ((kind & KIND_BOUNDARY) != 0u ? lineStyle.features.y : lineStyle.widths.x);
+}
+
 vec4 project(vec3 v) {
     return vec4(cam.projection.x * v.x, cam.projection.y * v.y, cam.projection.z * v.z + cam.projection.w, -v.z);
 }

@@ -57,6 +57,10 @@ INK_CONST uint HATCH_REACH = 255u;
 INK_CONST uint SEG_VISIBLE = 1u;
 INK_CONST uint SEG_HIDDEN = 2u;
 INK_CONST uint SEG_INTERIOR = 4u;
+// DrawSegment::segment: the traced segment's index, and lines.comp's own decision for lines_runs.comp.
+INK_CONST uint SEG_INDEX_MASK = 0x3FFFFFFFu;
+INK_CONST uint SEG_RAW_SHOWN = 0x40000000u;    // in front of the camera and in the image
+INK_CONST uint SEG_RAW_VISIBLE = 0x80000000u;  // not behind the surface, by the depth test alone
 
 INK_END
 

@@ -19,7 +19,7 @@ struct DrawSegment {
     vec4 ends;     // a.xy, b.xy
     vec2 widths;   // half widths at a and b, in pixels
     uint flags;    // SEG_VISIBLE, SEG_HIDDEN, SEG_INTERIOR (limits.h)
-    uint segment;  // its index among the traced segments
+    uint segment;  // its index among the traced segments (SEG_INDEX_MASK), and SEG_RAW_* (limits.h)
 };
 INK_ASSERT_SIZE(DrawSegment, 32);
 INK_ASSERT_OFFSET(DrawSegment, widths, 16);
@@ -38,7 +38,9 @@ struct LineStyle {
                       // w: hatching whose tone shows it over a shorter run of its stroke than this fraction of the
                       // image's shorter side is not drawn
     vec4 options;     // x: 1 when the light is fixed to the model; y: 1 = draw hidden contours
-    vec4 features;    // pen widths in pixels: x crease, y boundary lines
+    vec4 features;    // pen widths in pixels: x crease, y boundary lines; z: the median window of the visibility
+                      // of contour, crease and boundary lines, either way along the stroke (fraction of the
+                      // shorter side)
 };
 INK_ASSERT_SIZE(LineStyle, 144);
 INK_ASSERT_OFFSET(LineStyle, widths, 48);
