@@ -59,7 +59,8 @@ double peakMemoryMb() {
     return double(usage.ru_maxrss) / 1024.0;
 }
 
-json runWorkload(Session& session, const Workload& w, ink::Distribution distribution, uint32_t frames) {
+json runWorkload(Session& session, const Workload& w, ink::Distribution distribution, uint32_t frames,
+                 bool screenSpacing) {
     auto start = Clock::now();
     ink::Model model = w.model.empty() ? ink::fitModel(ink::sphereAxisPoints(), {0, w.method})
                        : w.model == "torus-100k"
@@ -81,6 +82,7 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
         ink::RenderStyle style;
         style.supersample = 1;
         style.drawDots = !w.lines;
+        style.screenSpacing = screenSpacing;
         ink::Camera first;
         first.azimuthDeg = 30.0f;
         scene.traceContours(first);  // the first view's contour: part of the preprocessing
@@ -178,7 +180,7 @@ json medianOf(const std::vector<json>& runs) {
 }
 
 int runBench(Options& o, const std::vector<std::string>& names, const std::string& jsonPath, uint32_t repeat,
-             uint32_t frames) {
+             uint32_t frames, bool screenSpacing) {
     finishOptions(o);
     std::vector<Workload> workloads;
     for (const std::string& name : names) {
@@ -205,9 +207,11 @@ int runBench(Options& o, const std::vector<std::string>& names, const std::strin
     json results = json::array();
     for (const Workload& w : workloads) {
         std::vector<json> runs;
-        for (uint32_t i = 0; i < repeat; ++i) runs.push_back(runWorkload(session, w, o.refine.distribution, frames));
+        for (uint32_t i = 0; i < repeat; ++i)
+            runs.push_back(runWorkload(session, w, o.refine.distribution, frames, screenSpacing));
         json m = medianOf(runs);
-        m["device_seconds"] = deviceSeconds;  // creating the Vulkan device, once per process, not in preprocess
+        m["device_seconds"] = deviceSeconds;
+        m["screen_spacing"] = screenSpacing;  // creating the Vulkan device, once per process, not in preprocess
         std::printf(
             "%-16s %8llu points %7llu stipples  fit %6.3f s  refine %6.3f s (select %5.0f ms; cpu refine %6.3f s, "
             "%.2fx)  preprocess %6.3f s  frame %7.2f ms (%5.1f fps)\n",
@@ -234,6 +238,7 @@ void addBenchCommand(CLI::App& cli, Options& o, Commands& commands) {
     auto jsonPath = std::make_shared<std::string>();
     auto repeat = std::make_shared<uint32_t>(3);
     auto frames = std::make_shared<uint32_t>(30);
+    auto screenSpacing = std::make_shared<bool>(false);
     CLI::App* bench = cli.add_subcommand("bench", "Time the report's workloads (preprocessing, frames, CPU reference)");
     bench->add_option("--workload", *names,
                       "sphere, bunny-312, bunny-684, bunny-684-lines, bunny-684-global, torus-100k (default: all but "
@@ -256,9 +261,13 @@ void addBenchCommand(CLI::App& cli, Options& o, Commands& commands) {
                      "(the report's look and workload)")
         ->check(CLI::IsMember({"blue-noise", "refinement"}))
         ->capture_default_str();
+    bench->add_flag(
+        "--screen-spacing", *screenSpacing,
+        "Space the stipples on the screen every frame (off by default; its cost: frame_passes_ms_median.space)");
     addDeviceOptions(bench, o);
-    commands.emplace_back(
-        bench, [&o, names, jsonPath, repeat, frames] { return runBench(o, *names, *jsonPath, *repeat, *frames); });
+    commands.emplace_back(bench, [&o, names, jsonPath, repeat, frames, screenSpacing] {
+        return runBench(o, *names, *jsonPath, *repeat, *frames, *screenSpacing);
+    });
 }
 
 }  // namespace app

@@ -189,7 +189,8 @@ TEST_CASE("cli: bench runs the sphere workload and reports the documented keys" 
          {"\"workload\": \"sphere\"", "\"candidates\": 32766", "\"points\"", "\"fit_seconds\"",
           "\"distribution\": \"blue-noise\"", "\"stipples\"", "\"select_ms\"", "\"refine_seconds\"",
           "\"preprocess_seconds\"", "\"frame_ms_median\"", "\"cpu_refine_seconds\"", "\"peak_memory_mb\"", "\"device\"",
-          "\"driver\"", "\"level_gpu_ms\"", "\"frame_passes_ms_median\"", "\"stamp\"", "\"dots_drawn_first_frame\""})
+          "\"driver\"", "\"level_gpu_ms\"", "\"frame_passes_ms_median\"", "\"stamp\"", "\"dots_drawn_first_frame\"",
+          "\"screen_spacing\": false"})
         CHECK_MESSAGE(text.find(key) != std::string::npos, key);
 }
 
