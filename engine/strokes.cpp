@@ -257,32 +257,26 @@ void LineRenderer::recordCull(VkCommandBuffer cmd, const glm::mat4& view, const 
     f.push =
         Push{view, projection, glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
              glm::vec4(pushBack, pixelScale_, 0, 0), glm::uvec4(0)};
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, cull_);
-    for (int kind = 0; kind < StrokeBuffers::kKinds; ++kind) {
-        const uint32_t count = strokes_.segments(StrokeBuffers::Kind(kind)).count;
-        if (count == 0) continue;
-        Push p = f.push;
-        p.counts = glm::uvec4(count, 0, 0, 0);
-        vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(p), &p);
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &f.lists[kind].descriptors.set, 0,
-                                nullptr);
-        vkCmdDispatch(cmd, (count + kGroup - 1) / kGroup, 1, 1);
-    }
+    // One dispatch a kind of stroke, a thread a segment.
+    auto dispatch = [&](VkPipeline pipeline, bool hatching) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+        for (int kind = 0; kind < StrokeBuffers::kKinds; ++kind) {
+            const uint32_t count = strokes_.segments(StrokeBuffers::Kind(kind)).count;
+            if (count == 0 || (kind == StrokeBuffers::Hatching && !hatching)) continue;
+            Push p = f.push;
+            p.counts = glm::uvec4(count, 0, 0, 0);
+            vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(p), &p);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &f.lists[kind].descriptors.set,
+                                    0, nullptr);
+            vkCmdDispatch(cmd, (count + kGroup - 1) / kGroup, 1, 1);
+        }
+    };
+    dispatch(cull_, true);
     // Contour, crease and boundary lines: the visibility of most of the stroke around each segment.
     stageBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, runs_);
-    for (int kind = 0; kind < StrokeBuffers::kKinds; ++kind) {
-        const uint32_t count = strokes_.segments(StrokeBuffers::Kind(kind)).count;
-        if (count == 0 || kind == StrokeBuffers::Hatching) continue;
-        Push p = f.push;
-        p.counts = glm::uvec4(count, 0, 0, 0);
-        vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(p), &p);
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &f.lists[kind].descriptors.set, 0,
-                                nullptr);
-        vkCmdDispatch(cmd, (count + kGroup - 1) / kGroup, 1, 1);
-    }
+    dispatch(runs_, false);
 }
 
 void LineRenderer::recordStamp(VkCommandBuffer cmd, uint32_t frame) {

@@ -379,21 +379,36 @@ TEST_CASE(
     gpu.requireNoValidationErrors();
 }
 
+// The torus's contour traced nearly edge-on (azimuth 80°, 20° up): much of the inner contour is behind the tube.
+struct EdgeOnTorus {
+    static ink::LineOptions contours() {
+        ink::LineOptions lines;
+        lines.contours = true;
+        return lines;
+    }
+    static ink::RefineOptions levels3() {
+        ink::RefineOptions options;
+        options.levels = 3;
+        return options;
+    }
+    ink::Camera camera;
+    ink::Scene scene;
+    explicit EdgeOnTorus(GpuFixture& gpu) : scene(gpu.ctx, torus(), ink::DrawStyle::Stipple, levels3(), contours()) {
+        camera.azimuthDeg = 80.0f;
+        camera.elevationDeg = 20.0f;
+        scene.traceContours(camera);
+    }
+};
+
 TEST_CASE("contours: each frame decides on the device which contour segments are hidden, as ray casting does" *
           doctest::test_suite("gpu")) {
     GpuFixture gpu;
-    ink::LineOptions lines;
-    lines.contours = true;
-    ink::RefineOptions options;
-    options.levels = 3;
-    ink::Scene scene(gpu.ctx, torus(), ink::DrawStyle::Stipple, options, lines);
+    EdgeOnTorus t(gpu);
+    ink::Scene& scene = t.scene;
+    const ink::Camera& camera = t.camera;
     const ink::Model& m = scene.model;
     const double scale = m.surface.frame.scale;
     const Vector3d centre = m.surface.frame.toNormalized(Vector3d::Zero());
-    ink::Camera camera;
-    camera.azimuthDeg = 80.0f;  // nearly edge-on: much of the inner contour is behind the tube
-    camera.elevationDeg = 20.0f;
-    scene.traceContours(camera);
     ink::RenderStyle style;
     style.supersample = 1;
     style.hiddenLines = true;
@@ -451,15 +466,9 @@ TEST_CASE("contours: each frame decides on the device which contour segments are
 // changes once, not in dashes. Without the median (lineMinRun 0) the depth grid's cells flip short runs.
 TEST_CASE("contours: visibility changes along a stroke without dashes" * doctest::test_suite("gpu")) {
     GpuFixture gpu;
-    ink::LineOptions lines;
-    lines.contours = true;
-    ink::RefineOptions options;
-    options.levels = 3;
-    ink::Scene scene(gpu.ctx, torus(), ink::DrawStyle::Stipple, options, lines);
-    ink::Camera camera;
-    camera.azimuthDeg = 80.0f;
-    camera.elevationDeg = 20.0f;
-    scene.traceContours(camera);
+    EdgeOnTorus t(gpu);
+    ink::Scene& scene = t.scene;
+    const ink::Camera& camera = t.camera;
     const std::vector<uint32_t> strokeOf = ink::segmentStrokes(scene.contours);
     // Runs of one visibility between runs of the other, shorter than `window` pixels, and the number of runs.
     auto dashes = [&](float minRun, size_t& runs) {
@@ -510,15 +519,9 @@ TEST_CASE("contours: visibility changes along a stroke without dashes" * doctest
 // Over alpha blending each overlap darkened the grey again, to black on an H200 (`cli: the hidden lines' ...`).
 TEST_CASE("contours: a wide hidden pen inks one grey, with quads as with stamps" * doctest::test_suite("gpu")) {
     GpuFixture gpu;
-    ink::LineOptions lines;
-    lines.contours = true;
-    ink::RefineOptions options;
-    options.levels = 3;
-    ink::Scene scene(gpu.ctx, torus(), ink::DrawStyle::Stipple, options, lines);
-    ink::Camera camera;
-    camera.azimuthDeg = 80.0f;
-    camera.elevationDeg = 20.0f;
-    scene.traceContours(camera);
+    EdgeOnTorus t(gpu);
+    ink::Scene& scene = t.scene;
+    const ink::Camera& camera = t.camera;
     for (auto raster : {ink::RenderStyle::LineRaster::Quads, ink::RenderStyle::LineRaster::Stamps}) {
         CAPTURE(raster == ink::RenderStyle::LineRaster::Stamps);
         ink::RenderStyle style;
