@@ -2,19 +2,19 @@
 // names, and long calls install the caller's Reporter for their duration.
 #include "inkwell/inkwell.h"
 
-#include "common.h"
-#include "context.h"
-#include "export.h"
-#include "fidelity.h"
-#include "files.h"
-#include "hrbf_io.h"
-#include "image.h"
-#include "model.h"
-#include "renderer.h"
-#include "scene.h"
-#include "surface_sampling.h"
-#include "vector.h"
-#include "viewpoint.h"
+#include "base/common.h"
+#include "base/files.h"
+#include "base/image.h"
+#include "draw/renderer.h"
+#include "draw/scene.h"
+#include "gpu/context.h"
+#include "io/export.h"
+#include "io/hrbf_io.h"
+#include "surface/fidelity.h"
+#include "surface/model.h"
+#include "surface/surface_sampling.h"
+#include "surface/viewpoint.h"
+#include "vector/vector.h"
 
 #include <algorithm>
 #include <cmath>
@@ -39,7 +39,7 @@ ink::Camera toCamera(const Camera& c) {
     return camera;
 }
 
-// Every value of a Look against its range (the command line's, apps/app.cpp): one Error naming the field.
+// Every value of a Look against its range (the command line's, apps/cli/app.cpp): one Error naming the field.
 void checkLook(const Look& look) {
     for (const Color* c : {&look.ink, &look.paper})
         for (float v : *c)

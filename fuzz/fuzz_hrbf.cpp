@@ -1,10 +1,10 @@
 // libFuzzer target: ink::parseHrbf, the .hrbf model reader (text versions 1 and 2, binary version 3). See
 // docs/robustness.md. ink::Error is the reader's answer to bad input; anything else (another exception, a crash, a
 // sanitizer report, a hang, a huge allocation, a model that breaks what the reader promises) is a finding.
-#include "common.h"
-#include "hrbf_io.h"
-#include "model.h"
-#include "surface.h"
+#include "base/common.h"
+#include "io/hrbf_io.h"
+#include "surface/model.h"
+#include "surface/surface.h"
 
 #include <cmath>
 #include <cstddef>

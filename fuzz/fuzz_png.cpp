@@ -2,8 +2,8 @@
 // See docs/robustness.md. ink::Error is the reader's answer to bad input; anything else (another exception,
 // a crash, a sanitizer report, a hang, an allocation past the pixel limit, a message that is not one
 // printable line) is a finding.
-#include "common.h"
-#include "image.h"
+#include "base/common.h"
+#include "base/image.h"
 
 #include <cstddef>
 #include <cstdint>

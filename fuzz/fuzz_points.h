@@ -3,8 +3,8 @@
 // other exception, a crash, a sanitizer report, a hang or a huge allocation is a finding.
 #pragma once
 
-#include "common.h"
-#include "points.h"
+#include "base/common.h"
+#include "io/points.h"
 
 #include <cmath>
 #include <cstddef>

@@ -1,8 +1,8 @@
 // libFuzzer target: app::parsePreset, the style preset reader, and app::parseCameraText, the viewer's pasted
-// camera (apps/preset.cpp). See docs/robustness.md.
+// camera (apps/cli/preset.cpp). See docs/robustness.md.
 // ink::Error is the answer to a bad preset; anything else (a JSON exception escaping, a crash, a sanitizer
 // report, a value outside what the command line accepts) is a finding.
-#include "common.h"
+#include "base/common.h"
 #include "preset.h"
 
 #include <cmath>

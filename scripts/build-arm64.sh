@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Cross-compiles the engine library (engine/*.cpp, engine/io/*.cpp) for ARM64 (aarch64-linux-gnu) on an x86-64
+# Cross-compiles the engine library (engine/**/*.cpp) for ARM64 (aarch64-linux-gnu) on an x86-64
 # Debian 12 machine, to check that it builds off x86: no x86-only code outside guards, and no warnings (-Werror).
 #
 # What it builds: the library's object files and their static library, build-arm64/libinkwell_engine.a. It does
@@ -60,7 +60,7 @@ cmake -Ddb="$out/host/compile_commands.json" -Dengine="$root/engine" -Dlist="$ou
 
 # Every engine source must be one of the library's: a file the CMake target misses would go unchecked.
 shopt -s nullglob
-sources=("$root"/engine/*.cpp "$root"/engine/io/*.cpp)
+mapfile -t sources < <(find "$root/engine" -name "*.cpp" | sort)
 for s in "${sources[@]}"; do
   if ! cut -f1 "$out/commands.txt" | grep -qxF "$s"; then
     echo "build-arm64: $s is not compiled by the host build (CMakeLists.txt's ENGINE_SOURCES)" >&2

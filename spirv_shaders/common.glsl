@@ -1,5 +1,5 @@
 // Point records, the counter-based random numbers, and the refinement's device-side bookkeeping.
-// The layouts are spirv_shaders/shared/refine.h's; the C++ twin of pcg4d is engine/random.h.
+// The layouts are spirv_shaders/shared/refine.h's; the C++ twin of pcg4d is engine/base/random.h.
 #ifndef COMMON_GLSL
 #define COMMON_GLSL
 

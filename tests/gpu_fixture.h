@@ -2,8 +2,8 @@
 // that the debug messenger counted no error.
 #pragma once
 
-#include "context.h"
-#include "refine.h"
+#include "gpu/context.h"
+#include "refine/refine.h"
 
 #include <doctest/doctest.h>
 #include <cstdio>

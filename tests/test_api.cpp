@@ -3,11 +3,11 @@
 // buffer and image, which must show what the offscreen Renderer shows.
 #include "inkwell/inkwell.h"
 
+#include "draw/render_style.h"
+#include "draw/renderer.h"
+#include "gpu/resources.h"
 #include "gpu_fixture.h"
-#include "render_style.h"
-#include "renderer.h"
-#include "resources.h"
-#include "shapes.h"
+#include "surface/shapes.h"
 #include "temp_dir.h"
 
 #include <doctest/doctest.h>

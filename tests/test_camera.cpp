@@ -1,5 +1,5 @@
 // The orbit camera: the turntable and the free orbit (the viewer's two camera modes).
-#include "camera.h"
+#include "draw/camera.h"
 
 #include <doctest/doctest.h>
 

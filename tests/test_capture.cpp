@@ -2,13 +2,13 @@
 // device the drawing is compared with its golden's, on lavapipe the pixels too, with the tolerance of
 // `inkwell compare`), and the capture and compare commands as a user runs them.
 // INKWELL_UPDATE_GOLDENS=1 rewrites the goldens instead (scripts/update-goldens.sh; docs/capture.md).
-#include "compare.h"
+#include "base/compare.h"
+#include "base/image.h"
+#include "draw/renderer.h"
+#include "draw/scene.h"
 #include "gpu_fixture.h"
-#include "image.h"
-#include "model.h"
-#include "refine.h"
-#include "renderer.h"
-#include "scene.h"
+#include "refine/refine.h"
+#include "surface/model.h"
 
 #include "run_command.h"
 #include "skip.h"
@@ -92,7 +92,7 @@ bool updatingGoldens() {
 }
 
 // ---- The drawing, compared on any device ---------------------------------------------------------------
-// Another driver sums the HRBF in another order (spirv_shaders/hrbf.glsl), rasterizes and rounds otherwise,
+// Another driver sums the HRBF in another order (spirv_shaders/refine/hrbf.glsl), rasterizes and rounds otherwise,
 // so its dots need not fall on lavapipe's pixels, nor even be the same dots. What every correct device draws
 // is the same drawing: as much ink, in the same place and at the same scale, over the same silhouette, with
 // the same tone a few dots across. The model of a correct other device is a render with another random seed:

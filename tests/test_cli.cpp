@@ -1,5 +1,5 @@
 // The inkwell executable as a user meets it: exit codes and one-line messages.
-#include "image.h"
+#include "base/image.h"
 #include "run_command.h"
 #include "temp_dir.h"
 

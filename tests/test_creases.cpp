@@ -1,9 +1,9 @@
 // Near-coincident points: a mesh's split vertices at creases (normals 90° apart, 10⁻⁷ of the size apart) used
 // to make the fit fail as ill-conditioned. They are merged with averaged normals, or dropped where the normals
 // cancel, with a note saying how many.
-#include "clean.h"
-#include "common.h"
-#include "model.h"
+#include "base/common.h"
+#include "surface/clean.h"
+#include "surface/model.h"
 
 #include <doctest/doctest.h>
 

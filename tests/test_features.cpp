@@ -1,12 +1,12 @@
-// Crease and boundary lines of a mesh (engine/feature_lines.h), the trimming of what the input does not support
-// (engine/support.h), and their options, pens and layers (docs/lines.md, Creases and boundaries).
-#include "feature_lines.h"
-#include "image.h"
-#include "model.h"
-#include "points.h"
+// Crease and boundary lines of a mesh (engine/lines/feature_lines.h), the trimming of what the input does not support
+// (engine/surface/support.h), and their options, pens and layers (docs/lines.md, Creases and boundaries).
+#include "base/image.h"
+#include "io/points.h"
+#include "lines/feature_lines.h"
 #include "run_command.h"
-#include "shapes.h"
-#include "support.h"
+#include "surface/model.h"
+#include "surface/shapes.h"
+#include "surface/support.h"
 #include "temp_dir.h"
 
 #include <doctest/doctest.h>

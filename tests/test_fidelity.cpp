@@ -1,17 +1,17 @@
 // The fidelity measure (fidelity.h) against brute force and known answers, and issue 15's "Done when" on the
 // low-poly test models of tests/models/ (scripts/make-test-models.py): a spider with thin legs, an open
 // hemisphere, three separate parts, each fitted, refined on the device and measured against its mesh.
-#include "common.h"
-#include "fidelity.h"
+#include "base/common.h"
+#include "base/triangle.h"
 #include "gpu_fixture.h"
 #include "inkwell/inkwell.h"
-#include "model.h"
-#include "points.h"
-#include "refine.h"
+#include "io/points.h"
+#include "refine/refine.h"
 #include "run_command.h"
-#include "surface_sampling.h"
+#include "surface/fidelity.h"
+#include "surface/model.h"
+#include "surface/surface_sampling.h"
 #include "temp_dir.h"
-#include "triangle.h"
 
 #include <doctest/doctest.h>
 

@@ -1,6 +1,6 @@
 // The first picture as a user meets it (docs/usage.md, "The first picture"): `inkwell render` with defaults
 // frames the model at about 85% of the image, the light follows the camera, and the options are checked.
-#include "image.h"
+#include "base/image.h"
 #include "run_command.h"
 #include "temp_dir.h"
 

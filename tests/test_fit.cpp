@@ -1,8 +1,8 @@
-#include "common.h"
-#include "hrbf.h"
-#include "hrbf_io.h"
-#include "model.h"
-#include "points.h"
+#include "base/common.h"
+#include "io/hrbf_io.h"
+#include "io/points.h"
+#include "surface/hrbf.h"
+#include "surface/model.h"
 
 #include <doctest/doctest.h>
 

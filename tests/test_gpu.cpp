@@ -1,10 +1,10 @@
+#include "base/image.h"
+#include "draw/renderer.h"
 #include "gpu_fixture.h"
-#include "hrbf.h"
-#include "image.h"
-#include "model.h"
-#include "refine.h"
-#include "renderer.h"
-#include "shapes.h"
+#include "refine/refine.h"
+#include "surface/hrbf.h"
+#include "surface/model.h"
+#include "surface/shapes.h"
 
 #include <doctest/doctest.h>
 

@@ -1,9 +1,9 @@
 // Hatching (hatching.h) and its cross field (cross_field.h) on a fitted torus, whose principal directions are known:
 // around the axis (the smaller curvature) and around the tube.
-#include "cross_field.h"
-#include "hatching.h"
-#include "model.h"
-#include "shapes.h"
+#include "lines/cross_field.h"
+#include "lines/hatching.h"
+#include "surface/model.h"
+#include "surface/shapes.h"
 #include "torus_fixture.h"
 
 #include <doctest/doctest.h>

@@ -1,7 +1,7 @@
-#include "common.h"
-#include "hrbf.h"
-#include "model.h"
-#include "pu_hrbf.h"
+#include "base/common.h"
+#include "surface/hrbf.h"
+#include "surface/model.h"
+#include "surface/pu_hrbf.h"
 
 #include <doctest/doctest.h>
 

@@ -1,12 +1,12 @@
 // Issue 13's inputs and numbers: hostile .hrbf models, decompression bombs, presets and options checked
 // like the command line before any work, the CPU backend's point limit, arithmetic at extreme scales,
 // non-regular input files and OBJ blanks (docs/robustness.md). Each case failed before its fix.
-#include "clean.h"
-#include "common.h"
-#include "hrbf_io.h"
-#include "image.h"
-#include "points.h"
+#include "base/common.h"
+#include "base/image.h"
+#include "io/hrbf_io.h"
+#include "io/points.h"
 #include "run_command.h"
+#include "surface/clean.h"
 #include "temp_dir.h"
 
 #include <doctest/doctest.h>

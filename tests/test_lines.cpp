@@ -1,8 +1,8 @@
 // Pen lines (lines.h): the traced occluding contour of a fitted torus against the analytic one, and hatching.
-#include "camera.h"
-#include "lines.h"
-#include "model.h"
-#include "shapes.h"
+#include "draw/camera.h"
+#include "lines/lines.h"
+#include "surface/model.h"
+#include "surface/shapes.h"
 #include "temp_dir.h"
 #include "torus_fixture.h"
 
@@ -181,9 +181,9 @@ TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of 
 
 // ---- On the device ----------------------------------------------------------------------------------------------
 
+#include "draw/renderer.h"
+#include "draw/scene.h"
 #include "gpu_fixture.h"
-#include "renderer.h"
-#include "scene.h"
 
 namespace {
 

@@ -1,9 +1,9 @@
-// The output layer (engine/files.h, docs/robustness.md): an output is complete or absent, only regular files
+// The output layer (engine/base/files.h, docs/robustness.md): an output is complete or absent, only regular files
 // are replaced (a symbolic link is written through), inputs are never modified, a command's outputs are
 // committed together, and a signal leaves no temporary file.
-#include "common.h"
-#include "files.h"
-#include "image.h"
+#include "base/common.h"
+#include "base/files.h"
+#include "base/image.h"
 #include "run_command.h"
 #include "skip.h"
 #include "temp_dir.h"

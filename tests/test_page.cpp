@@ -1,12 +1,12 @@
 // Stipples on the page (screen_spacing.h, spacing.comp): the device's screen spacing against its CPU twin, the
 // spacing and tone of the drawn dots on a torus whose tone is one everywhere (so that the foreshortening towards
 // its silhouettes shows), and dots that stay put as the camera orbits.
+#include "draw/renderer.h"
+#include "draw/screen_spacing.h"
 #include "gpu_fixture.h"
-#include "model.h"
-#include "refine.h"
-#include "renderer.h"
-#include "screen_spacing.h"
-#include "shapes.h"
+#include "refine/refine.h"
+#include "surface/model.h"
+#include "surface/shapes.h"
 
 #include <doctest/doctest.h>
 

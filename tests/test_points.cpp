@@ -1,5 +1,5 @@
-#include "common.h"
-#include "points.h"
+#include "base/common.h"
+#include "io/points.h"
 #include "temp_dir.h"
 
 #include <doctest/doctest.h>

@@ -1,6 +1,6 @@
 // Presets as the viewer saves them (presetJson) read back by the same parser the command line uses.
-#include "../apps/preset.h"
-#include "common.h"
+#include "../apps/cli/preset.h"
+#include "base/common.h"
 
 #include <doctest/doctest.h>
 

@@ -1,13 +1,13 @@
-// The partition-of-unity fit (engine/pu_hrbf.h, issue 15): interpolation in float as the device evaluates, the
+// The partition-of-unity fit (engine/surface/pu_hrbf.h, issue 15): interpolation in float as the device evaluates, the
 // blend's derivatives, the far field, and the .hrbf round trips (text version 2, binary version 3).
-#include "clean.h"
-#include "common.h"
-#include "hrbf_io.h"
-#include "model.h"
-#include "parallel.h"
-#include "points.h"
-#include "pu_hrbf.h"
-#include "shapes.h"
+#include "base/common.h"
+#include "base/parallel.h"
+#include "io/hrbf_io.h"
+#include "io/points.h"
+#include "surface/clean.h"
+#include "surface/model.h"
+#include "surface/pu_hrbf.h"
+#include "surface/shapes.h"
 #include "temp_dir.h"
 
 #include <doctest/doctest.h>

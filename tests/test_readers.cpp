@@ -1,8 +1,8 @@
 // The readers added for the files users have: .xyz/.pwn, OFF and its variants, STL (ascii and binary), glTF
 // (.gltf with data-URI or external buffers, .glb), and the PLY header lines writers add. Each is checked on
 // files written here, refusals with their messages, and once through `inkwell render`.
-#include "common.h"
-#include "points.h"
+#include "base/common.h"
+#include "io/points.h"
 #include "run_command.h"
 
 #include "glb_writer.h"

@@ -1,10 +1,10 @@
 // Refinement on the device, read back level by level and checked against the CPU evaluation and reference.
-#include "common.h"
+#include "base/common.h"
+#include "draw/renderer.h"
 #include "gpu_fixture.h"
-#include "model.h"
-#include "refine.h"
-#include "renderer.h"
+#include "refine/refine.h"
 #include "skip.h"
+#include "surface/model.h"
 
 #include <doctest/doctest.h>
 

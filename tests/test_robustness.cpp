@@ -2,11 +2,11 @@
 // through the readers, and broken models, unwritable outputs, absurd requests and a missing Vulkan driver
 // through every command that reads a model. Each refusal is one line on stderr naming the problem, exit
 // status 1, and no output left behind.
-#include "common.h"
-#include "files.h"
+#include "base/common.h"
+#include "base/files.h"
 #include "gpu_fixture.h"
-#include "hrbf_io.h"
-#include "points.h"
+#include "io/hrbf_io.h"
+#include "io/points.h"
 #include "run_command.h"
 #include "temp_dir.h"
 

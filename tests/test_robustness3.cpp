@@ -1,16 +1,16 @@
 // The third round of hostile inputs and scenarios (issue 29, docs/robustness.md): deep JSON, the .hrbf grid's
 // entry count, resources out of proportion to the file, glTF buffers through symbolic links, capture's outputs,
 // misleading success and noise. Each class is refused with one line (or bounded), at its root.
-#include "../apps/preset.h"
-#include "common.h"
-#include "hrbf_io.h"
-#include "image.h"
+#include "../apps/cli/preset.h"
+#include "base/common.h"
+#include "base/image.h"
+#include "io/hrbf_io.h"
+#include "io/points.h"
 #include "io/readers.h"
-#include "points.h"
-#include "pu_hrbf.h"
 #include "run_command.h"
+#include "surface/pu_hrbf.h"
 #include "temp_dir.h"
-#include "vector.h"
+#include "vector/vector.h"
 
 #include "glb_writer.h"
 

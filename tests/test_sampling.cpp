@@ -1,9 +1,9 @@
 // Meshes keep their triangles through every reader and the cleaning, and face sampling (surface_sampling.h)
 // spreads oriented points over them: area-proportional, deterministic, on the faces, with interpolated normals.
-#include "clean.h"
-#include "points.h"
-#include "surface_sampling.h"
-#include "triangle.h"
+#include "base/triangle.h"
+#include "io/points.h"
+#include "surface/clean.h"
+#include "surface/surface_sampling.h"
 
 #include "glb_writer.h"
 

@@ -1,12 +1,12 @@
 // The blue-noise stipple selection (select.h): the device against the CPU reference, the spacing of the whole
 // set and its prefixes on an analytic torus, determinism, thin parts, and what the renderer draws from it.
+#include "draw/renderer.h"
 #include "gpu_fixture.h"
-#include "model.h"
-#include "refine.h"
-#include "renderer.h"
-#include "select.h"
-#include "shapes.h"
-#include "spacing.h"
+#include "refine/refine.h"
+#include "refine/spacing.h"
+#include "select/select.h"
+#include "surface/model.h"
+#include "surface/shapes.h"
 
 #include <doctest/doctest.h>
 

@@ -1,17 +1,17 @@
-// Vector output (engine/vector.h, path_order.h; `render -o out.svg|pdf`): the layout and order of pen paths,
+// Vector output (engine/vector/vector.h, path_order.h; `render -o out.svg|pdf`): the layout and order of pen paths,
 // and the SVG and PDF of a real frame drawn by independent renderers (rsvg-convert, pdftoppm) against its PNG.
 // GCC 12 with the sanitizers warns inside libstdc++'s <regex> (a std::function "may be used uninitialized" in
 // _Compiler), which -Werror turns into an error; the warning is in the library, not here.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
-#include "common.h"
-#include "image.h"
-#include "path_order.h"
+#include "base/common.h"
+#include "base/image.h"
 #include "run_command.h"
 #include "skip.h"
 #include "temp_dir.h"
-#include "vector.h"
+#include "vector/path_order.h"
+#include "vector/vector.h"
 
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>

@@ -1,7 +1,7 @@
 // `inkwell view` as a user meets it, in a virtual X server (xvfb-run): it draws, saves what it drew, stays
 // clean under validation, takes settings from its panel (driven with xdotool), and says so in one line when there
 // is no display.
-#include "image.h"
+#include "base/image.h"
 
 #include "run_command.h"
 #include "temp_dir.h"

@@ -1,6 +1,6 @@
-// The first picture (engine/viewpoint.h): the up axis found from the shape, the view by viewpoint entropy, the
+// The first picture (engine/surface/viewpoint.h): the up axis found from the shape, the view by viewpoint entropy, the
 // framing; on generated shapes whose answer is known.
-#include "viewpoint.h"
+#include "surface/viewpoint.h"
 
 #include <doctest/doctest.h>
 

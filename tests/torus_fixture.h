@@ -2,9 +2,9 @@
 // analytic torus in the model's normalized coordinates.
 #pragma once
 
-#include "lines.h"
-#include "model.h"
-#include "shapes.h"
+#include "lines/lines.h"
+#include "surface/model.h"
+#include "surface/shapes.h"
 
 #include <Eigen/Core>
 #include <cmath>

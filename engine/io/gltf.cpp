@@ -4,10 +4,10 @@
 // files a buffer may name, no images), and then every index, accessor and buffer view before reading a byte of
 // it. The default scene's triangle meshes come out in world space (node transforms applied); normals are the
 // file's, or area-weighted from the welded triangles. docs/file-formats.md says what is read.
-#include "common.h"
-#include "normals.h"
-#include "readers.h"
-#include "text.h"
+#include "base/common.h"
+#include "io/normals.h"
+#include "io/readers.h"
+#include "io/text.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -1,8 +1,8 @@
 // The entry points of points.h: a file's format picked by its extension, read with the file size capped.
-#include "common.h"
-#include "points.h"
-#include "readers.h"
-#include "text.h"
+#include "base/common.h"
+#include "io/points.h"
+#include "io/readers.h"
+#include "io/text.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,5 +1,5 @@
 // Area-weighted vertex normals for meshes read without normals.
-#include "normals.h"
+#include "io/normals.h"
 
 #include <Eigen/Geometry>
 #include <bit>

@@ -2,8 +2,8 @@
 // have none, and the final check and normalization every reader ends with.
 #pragma once
 
-#include "points.h"
-#include "text.h"
+#include "io/points.h"
+#include "io/text.h"
 
 #include <Eigen/Core>
 #include <cmath>

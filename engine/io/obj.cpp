@@ -1,9 +1,9 @@
 // The OBJ reader: one strict pass over the v, vn and f lines (every other line is ignored), then the
 // normals faces name, or area-weighted ones where they name none. docs/file-formats.md says what is read.
-#include "common.h"
-#include "normals.h"
-#include "readers.h"
-#include "text.h"
+#include "base/common.h"
+#include "io/normals.h"
+#include "io/readers.h"
+#include "io/text.h"
 
 #include <algorithm>
 #include <cstdint>

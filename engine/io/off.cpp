@@ -1,10 +1,10 @@
 // The OFF reader (Geomview's Object File Format and its common variants): a header keyword (OFF, COFF, NOFF,
 // CNOFF, NCOFF, STOFF, ...), the counts, one vertex a line, one face a line. docs/file-formats.md says what is
 // read.
-#include "common.h"
-#include "normals.h"
-#include "readers.h"
-#include "text.h"
+#include "base/common.h"
+#include "io/normals.h"
+#include "io/readers.h"
+#include "io/text.h"
 
 #include <string_view>
 

@@ -1,9 +1,9 @@
 // The PLY reader: the header, then the body in any of the three encodings, read value by value by one
 // loop, with every declared count checked against the limit and the bytes left before anything is allocated.
-#include "common.h"
-#include "normals.h"
-#include "readers.h"
-#include "text.h"
+#include "base/common.h"
+#include "io/normals.h"
+#include "io/readers.h"
+#include "io/text.h"
 
 #include <algorithm>
 #include <bit>

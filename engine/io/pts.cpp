@@ -1,9 +1,9 @@
 // The oriented point text reader (.pts, .xyzn, .txt, .xyz, .pwn): one point a line, x y z nx ny nz, '#' starts
 // a comment; .xyz and .pwn may start with a line holding the number of points, as some writers put there.
-#include "common.h"
-#include "normals.h"
-#include "readers.h"
-#include "text.h"
+#include "base/common.h"
+#include "io/normals.h"
+#include "io/readers.h"
+#include "io/text.h"
 
 #include <string_view>
 

@@ -2,7 +2,7 @@
 // named in every message. Each throws ink::Error as points.h says.
 #pragma once
 
-#include "points.h"
+#include "io/points.h"
 
 #include <string>
 

@@ -2,10 +2,10 @@
 // merged) so that each vertex gets the area-weighted normal of the triangles around it. The facet normals the
 // file holds are read but not used: writers often leave them zero or wrong, and the winding says the same.
 // docs/file-formats.md says what is read.
-#include "common.h"
-#include "normals.h"
-#include "readers.h"
-#include "text.h"
+#include "base/common.h"
+#include "io/normals.h"
+#include "io/readers.h"
+#include "io/text.h"
 
 #include <bit>
 #include <cctype>

@@ -1,7 +1,7 @@
 // Strict text scanning and one-line errors for the point readers.
-#include "text.h"
+#include "io/text.h"
 
-#include "common.h"
+#include "base/common.h"
 
 #include <charconv>
 #include <cstdio>

@@ -12,7 +12,7 @@ INK_CONST uint PHASE_GROUP_SIZE = 64u;  // select_phase.comp: one invocation per
 
 // The refinement: seeds + 15 refinement levels.
 INK_CONST uint MAX_LEVELS = 16u;
-// Why a candidate was dropped: LevelInfo::dropped's index (DropReason in engine/refine_plan.h names them).
+// Why a candidate was dropped: LevelInfo::dropped's index (DropReason in engine/refine/refine_plan.h names them).
 INK_CONST uint DROP_GRADIENT = 0u;    // ‖∇f‖ < ε₂
 INK_CONST uint DROP_ARMIJO = 1u;      // i_k > 16
 INK_CONST uint DROP_ITERATIONS = 2u;  // iteration cap reached
@@ -20,18 +20,18 @@ INK_CONST uint DROP_JUMP = 3u;        // moved too far from its parent (another 
 INK_CONST uint DROP_REASONS = 4u;
 
 // The global HRBF's centres (hrbf.glsl): uniform blocks of HRBF_BLOCK_SIZE centres (64 KiB), HRBF_BLOCKS of
-// them; HRBF_BLOCK_SIZE × HRBF_BLOCKS ≥ kMaxControlPoints (engine/hrbf.h).
+// them; HRBF_BLOCK_SIZE × HRBF_BLOCKS ≥ kMaxControlPoints (engine/surface/hrbf.h).
 INK_CONST uint HRBF_BLOCK_SIZE = 1024u;
 INK_CONST uint HRBF_BLOCKS = 4u;
 
-// The HRBF node term's Hessian (hrbf_term.glsl, engine/r3_term.h): the part of it that comes from β (the third
+// The HRBF node term's Hessian (hrbf_term.glsl, engine/surface/r3_term.h): the part of it that comes from β (the third
 // derivative of ψ = r³) is bounded but depends on the direction of x − p alone, so it jumps at the node, and near
 // the node float rounding of x − p picks that direction: curvature there was noise, and differed by device. It
 // fades in as (r / R3_HESSIAN_FADE)² within R3_HESSIAN_FADE of the node (in the node's coordinates: a patch's
 // radius is 1), and at the node takes its average over directions, 0.
 INK_CONST float R3_HESSIAN_FADE = 1e-3;
 
-// The stipple selection's stages (kMaxSelectStages in engine/select_plan.h).
+// The stipple selection's stages (kMaxSelectStages in engine/select/select_plan.h).
 INK_CONST uint MAX_STAGES = 48u;
 
 // The frame's coverage: four bits a pixel, eight pixels a word (pixel i: word i >> 3, bits 4·(i & 7)).

@@ -1,4 +1,4 @@
-// The pen lines' passes (lines.comp, lines_stamp.comp, line.vert, line.frag; engine/strokes.cpp): the drawn
+// The pen lines' passes (lines.comp, lines_stamp.comp, line.vert, line.frag; engine/lines/strokes.cpp): the drawn
 // segments, the line style, the camera's push constants and the descriptor set's bindings (see interface.h).
 #ifndef INK_SHARED_LINES_H
 #define INK_SHARED_LINES_H

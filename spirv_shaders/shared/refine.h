@@ -1,4 +1,4 @@
-// The refinement's interface (refine.comp, refine_global.comp, scan.comp, compact.comp; engine/refine.cpp): the
+// The refinement's interface (refine.comp, refine_global.comp, scan.comp, compact.comp; engine/refine/refine.cpp): the
 // point records, the per-level bookkeeping, the indirect arguments, the push constants, the surface's buffers
 // and the descriptor set's bindings (see interface.h).
 #ifndef INK_SHARED_REFINE_H
@@ -9,7 +9,7 @@
 
 INK_BEGIN
 
-// 32 bytes a point, in normalized model coordinates (std430; engine/point_record.h's PointRecord on the host).
+// 32 bytes a point, in normalized model coordinates (std430; engine/refine/point_record.h's PointRecord on the host).
 struct Point {
     vec3 position;
     uint level;

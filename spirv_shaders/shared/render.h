@@ -1,4 +1,4 @@
-// The dots' drawing passes (splat.comp, stamp.comp, ink.vert, ink.frag; engine/renderer.cpp): the style, the
+// The dots' drawing passes (splat.comp, stamp.comp, ink.vert, ink.frag; engine/draw/renderer.cpp): the style, the
 // dot list, the frame's counters, the camera's push constants and the descriptor set's bindings (see interface.h).
 #ifndef INK_SHARED_RENDER_H
 #define INK_SHARED_RENDER_H
@@ -41,9 +41,9 @@ INK_ASSERT_OFFSET(Dot, cls, 12);
 INK_ASSERT_OFFSET(Dot, radius, 16);
 INK_ASSERT_OFFSET(Dot, state, 24);
 
-// A dot's state in the screen spacing (spacing.comp, engine/screen_spacing.h): FIXED dots take no part (silhouettes,
-// hidden ones, dots drawn without tone), the others start OPEN and end ACCEPTED (drawn) or REJECTED; a dot
-// still OPEN after the last round is not drawn.
+// A dot's state in the screen spacing (spacing.comp, engine/draw/screen_spacing.h): FIXED dots take no part
+// (silhouettes, hidden ones, dots drawn without tone), the others start OPEN and end ACCEPTED (drawn) or REJECTED; a
+// dot still OPEN after the last round is not drawn.
 INK_CONST uint SPACE_FIXED = 0u;
 INK_CONST uint SPACE_OPEN = 1u;
 INK_CONST uint SPACE_ACCEPTED = 2u;

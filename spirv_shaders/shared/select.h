@@ -1,5 +1,6 @@
-// The stipple selection's interface (select_*.comp; engine/select.cpp): the stages, the counters, the push
-// constants and the descriptor set's bindings (see interface.h). The arithmetic's C++ twin is engine/select_math.h.
+// The stipple selection's interface (select_*.comp; engine/select/select.cpp): the stages, the counters, the push
+// constants and the descriptor set's bindings (see interface.h). The arithmetic's C++ twin is
+// engine/select/select_math.h.
 #ifndef INK_SHARED_SELECT_H
 #define INK_SHARED_SELECT_H
 

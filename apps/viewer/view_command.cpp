@@ -1,0 +1,1069 @@
+// view: the interactive viewer. A GLFW window, a FIFO swapchain and two frames in flight; every frame the
+// same PointRenderer as `render` draws straight into the swapchain image (no readback unless a screenshot
+// is asked for), and the settings panel (viewer_panel.h) beside it. The keys, the mouse and the panel only set
+// state; the frame loop applies it between frames. New refinements run on a worker thread.
+#include "../cli/commands.h"
+#include "../cli/preset.h"
+#include "base/files.h"
+#include "base/image.h"
+#include "gpu/swapchain.h"
+#include "vector/vector.h"
+#include "viewer_panel.h"
+
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace app {
+
+namespace {
+
+constexpr uint32_t kFramesInFlight = 2;
+constexpr VkExtent2D kDefaultWindow{1024, 768};  // fits a 1280×1024 screen with its decorations
+constexpr uint32_t kMaxLevels = 8;               // the +/- keys stay in 0..8
+constexpr double kTitleInterval = 0.5;           // seconds between window title updates
+
+// Where the L key sends the light, as seen from the default camera (x right, y up, z towards the viewer); it
+// stays fixed to the model unless --light-follows-camera.
+constexpr std::array<glm::vec3, 5> kLights{{
+    {-0.5f, 0.6f, 0.65f},    // upper left: the default
+    {0.5f, 0.6f, 0.65f},     // upper right
+    {0.0f, 0.0f, 1.0f},      // from the viewer
+    {-0.95f, 0.15f, 0.25f},  // raking from the left
+    {0.0f, -0.6f, 0.8f},     // from below
+}};
+
+struct ViewOptions {
+    uint32_t frames = 0;     // 0: until the window closes
+    std::string screenshot;  // saved from the last frame
+    std::string vector;      // the last frame's marks (or the V key's) as SVG or PDF
+    bool noPanel = false;    // start with the panel hidden
+};
+
+struct ViewResult {
+    uint32_t frames = 0;
+    std::vector<double> frameMs;  // from the start of the loop or the previous present to this present
+    VkExtent2D extent{};
+    uint64_t points = 0;
+    size_t controlPoints = 0;
+    bool panel = false;  // shown in the last frame
+};
+
+// The first frame also creates pipelines and buffers on some drivers: left out when there are others.
+double medianFrameMs(const std::vector<double>& frameMs) {
+    if (frameMs.empty()) return 0;
+    std::vector<double> v(frameMs.begin() + (frameMs.size() > 1 ? 1 : 0), frameMs.end());
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+
+// glfwInit/glfwTerminate. Without a display this is the one place that says so, before any model work.
+struct GlfwLibrary {
+    GlfwLibrary() {
+        const char* display = std::getenv("DISPLAY");
+        const char* wayland = std::getenv("WAYLAND_DISPLAY");
+        if ((!display || !*display) && (!wayland || !*wayland))
+            throw ink::Error(
+                "cannot open a window: no display (set DISPLAY, or run under xvfb-run); "
+                "use 'inkwell render' for headless output");
+        if (!glfwInit()) {
+            const char* why = nullptr;
+            glfwGetError(&why);
+            throw ink::Error(std::string("cannot open a window: ") + (why ? why : "GLFW failed to start") +
+                             " (run under xvfb-run, or use 'inkwell render' for headless output)");
+        }
+        if (!glfwVulkanSupported()) {
+            glfwTerminate();
+            throw ink::Error("cannot open a window: GLFW finds no Vulkan loader with surface support");
+        }
+    }
+    ~GlfwLibrary() { glfwTerminate(); }
+    GlfwLibrary(const GlfwLibrary&) = delete;
+    GlfwLibrary& operator=(const GlfwLibrary&) = delete;
+
+    static std::vector<const char*> instanceExtensions() {
+        uint32_t count = 0;
+        const char** names = glfwGetRequiredInstanceExtensions(&count);
+        if (!names) throw ink::Error("cannot open a window: Vulkan cannot present to this window system");
+        return {names, names + count};
+    }
+};
+
+// Created hidden: it is shown once the model is refined, so that it never sits there blank and unresponsive.
+struct Window {
+    GLFWwindow* handle = nullptr;
+    Window(VkExtent2D size, const std::string& title) {
+        glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+        glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+        handle = glfwCreateWindow(int(size.width), int(size.height), title.c_str(), nullptr, nullptr);
+        if (!handle) {
+            const char* why = nullptr;
+            glfwGetError(&why);
+            throw ink::Error(std::string("cannot open a window: ") + (why ? why : "unknown GLFW error"));
+        }
+    }
+    ~Window() { glfwDestroyWindow(handle); }
+    Window(const Window&) = delete;
+    Window& operator=(const Window&) = delete;
+};
+
+struct Surface {
+    VkInstance instance;
+    VkSurfaceKHR surface = VK_NULL_HANDLE;
+    Surface(VkInstance i, GLFWwindow* window) : instance(i) {
+        VkResult r = glfwCreateWindowSurface(instance, window, nullptr, &surface);
+        if (r != VK_SUCCESS)
+            throw ink::Error(std::string("cannot create a Vulkan surface for the window (") + ink::vkResultName(r) +
+                             ")");
+    }
+    ~Surface() { vkDestroySurfaceKHR(instance, surface, nullptr); }
+    Surface(const Surface&) = delete;
+    Surface& operator=(const Surface&) = delete;
+};
+
+struct Frame {
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    VkFence done = VK_NULL_HANDLE;          // created signalled: the first wait returns at once
+    VkSemaphore acquired = VK_NULL_HANDLE;  // the swapchain image is ready to be drawn into
+    ink::Buffer capture;                    // only while this frame takes a screenshot
+    VkExtent2D captured{};                  // the drawing's extent in it
+};
+
+// The refinement options a change of which needs a new refinement.
+bool sameRefinement(const ink::RefineOptions& a, const ink::RefineOptions& b) {
+    return a.levels == b.levels && a.passes == b.passes && a.direction == b.direction &&
+           a.distribution == b.distribution;
+}
+
+// The pen-line options a change of which needs the lines traced again (the hatching, or the seeds of both).
+bool sameHatching(const ink::LineOptions& a, const ink::LineOptions& b) {
+    return a.hatching == b.hatching &&
+           (!a.hatching || (a.hatch.spacing == b.hatch.spacing && a.hatch.families == b.hatch.families));
+}
+bool sameLines(const ink::LineOptions& a, const ink::LineOptions& b) {
+    return a.contours == b.contours && sameHatching(a, b);
+}
+
+// A new refinement, or new pen lines over the current one, made on a worker thread while the window keeps
+// handling events. The frames stop meanwhile: the device runs one queue in order, so a frame submitted after the
+// refinement would wait for it anyway, and the worker has the queue and the engine's command pool to itself
+// (Scene::build, Scene::traceLines).
+struct RefineJob {
+    bool refine = true;  // new point sets; else only the pen lines of the current ones
+    DrawStyle style;
+    ink::RefineOptions options;
+    ink::LineOptions lines;
+    std::thread thread;
+    std::atomic<bool> finished{false}, tracing{false};
+    std::atomic<uint32_t> permille{0};
+    ink::Scene::Sets sets;  // the rest is written by the worker before `finished`, read after
+    ink::Scene::TracedLines traced;
+    uint64_t points = 0;
+    double seconds = 0;
+    std::string error;
+    std::vector<std::string> notes;
+};
+
+// Moves the camera target in the view plane by a mouse movement in pixels: the point under the cursor
+// follows it at the target's depth.
+void pan(ink::Camera& c, double dx, double dy, uint32_t height) {
+    glm::mat4 view = c.view();
+    glm::vec3 right(view[0][0], view[1][0], view[2][0]);
+    glm::vec3 up(view[0][1], view[1][1], view[2][1]);
+    float viewHeight = 2.0f * c.distance * std::tan(glm::radians(c.fovyDeg) * 0.5f);
+    float perPixel = viewHeight / float(std::max(1u, height));
+    c.target += (-float(dx) * right + float(dy) * up) * perPixel;
+}
+
+class Viewer {
+public:
+    Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene, GLFWwindow* window, VkSurfaceKHR surface);
+    ~Viewer() { release(); }
+    Viewer(const Viewer&) = delete;
+    Viewer& operator=(const Viewer&) = delete;
+
+    ViewResult run();
+
+    // GLFW callbacks: they only record what to do, the loop does it (no Vulkan work, nothing that throws). The
+    // panel gets every event first; what it takes (typing in a field, a click on it) the viewer leaves alone.
+    void onKey(int key, int scancode, int action, int mods);
+    void onChar(unsigned int c);
+    void onMouseButton(int button, int action, int mods);
+    void onCursor(double x, double y);
+    void onScroll(double dx, double dy);
+    void onResize() { resized_ = true; }
+
+private:
+    bool ensureSwapchain();
+    bool drawFrame(const std::string& screenshot);
+    void record(Frame& f, uint32_t image, bool capture);
+    void submitAndPresent(Frame& f, uint32_t image, bool suboptimal);
+    void saveCapture(Frame& f, const std::string& path);
+    VkExtent2D drawingExtent() const;
+    bool panelDrawn() const;
+    void buildPanel(double frameMs);
+    // Whether the options ask for other point sets or pen lines than those drawn.
+    bool stale() const {
+        return o_.style != appliedStyle_ || !sameRefinement(o_.refine, appliedRefine_) ||
+               !sameLines(o_.lines, appliedLines_);
+    }
+    void startRefinement();
+    void finishRefinement();
+    void applyLines(ink::Scene::TracedLines traced);  // new pen lines, and a renderer over them
+    void copyCamera();
+    void pasteCamera();
+    void savePng(const std::string& path, uint32_t width, uint32_t height);
+    void say(const std::string& line, bool error);
+    void updateTitle(double averageMs);
+    std::string nextScreenshotPath();
+    std::string nextDrawingPath() const;
+    void saveVector();  // the marks of the frame drawn last, to --vector or the next free inkwell-view-N.svg
+    bool quitting() const { return quit_ || glfwWindowShouldClose(window_); }
+    void release();
+
+    Options& o_;
+    ViewOptions v_;
+    ink::Context& ctx_;
+    Scene& scene_;
+    GLFWwindow* window_;
+    VkSurfaceKHR surface_;
+    VkSurfaceFormatKHR format_{};
+    ink::Swapchain swapchain_;
+    VkCommandPool pool_ = VK_NULL_HANDLE;
+    std::array<Frame, kFramesInFlight> frames_{};
+    uint32_t current_ = 0;
+    std::unique_ptr<ink::PointRenderer> renderer_;
+    uint64_t points_ = 0;
+
+    std::unique_ptr<ViewerPanel> panel_;
+    std::unique_ptr<RefineJob> job_;
+    std::string message_;     // the panel's last line: what was saved, loaded or refused
+    std::string pngDefault_;  // the panel's PNG file to begin with
+
+    ink::Camera camera_, home_;
+    glm::vec3 tracedEye_{NAN}, previousEye_{NAN};  // where the contours were traced from; the last frame's eye
+    DrawStyle appliedStyle_;
+    ink::RefineOptions appliedRefine_;
+    ink::LineOptions appliedLines_;
+    float toneGamma_;  // what T restores
+    size_t light_ = 0;
+    double lastX_ = 0, lastY_ = 0;
+    bool resized_ = false, quit_ = false, restyle_ = true, rerefine_ = false, screenshotKey_ = false;
+    bool vectorKey_ = false;
+    bool dragging_ = false;  // a drag that began on the drawing (not on the panel) moves the camera
+};
+
+Viewer& viewerOf(GLFWwindow* w) { return *static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
+
+Viewer::Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene, GLFWwindow* window,
+               VkSurfaceKHR surface)
+    : o_(o),
+      v_(v),
+      ctx_(ctx),
+      scene_(scene),
+      window_(window),
+      surface_(surface),
+      camera_(cameraFrom(o)),
+      home_(camera_),
+      appliedStyle_(o.style),
+      appliedRefine_(o.refine),
+      appliedLines_(o.lines),
+      toneGamma_(o.render.toneGamma > 0 ? o.render.toneGamma : 1.5f) {
+    try {
+        format_ = ink::chooseSurfaceFormat(ctx, surface);
+        VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        poolInfo.queueFamilyIndex = ctx.queueFamily;
+        VK_CHECK(vkCreateCommandPool(ctx.device, &poolInfo, nullptr, &pool_));
+        for (Frame& f : frames_) {
+            VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+            alloc.commandPool = pool_;
+            alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+            alloc.commandBufferCount = 1;
+            VK_CHECK(vkAllocateCommandBuffers(ctx.device, &alloc, &f.cmd));
+            VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+            fenceInfo.flags = VK_FENCE_CREATE_SIGNALED_BIT;
+            VK_CHECK(vkCreateFence(ctx.device, &fenceInfo, nullptr, &f.done));
+            VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+            VK_CHECK(vkCreateSemaphore(ctx.device, &semaphoreInfo, nullptr, &f.acquired));
+        }
+        renderer_ = std::make_unique<ink::PointRenderer>(ctx, scene.pointers(), format_.format, kFramesInFlight,
+                                                         scene.strokes.get());
+        points_ = scene.points();
+        panel_ = std::make_unique<ViewerPanel>(ctx, window, format_.format, kFramesInFlight);
+        if (v.noPanel) panel_->toggle();
+    } catch (...) {
+        release();
+        throw;
+    }
+    glfwSetWindowUserPointer(window, this);
+    glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
+        viewerOf(w).onKey(key, scancode, action, mods);
+    });
+    glfwSetCharCallback(window, [](GLFWwindow* w, unsigned int c) { viewerOf(w).onChar(c); });
+    glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
+        viewerOf(w).onMouseButton(button, action, mods);
+    });
+    glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) { viewerOf(w).onCursor(x, y); });
+    glfwSetScrollCallback(window, [](GLFWwindow* w, double dx, double dy) { viewerOf(w).onScroll(dx, dy); });
+    glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int, int) { viewerOf(w).onResize(); });
+    glfwSetCursorEnterCallback(window, [](GLFWwindow* w, int entered) {
+        viewerOf(w).panel_->inputArrived();
+        ImGui_ImplGlfw_CursorEnterCallback(w, entered);
+    });
+    glfwSetWindowFocusCallback(window, [](GLFWwindow* w, int focused) {
+        viewerOf(w).panel_->inputArrived();
+        ImGui_ImplGlfw_WindowFocusCallback(w, focused);
+    });
+    glfwGetCursorPos(window, &lastX_, &lastY_);
+}
+
+// Reverse order of creation; safe on a partly constructed viewer.
+void Viewer::release() {
+    if (job_) {  // a refinement cannot be stopped on the device: wait for it
+        job_->thread.join();
+        job_.reset();
+    }
+    glfwSetKeyCallback(window_, nullptr);
+    glfwSetCharCallback(window_, nullptr);
+    glfwSetMouseButtonCallback(window_, nullptr);
+    glfwSetCursorPosCallback(window_, nullptr);
+    glfwSetScrollCallback(window_, nullptr);
+    glfwSetFramebufferSizeCallback(window_, nullptr);
+    glfwSetCursorEnterCallback(window_, nullptr);
+    glfwSetWindowFocusCallback(window_, nullptr);
+    glfwSetWindowUserPointer(window_, nullptr);
+    vkDeviceWaitIdle(ctx_.device);
+    panel_.reset();
+    renderer_.reset();
+    for (Frame& f : frames_) {
+        if (f.capture.buffer) ink::destroyBuffer(ctx_, f.capture);
+        vkDestroySemaphore(ctx_.device, f.acquired, nullptr);
+        vkDestroyFence(ctx_.device, f.done, nullptr);
+        f = Frame{};
+    }
+    vkDestroyCommandPool(ctx_.device, pool_, nullptr);  // frees the command buffers
+    pool_ = VK_NULL_HANDLE;
+    ink::destroySwapchain(ctx_, swapchain_);
+}
+
+void Viewer::onKey(int key, int scancode, int action, int mods) {
+    if (panel_) {
+        panel_->inputArrived();
+        ImGui_ImplGlfw_KeyCallback(window_, key, scancode, action, mods);
+        if (panel_->wantsKeyboard()) return;  // typing into one of its fields
+    }
+    bool press = action == GLFW_PRESS, repeat = action == GLFW_REPEAT;
+    if (!press && !(repeat && (key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET))) return;
+    ink::RenderStyle& s = o_.render;
+    switch (key) {
+        case GLFW_KEY_ESCAPE:
+        case GLFW_KEY_Q:
+            quit_ = true;
+            break;
+        case GLFW_KEY_1:
+            o_.style = DrawStyle::Stipple;
+            s.drawDots = true;
+            restyle_ = true;
+            break;
+        case GLFW_KEY_2:
+            o_.style = DrawStyle::Direction;
+            s.drawDots = true;
+            restyle_ = true;
+            break;
+        case GLFW_KEY_3:
+            o_.style = DrawStyle::Both;
+            s.drawDots = true;
+            restyle_ = true;
+            break;
+        case GLFW_KEY_EQUAL:  // '+' is shift+'=' on most layouts; '=' alone counts too
+        case GLFW_KEY_KP_ADD:
+            o_.refine.levels = std::min(o_.refine.levels + 1, kMaxLevels);
+            break;
+        case GLFW_KEY_MINUS:
+        case GLFW_KEY_KP_SUBTRACT:
+            o_.refine.levels = o_.refine.levels > 0 ? o_.refine.levels - 1 : 0;
+            break;
+        case GLFW_KEY_LEFT_BRACKET:
+            s.tau = std::max(0.0f, s.tau - 0.02f);
+            restyle_ = true;
+            break;
+        case GLFW_KEY_RIGHT_BRACKET:
+            s.tau = std::min(0.9f, s.tau + 0.02f);
+            restyle_ = true;
+            break;
+        case GLFW_KEY_T:
+            if (s.toneGamma > 0) {
+                toneGamma_ = s.toneGamma;
+                s.toneGamma = 0;  // every front dot
+            } else {
+                s.toneGamma = toneGamma_;
+            }
+            restyle_ = true;
+            break;
+        case GLFW_KEY_H:
+            s.hiddenLines = !s.hiddenLines;
+            restyle_ = true;
+            break;
+        case GLFW_KEY_O:
+            s.occlusion = !s.occlusion;
+            restyle_ = true;
+            break;
+        case GLFW_KEY_L:
+            light_ = (light_ + 1) % kLights.size();
+            s.light = kLights[light_];
+            restyle_ = true;
+            break;
+        case GLFW_KEY_U:  // the next up axis: y, z, x, -y, -z, -x (a z-up scan stands up in one press)
+        {
+            static constexpr ink::UpAxis kOrder[] = {ink::UpAxis::PosY, ink::UpAxis::PosZ, ink::UpAxis::PosX,
+                                                     ink::UpAxis::NegY, ink::UpAxis::NegZ, ink::UpAxis::NegX};
+            size_t k = 0;
+            while (kOrder[k] != s.up) ++k;
+            s.up = kOrder[(k + 1) % 6];
+            camera_.up = home_.up = s.up;
+            o_.autoUp = false;  // chosen: a saved preset keeps it
+            restyle_ = true;    // the light is fixed to the model as seen from the default camera of this axis
+            break;
+        }
+        case GLFW_KEY_S:
+            screenshotKey_ = true;
+            break;
+        case GLFW_KEY_C:  // ctrl + C, ctrl + V: the camera as text on the clipboard (docs/viewer.md)
+            if (mods & GLFW_MOD_CONTROL) copyCamera();
+            break;
+        case GLFW_KEY_V:
+            if (mods & GLFW_MOD_CONTROL)
+                pasteCamera();
+            else
+                vectorKey_ = true;
+            break;
+        case GLFW_KEY_R:
+            camera_ = home_;
+            break;
+        case GLFW_KEY_TAB:
+            if (panel_) panel_->toggle();
+            break;
+        case GLFW_KEY_F1:
+            if (panel_) panel_->showHelp();
+            break;
+        default:
+            break;
+    }
+    if (stale()) rerefine_ = true;
+}
+
+void Viewer::onChar(unsigned int c) {
+    if (panel_) {
+        panel_->inputArrived();
+        ImGui_ImplGlfw_CharCallback(window_, c);
+    }
+}
+
+void Viewer::onMouseButton(int button, int action, int mods) {
+    if (panel_) {
+        panel_->inputArrived();
+        ImGui_ImplGlfw_MouseButtonCallback(window_, button, action, mods);
+    }
+    if (action == GLFW_PRESS) dragging_ = !(panel_ && panel_->wantsMouse());
+}
+
+void Viewer::onCursor(double x, double y) {
+    double dx = x - lastX_, dy = y - lastY_;
+    lastX_ = x;
+    lastY_ = y;
+    if (panel_) panel_->inputArrived();  // hovering changes it
+    if (!dragging_) return;
+    bool left = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+    bool right = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+    bool shift = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
+                 glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+    if (right || (left && shift)) {
+        pan(camera_, dx, dy, swapchain_.extent.height);
+    } else if (left) {
+        // Grab-and-turn: dragging right turns the model right, i.e. the camera goes left around it.
+        camera_.azimuthDeg = std::fmod(camera_.azimuthDeg - float(dx) * 0.3f, 360.0f);
+        camera_.elevationDeg += float(dy) * 0.3f;
+        camera_.elevationDeg = camera_.freeOrbit ? std::remainder(camera_.elevationDeg, 360.0f)
+                                                 : std::clamp(camera_.elevationDeg, -89.0f, 89.0f);
+    }
+}
+
+void Viewer::onScroll(double dx, double dy) {
+    if (panel_) {
+        panel_->inputArrived();
+        ImGui_ImplGlfw_ScrollCallback(window_, dx, dy);
+        if (panel_->wantsMouse()) return;  // scrolls the panel
+    }
+    camera_.distance = std::clamp(camera_.distance * float(std::pow(0.9, dy)), 0.1f, 50.0f);
+}
+
+// (Re)creates the swapchain when there is none or the window changed; false while the window has no area.
+bool Viewer::ensureSwapchain() {
+    if (swapchain_.swapchain && !resized_) return true;
+    int width = 0, height = 0;
+    glfwGetFramebufferSize(window_, &width, &height);
+    if (!ink::createSwapchain(ctx_, swapchain_, surface_, format_, {uint32_t(width), uint32_t(height)})) return false;
+    resized_ = false;
+    if (panel_) panel_->swapchainChanged();
+    if (!v_.screenshot.empty() && !swapchain_.copyable)
+        throw ink::Error("this window system's images cannot be copied, so --screenshot cannot work");
+    return true;
+}
+
+// Starts a new refinement for the style and refinement options asked for, or new pen lines over the current
+// one, on a worker thread. Contours switched on or off over lines already traced need no tracing: at once.
+void Viewer::startRefinement() {
+    rerefine_ = false;
+    const bool refine = o_.style != appliedStyle_ || !sameRefinement(o_.refine, appliedRefine_);
+    if (!refine && sameHatching(o_.lines, appliedLines_) && (appliedLines_.any() || !o_.lines.any())) {
+        applyLines({o_.lines, scene_.samples, scene_.hatching, scene_.hatchStats, scene_.hatchSeconds});
+        say(std::string("contours ") + (o_.lines.contours ? "on" : "off"), false);
+        return;
+    }
+    job_ = std::make_unique<RefineJob>();
+    RefineJob* job = job_.get();
+    job->refine = refine;
+    job->style = o_.style;
+    job->options = o_.refine;
+    job->lines = o_.lines;
+    job->thread = std::thread([this, job] {
+        const size_t sets = job->style == DrawStyle::Both ? 2 : 1;
+        size_t setsDone = 0;
+        ink::Reporter reporter;
+        reporter.progress = [&](const char*, size_t done, size_t total) {
+            job->permille =
+                uint32_t(1000 * (double(setsDone) + double(done) / double(std::max<size_t>(total, 1))) / double(sets));
+            if (done >= total) setsDone = std::min(setsDone + 1, sets);
+        };
+        reporter.note = [job](const std::string& line) { job->notes.push_back(line); };
+        ink::ScopedReporter scoped(reporter);
+        try {
+            auto start = Clock::now();
+            if (job->refine) {
+                job->sets = scene_.build(job->style, job->options);
+                job->seconds = secondsSince(start);
+                for (auto& set : job->sets)
+                    for (const ink::LevelStats& l : ink::readLevelStats(ctx_, set->gpu())) job->points += l.kept;
+            }
+            job->tracing = true;
+            job->traced = scene_.traceLines(job->refine ? job->sets : scene_.sets, job->lines);
+        } catch (const std::exception& e) {
+            job->sets.clear();  // before the main thread touches the device again
+            job->error = e.what();
+        }
+        job->finished = true;
+        glfwPostEmptyEvent();  // wakes the loop if it waits for events
+    });
+}
+
+// New pen lines: the renderer holds the old strokes' descriptors, so it is made again over the new ones.
+void Viewer::applyLines(ink::Scene::TracedLines traced) {
+    VK_CHECK(vkDeviceWaitIdle(ctx_.device));
+    renderer_.reset();
+    appliedLines_ = traced.options;
+    scene_.setLines(std::move(traced));
+    renderer_ = std::make_unique<ink::PointRenderer>(ctx_, scene_.pointers(), format_.format, kFramesInFlight,
+                                                     scene_.strokes.get());
+    tracedEye_ = glm::vec3(NAN);
+    restyle_ = true;  // the new renderer's style block is empty
+}
+
+// Swaps in the finished refinement or lines (or, if it failed, says why and keeps the drawing as it was).
+void Viewer::finishRefinement() {
+    job_->thread.join();
+    std::unique_ptr<RefineJob> job = std::move(job_);
+    for (const std::string& line : job->notes) ink::note(line);
+    if (!job->error.empty()) {
+        // Too many points for this device, say: keep viewing what was there.
+        o_.style = appliedStyle_;
+        o_.refine = appliedRefine_;
+        o_.lines = appliedLines_;
+        say(job->error + "; keeping " + styleName(o_) + " at " + std::to_string(appliedRefine_.levels) + " levels",
+            true);
+        return;
+    }
+    std::string message;
+    if (job->refine) {
+        VK_CHECK(vkDeviceWaitIdle(ctx_.device));
+        renderer_.reset();  // it holds descriptors of the old refinement's buffers
+        scene_.replace(std::move(job->sets), job->seconds, ink::Scene::TracedLines{});
+        appliedStyle_ = job->style;
+        appliedRefine_ = job->options;
+        points_ = job->points;
+        char line[160];
+        std::snprintf(line, sizeof line, "refined %s at %u levels in %.2f s: %llu points",
+                      ink::drawStyleName(appliedStyle_), appliedRefine_.levels, job->seconds,
+                      (unsigned long long)points_);
+        message = line;
+    }
+    if (job->traced.options.hatching) {
+        char line[120];
+        std::snprintf(line, sizeof line, "%shatching traced in %.2f s: %zu strokes", message.empty() ? "" : "; ",
+                      job->traced.seconds, job->traced.hatching.size());
+        message += line;
+    } else if (!job->refine) {
+        message = std::string("pen lines: ") + (job->lines.contours ? "contours" : "none");
+    }
+    applyLines(std::move(job->traced));
+    say(message, false);
+    // Changed again while it ran: once more.
+    if (stale()) rerefine_ = true;
+}
+
+// The camera as one line of JSON on the clipboard (parseCameraText reads it, and `--camera` options, back).
+void Viewer::copyCamera() {
+    CameraText c;
+    c.azimuthDeg = camera_.azimuthDeg;
+    c.elevationDeg = camera_.elevationDeg;
+    c.distance = camera_.distance;
+    c.target = std::array<float, 3>{camera_.target.x, camera_.target.y, camera_.target.z};
+    c.up = ink::upAxisName(o_.render.up);
+    c.fovDeg = camera_.fovyDeg;
+    c.freeOrbit = camera_.freeOrbit;
+    const std::string text = cameraJson(c);
+    glfwSetClipboardString(window_, text.c_str());
+    say("copied the camera " + text, false);
+}
+
+// The clipboard's camera, if it holds one; else the panel says why and the camera stays.
+void Viewer::pasteCamera() {
+    const char* clipboard = glfwGetClipboardString(window_);
+    try {
+        if (!clipboard) throw ink::Error("the clipboard holds no text");
+        const CameraText c = parseCameraText(clipboard);
+        if (c.up) {
+            o_.render.up = ink::parseUpAxis(*c.up);
+            home_.up = o_.render.up;
+            o_.autoUp = false;
+            restyle_ = true;  // the light is given about the up axis
+        }
+        camera_.up = o_.render.up;
+        if (c.freeOrbit) camera_.freeOrbit = *c.freeOrbit;
+        camera_.azimuthDeg = c.azimuthDeg;
+        camera_.elevationDeg = camera_.freeOrbit ? c.elevationDeg : std::clamp(c.elevationDeg, -89.0f, 89.0f);
+        camera_.distance = std::clamp(c.distance, 0.1f, 50.0f);
+        if (c.target) camera_.target = glm::vec3((*c.target)[0], (*c.target)[1], (*c.target)[2]);
+        if (c.fovDeg) camera_.fovyDeg = std::clamp(*c.fovDeg, 10.0f, 100.0f);
+        say("pasted the camera", false);
+    } catch (const ink::Error& e) {
+        say(std::string("camera not pasted: ") + e.what(), true);
+    }
+}
+
+// The panel's notes go to its last line and, as the viewer's other notes, to the terminal.
+void Viewer::say(const std::string& line, bool error) {
+    message_ = line;
+    if (error)
+        ink::note(line);
+    else
+        std::printf("view: %s\n", line.c_str());
+    std::fflush(stdout);
+}
+
+VkExtent2D Viewer::drawingExtent() const {
+    VkExtent2D e = swapchain_.extent;
+    if (panel_) e.width = panel_->drawingWidth(e.width);
+    return e;
+}
+
+bool Viewer::panelDrawn() const { return panel_ && drawingExtent().width < swapchain_.extent.width; }
+
+// The panel's widgets for this frame, and what they asked for.
+void Viewer::buildPanel(double frameMs) {
+    PanelInfo info;
+    info.model = std::filesystem::path(o_.model).filename().string();
+    info.controlPoints = scene_.model.fit.controlPoints;
+    info.points = points_;
+    info.frameMs = frameMs;
+    info.refining = rerefine_ || job_;
+    info.refineProgress = job_ ? job_->permille / 1000.0 : 0.0;
+    info.task = job_ && job_->tracing ? "tracing the lines" : "refining";
+    info.message = message_;
+    info.screenshotPath = v_.screenshot.empty() ? "inkwell-view-N.png (the first free N)" : v_.screenshot;
+    info.drawing = drawingExtent();
+    if (pngDefault_.empty()) pngDefault_ = nextDrawingPath();
+    info.pngPath = pngDefault_;
+    PanelActions a = panel_->build(o_, camera_, info);
+    if (a.restyle) restyle_ = true;
+    if (a.rerefine) rerefine_ = true;
+    if (a.upChanged) {
+        camera_.up = home_.up = o_.render.up;
+        o_.autoUp = false;
+    }
+    if (a.resetCamera) camera_ = home_;
+    if (a.copyCamera) copyCamera();
+    if (a.pasteCamera) pasteCamera();
+    if (a.saveScreenshot) screenshotKey_ = true;
+    if (a.savePng && !job_) {
+        try {
+            savePng(a.pngPath, a.pngSize[0], a.pngSize[1]);
+            say("saved " + a.pngPath, false);
+        } catch (const ink::Error& e) {
+            say(std::string("not saved: ") + e.what(), true);
+        }
+    }
+    if (a.savePreset) {
+        try {
+            ink::checkOutputs({a.presetPath}, {o_.model});
+            ink::OutputBatch now;  // at once, even inside the --screenshot batch
+            ink::writeFileAtomically(a.presetPath, presetJson(presetFrom(o_)));
+            now.commit();
+            say("saved preset " + a.presetPath, false);
+        } catch (const ink::Error& e) {
+            say(std::string("preset not saved: ") + e.what(), true);
+        }
+    }
+    if (a.loadPreset) {
+        try {
+            loadPreset(o_, a.presetPath);
+            camera_.up = home_.up = o_.render.up;
+            restyle_ = true;
+            if (stale()) rerefine_ = true;
+            say("loaded preset " + a.presetPath, false);
+        } catch (const ink::Error& e) {
+            say(e.what(), true);
+        }
+    }
+}
+
+// What `inkwell render -o path` draws with the same options and camera at width × height: a PNG supersampled as
+// it does, or (.svg, .pdf) the frame's marks laid out on the page of the --page options.
+void Viewer::savePng(const std::string& path, uint32_t width, uint32_t height) {
+    ink::checkOutputs({path}, {o_.model, o_.preset});
+    ink::checkOffscreenSize(ctx_, width, height, o_.render.supersample);
+    if (scene_.lines.contours && camera_.eye() != tracedEye_) {  // the pen lines of this view, as render's
+        scene_.traceContours(camera_);
+        tracedEye_ = camera_.eye();
+    }
+    ink::OffscreenRenderer offscreen(ctx_, width, height, o_.render, scene_.pointers(), scene_.strokes.get());
+    ink::RgbaImage image = offscreen.render(camera_);
+    ink::OutputBatch now;  // at once, even inside the --screenshot batch
+    if (ink::isVectorPath(path))
+        ink::writePlot(path, ink::layoutPlot(offscreen.vectorDrawing(), o_.page));
+    else
+        ink::writePng(path, image);
+    now.commit();
+}
+
+void Viewer::record(Frame& f, uint32_t index, bool capture) {
+    // The contour depends on the eye: traced again once the eye stops (a frame without motion), since tracing
+    // takes longer than a frame (docs/lines.md); while it moves, the last view's contour is drawn.
+    if (scene_.lines.contours && camera_.eye() != tracedEye_ && camera_.eye() == previousEye_) {
+        scene_.traceContours(camera_);
+        tracedEye_ = camera_.eye();
+    }
+    previousEye_ = camera_.eye();
+    VkCommandBuffer cmd = f.cmd;
+    VK_CHECK(vkResetCommandBuffer(cmd, 0));
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
+    if (restyle_) {
+        renderer_->setStyle(cmd, o_.render, 1.0f);
+        restyle_ = false;
+    }
+    // The acquire semaphore is waited on at colour output: the image's transition comes after that stage. The
+    // drawing takes the window's left part; the panel, drawn after it (and after a screenshot's copy), the rest.
+    const bool panel = panelDrawn();
+    ink::FrameTarget target{
+        swapchain_.images[index], swapchain_.views[index], drawingExtent(),
+        panel ? panel_->layoutBefore(swapchain_, drawingExtent().width) : VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT};
+    renderer_->recordFrame(cmd, camera_, target, current_, capture ? &f.capture : nullptr);
+    if (panel) panel_->record(cmd, swapchain_, index, target.extent.width);
+    VK_CHECK(vkEndCommandBuffer(cmd));
+}
+
+void Viewer::submitAndPresent(Frame& f, uint32_t index, bool suboptimal) {
+    VkSemaphoreSubmitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
+    wait.semaphore = f.acquired;
+    wait.stageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+    VkSemaphoreSubmitInfo signal{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
+    signal.semaphore = swapchain_.rendered[index];
+    signal.stageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+    VkCommandBufferSubmitInfo cmdInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+    cmdInfo.commandBuffer = f.cmd;
+    VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+    submit.waitSemaphoreInfoCount = 1;
+    submit.pWaitSemaphoreInfos = &wait;
+    submit.commandBufferInfoCount = 1;
+    submit.pCommandBufferInfos = &cmdInfo;
+    submit.signalSemaphoreInfoCount = 1;
+    submit.pSignalSemaphoreInfos = &signal;
+    VK_CHECK(vkQueueSubmit2(ctx_.queue, 1, &submit, f.done));
+
+    VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
+    present.waitSemaphoreCount = 1;
+    present.pWaitSemaphores = &swapchain_.rendered[index];
+    present.swapchainCount = 1;
+    present.pSwapchains = &swapchain_.swapchain;
+    present.pImageIndices = &index;
+    VkResult presented = vkQueuePresentKHR(ctx_.queue, &present);
+    if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR || suboptimal)
+        resized_ = true;  // recreated before the next frame
+    else
+        VK_CHECK(presented);
+}
+
+// Draws and presents one frame, saving it to `screenshot` when that is not empty. False when the
+// swapchain was out of date and nothing was drawn (it is recreated before the next try).
+bool Viewer::drawFrame(const std::string& screenshot) {
+    Frame& f = frames_[current_];
+    VK_CHECK(vkWaitForFences(ctx_.device, 1, &f.done, VK_TRUE, UINT64_MAX));
+    uint32_t index = 0;
+    VkResult acquired =
+        vkAcquireNextImageKHR(ctx_.device, swapchain_.swapchain, UINT64_MAX, f.acquired, VK_NULL_HANDLE, &index);
+    if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
+        resized_ = true;
+        return false;
+    }
+    if (acquired != VK_SUBOPTIMAL_KHR) VK_CHECK(acquired);
+    // Only now: a frame that returned above must leave the fence signalled for the next wait.
+    VK_CHECK(vkResetFences(ctx_.device, 1, &f.done));
+
+    bool capture = !screenshot.empty();
+    if (capture) {
+        f.captured = drawingExtent();
+        VkDeviceSize bytes = VkDeviceSize(f.captured.width) * f.captured.height * 4;
+        f.capture = ink::createBuffer(ctx_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, ink::MemoryUse::Readback);
+    }
+    record(f, index, capture);
+    submitAndPresent(f, index, acquired == VK_SUBOPTIMAL_KHR);
+    if (capture) saveCapture(f, screenshot);
+    current_ = (current_ + 1) % kFramesInFlight;
+    return true;
+}
+
+void Viewer::saveCapture(Frame& f, const std::string& path) {
+    VK_CHECK(vkWaitForFences(ctx_.device, 1, &f.done, VK_TRUE, UINT64_MAX));
+    // The drawing, at the extent the frame was recorded with: never the panel.
+    VkExtent2D extent = f.captured;
+    ink::RgbaImage image{extent.width, extent.height, {}};
+    const uint8_t* mapped = static_cast<const uint8_t*>(f.capture.mapped);
+    image.pixels.assign(mapped, mapped + f.capture.size);
+    ink::destroyBuffer(ctx_, f.capture);
+    ink::swizzleToRgba(format_.format, image.pixels);
+    ink::writePng(path, image);
+}
+
+std::string Viewer::nextScreenshotPath() {
+    if (!v_.screenshot.empty()) return v_.screenshot;
+    for (uint32_t n = 1;; ++n) {
+        std::string path = "inkwell-view-" + std::to_string(n) + ".png";
+        if (!std::filesystem::exists(path)) return path;
+    }
+}
+
+void Viewer::saveVector() {
+    std::string path = v_.vector;
+    for (uint32_t n = 1; path.empty(); ++n) {
+        std::string name = "inkwell-view-" + std::to_string(n) + ".svg";
+        if (!std::filesystem::exists(name)) path = name;
+    }
+    uint32_t frame = (current_ + kFramesInFlight - 1) % kFramesInFlight;  // drawFrame moved on past it
+    writeVectorView(*renderer_, frame, path, o_.page);
+    std::printf("view: saved %s\n", path.c_str());
+    std::fflush(stdout);  // scripts wait for it
+}
+
+std::string Viewer::nextDrawingPath() const {
+    for (uint32_t n = 1;; ++n) {
+        std::string path = "inkwell-drawing-" + std::to_string(n) + ".png";
+        if (!std::filesystem::exists(path)) return path;
+    }
+}
+
+void Viewer::updateTitle(double averageMs) {
+    char title[256];
+    std::snprintf(title, sizeof(title), "inkwell view - %s - %s, %u levels - %llu points - %.1f ms",
+                  std::filesystem::path(o_.model).filename().c_str(), styleName(o_).c_str(), o_.refine.levels,
+                  (unsigned long long)points_, averageMs);
+    glfwSetWindowTitle(window_, title);
+}
+
+ViewResult Viewer::run() {
+    ViewResult result;
+    auto previous = Clock::now(), titleStart = previous;
+    double titleMs = 0, averageMs = 0;
+    uint32_t titleFrames = 0;
+    bool savedLast = false, savedVectorLast = false;
+    while (!quitting() || job_) {
+        if (job_) {
+            // A refinement runs: keep handling events (and show its progress in the title) until it is done.
+            if (!job_->finished) {
+                glfwWaitEventsTimeout(0.1);
+                char title[256];
+                if (job_->tracing)
+                    std::snprintf(title, sizeof title, "inkwell view - %s - tracing the lines",
+                                  std::filesystem::path(o_.model).filename().c_str());
+                else
+                    std::snprintf(title, sizeof title, "inkwell view - %s - refining %d%%",
+                                  std::filesystem::path(o_.model).filename().c_str(), int(job_->permille / 10));
+                glfwSetWindowTitle(window_, title);
+                continue;
+            }
+            finishRefinement();
+            updateTitle(averageMs);
+            previous = Clock::now();  // the refinement is not a frame
+            if (quitting()) break;
+        }
+        glfwPollEvents();
+        if (glfwGetWindowAttrib(window_, GLFW_ICONIFIED) || !ensureSwapchain()) {
+            glfwWaitEvents();  // minimized: nothing to draw until the window is back
+            previous = Clock::now();
+            continue;
+        }
+        // The panel first: what it changes shows in this frame. A change that needs a new refinement is drawn
+        // once with the panel saying so, then refined.
+        if (panelDrawn()) buildPanel(averageMs);
+        result.panel = panelDrawn();
+        bool last = v_.frames > 0 && result.frames + 1 == v_.frames;
+        std::string screenshot;
+        if (screenshotKey_ || (last && !v_.screenshot.empty())) screenshot = nextScreenshotPath();
+        bool fromKey = screenshotKey_;
+        bool drawn = false;
+        try {
+            drawn = drawFrame(screenshot);
+        } catch (const ink::Error& e) {
+            if (!fromKey) throw;
+            ink::note(std::string("screenshot not saved: ") + e.what());  // an S key failure keeps the view
+            screenshotKey_ = false;
+            continue;
+        }
+        if (!drawn) {
+            if (rerefine_) startRefinement();
+            continue;
+        }
+        if (!screenshot.empty()) {
+            std::printf("view: saved %s\n", screenshot.c_str());
+            std::fflush(stdout);  // scripts wait for it
+            screenshotKey_ = false;
+            savedLast = last;
+        }
+        if (vectorKey_ || (last && !v_.vector.empty())) {
+            try {
+                saveVector();
+                savedVectorLast = last;
+            } catch (const ink::Error& e) {
+                if (!vectorKey_) throw;
+                ink::note(std::string("drawing not saved: ") + e.what());  // a V key failure keeps the view
+            }
+            vectorKey_ = false;
+        }
+        auto now = Clock::now();
+        double ms = std::chrono::duration<double, std::milli>(now - previous).count();
+        previous = now;
+        result.frameMs.push_back(ms);
+        ++result.frames;
+        titleMs += ms;
+        ++titleFrames;
+        if (std::chrono::duration<double>(now - titleStart).count() >= kTitleInterval) {
+            averageMs = titleMs / titleFrames;
+            updateTitle(averageMs);
+            titleStart = now;
+            titleMs = 0;
+            titleFrames = 0;
+        }
+        if (v_.frames > 0 && result.frames >= v_.frames) break;
+        if (rerefine_) startRefinement();
+    }
+    // Closed or quit before a --screenshot was taken: draw one more frame for it.
+    for (int attempt = 0; !v_.screenshot.empty() && !savedLast && attempt < 3; ++attempt)
+        if (ensureSwapchain() && drawFrame(v_.screenshot)) {
+            std::printf("view: saved %s\n", v_.screenshot.c_str());
+            savedLast = true;
+        }
+    if (!v_.screenshot.empty() && !savedLast) ink::note("no frame to save to " + v_.screenshot + " (minimized?)");
+    if (!v_.vector.empty() && !savedVectorLast) {
+        if (result.frames > 0)
+            saveVector();  // closed before the last frame: the frame drawn last
+        else
+            ink::note("no frame to save to " + v_.vector + " (minimized?)");
+    }
+    VK_CHECK(vkDeviceWaitIdle(ctx_.device));
+    result.extent = swapchain_.extent;
+    result.points = points_;
+    result.controlPoints = scene_.model.fit.controlPoints;
+    return result;
+}
+
+int runView(Options& o, const ViewOptions& v) {
+    finishOptions(o);
+    ink::checkOutputs({v.screenshot, v.vector, o.statsPath}, {o.model, o.preset});  // before the window opens
+    if (!v.vector.empty() && !ink::isVectorPath(v.vector))
+        throw ink::Error("--vector '" + v.vector + "' is not an .svg or .pdf file");
+    VkExtent2D size = kDefaultWindow;
+    if (o.command && o.command->count("--size")) size = {o.size[0], o.size[1]};
+
+    GlfwLibrary glfw;
+    Window window(size, "inkwell view - " + std::filesystem::path(o.model).filename().string());
+    Session session(o, GlfwLibrary::instanceExtensions(), true);
+    ViewResult result;
+    // With --screenshot or --vector (every save then goes to that one file), they and the stats are renamed into place
+    // together once both are written; S-key screenshots to fresh names are saved at once.
+    std::optional<ink::OutputBatch> outputs;
+    if (!v.screenshot.empty() || !v.vector.empty()) outputs.emplace();
+    {
+        Surface surface(session.ctx.instance, window.handle);
+        ink::checkPresentSupport(session.ctx, surface.surface);
+        Scene scene(session.ctx, o);
+        // For the drawing's part of the window (the panel takes its right side unless --no-panel); R returns to it.
+        const uint32_t drawing =
+            !v.noPanel && size.width > ViewerPanel::kWidth + 16 ? size.width - ViewerPanel::kWidth : size.width;
+        resolveView(o, scene, float(drawing) / float(size.height));
+        glfwShowWindow(window.handle);
+        Viewer viewer(o, v, session.ctx, scene, window.handle, surface.surface);
+        result = viewer.run();
+    }
+    session.checkValidation();
+
+    double medianMs = medianFrameMs(result.frameMs);
+    json stats = {{"frames", result.frames},      {"panel", result.panel},
+                  {"median_frame_ms", medianMs},  {"frame_ms", result.frameMs},
+                  {"width", result.extent.width}, {"height", result.extent.height},
+                  {"points", result.points},      {"control_points", result.controlPoints}};
+    stats.update(deviceJson(session.ctx));
+    writeJson(o.statsPath, stats);
+    if (outputs) outputs->commit();
+    std::printf("view: %u frames, median %.2f ms (%ux%u%s, %llu points)\n", result.frames, medianMs,
+                result.extent.width, result.extent.height, result.panel ? " with the panel" : "",
+                (unsigned long long)result.points);
+    return 0;
+}
+
+}  // namespace
+
+void addViewCommand(CLI::App& cli, Options& o, Commands& commands) {
+    auto v = std::make_shared<ViewOptions>();
+    CLI::App* view = cli.add_subcommand("view", "Open a window and view a model interactively (docs/viewer.md)");
+    addModelOptions(view, o);
+    addRefineOptions(view, o);
+    addRenderOptions(view, o);
+    addVectorOptions(view, o);  // --vector, the V key and the panel's SVG and PDF
+    addDeviceOptions(view, o);
+    view->get_option("--size")->description("Window width and height in pixels")->default_str("[1024,768]");
+    // The window is drawn at its own resolution every frame; supersampling is for `render`.
+    view->remove_option(view->get_option("--supersample"));
+    view->add_option("--frames", v->frames, "Quit after this many frames (default: when the window closes)");
+    view->add_option("--screenshot", v->screenshot, "Save the last frame (or the S key's) to this PNG");
+    view->add_option("--vector", v->vector,
+                     "Save the last frame's marks (or the V key's) to this SVG or PDF (page options as render's)");
+    view->add_flag("--no-panel", v->noPanel, "Start with the settings panel hidden (Tab shows it)");
+    commands.emplace_back(view, [&o, v] { return runView(o, *v); });
+}
+
+}  // namespace app

@@ -1,0 +1,626 @@
+// The viewer's panel (viewer_panel.h): Dear ImGui, from Debian's libimgui-dev with its GLFW and Vulkan
+// backends. ImGui 1.86's Vulkan backend draws inside a render pass of ours: one subpass over the swapchain image,
+// loaded (the drawing is in it), ending in PRESENT_SRC_KHR.
+#include "viewer_panel.h"
+
+#include "../cli/preset.h"
+
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_vulkan.h>
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include <GLFW/glfw3.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace app {
+
+namespace {
+
+// ImGui's backend reports Vulkan failures through this hook.
+void checkVk(VkResult result) {
+    if (result < 0) throw ink::Error(std::string("the viewer's panel: ") + ink::vkResultName(result));
+}
+
+// The mouse and keys, for the "?" help (docs/viewer.md has the same table).
+constexpr const char* kHelp[][2] = {
+    {"left drag", "orbit (turntable: the up axis stays up)"},
+    {"right drag, shift + left drag", "pan"},
+    {"wheel", "zoom"},
+    {"1 / 2 / 3", "style: stipple / direction / both"},
+    {"+ / -", "refinement levels"},
+    {"[ / ]", "tau, the silhouette threshold"},
+    {"T", "tone on/off"},
+    {"H", "hidden lines on/off"},
+    {"O", "occlusion on/off"},
+    {"U", "the next up axis"},
+    {"L", "the next light direction"},
+    {"S", "screenshot of the drawing"},
+    {"V", "the drawing's marks as SVG (--vector)"},
+    {"ctrl + C / ctrl + V", "copy / paste the camera"},
+    {"R", "reset the camera"},
+    {"Tab", "hide/show this panel"},
+    {"F1", "this help"},
+    {"Esc, Q", "quit"},
+    {"ctrl + click a slider", "type a value"},
+};
+
+constexpr ink::UpAxis kUpOrder[] = {ink::UpAxis::PosY, ink::UpAxis::PosZ, ink::UpAxis::PosX,
+                                    ink::UpAxis::NegY, ink::UpAxis::NegZ, ink::UpAxis::NegX};
+constexpr const char* kUpNames = "y\0z\0x\0-y\0-z\0-x\0";
+
+// A slider for a setting that needs a new refinement: the value is taken when the slider is let go (or a typed
+// value entered), not at every step of a drag. `editing` holds the value while the slider is held.
+bool sliderOnRelease(const char* label, uint32_t& value, int lo, int hi, int& editing) {
+    int v = editing >= 0 ? editing : int(value);
+    ImGui::SliderInt(label, &v, lo, hi, "%d", ImGuiSliderFlags_AlwaysClamp);
+    bool done = ImGui::IsItemDeactivatedAfterEdit();
+    editing = ImGui::IsItemActive() ? v : -1;
+    if (done && uint32_t(v) != value) {
+        value = uint32_t(v);
+        return true;
+    }
+    return false;
+}
+
+// The same for a float, on a logarithmic scale.
+bool sliderOnRelease(const char* label, double& value, float lo, float hi, const char* format, float& editing) {
+    float v = editing >= 0 ? editing : float(value);
+    ImGui::SliderFloat(label, &v, lo, hi, format, ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic);
+    bool done = ImGui::IsItemDeactivatedAfterEdit();
+    editing = ImGui::IsItemActive() ? v : -1;
+    if (done && double(v) != value) {
+        value = double(v);
+        return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+ViewerPanel::ViewerPanel(ink::Context& ctx, GLFWwindow* window, VkFormat format, uint32_t framesInFlight) : ctx_(ctx) {
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.IniFilename = nullptr;  // no imgui.ini left in the current directory
+    io.LogFilename = nullptr;
+    ImGui::StyleColorsLight();
+    ImGuiStyle& style = ImGui::GetStyle();
+    style.WindowRounding = 0;
+    style.FramePadding.y = 2;  // compact: the whole panel fits a 768-pixel window
+    style.ItemSpacing.y = 3;
+    style.WindowBorderSize = 0;
+    style.Colors[ImGuiCol_WindowBg].w = 1.0f;  // opaque: nothing of the frame's undefined pixels shows through
+    try {
+        if (!ImGui_ImplGlfw_InitForVulkan(window, false))  // the viewer forwards the events it gets
+            throw ink::Error("the viewer's panel cannot start on this window");
+
+        VkAttachmentDescription attachment{};
+        attachment.format = format;
+        attachment.samples = VK_SAMPLE_COUNT_1_BIT;
+        attachment.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;  // the drawing, left of the panel
+        attachment.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        attachment.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+        attachment.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+        attachment.initialLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        attachment.finalLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+        VkAttachmentReference reference{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+        VkSubpassDescription subpass{};
+        subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+        subpass.colorAttachmentCount = 1;
+        subpass.pColorAttachments = &reference;
+        // Two passes below, one into the swapchain image and one into the panel's own image, with the same
+        // dependencies (ImGui's pipeline is made for the first, and drawing in the second needs them compatible):
+        // after the drawing's writes (the renderer's last barrier makes them available to all commands) or the
+        // copies of earlier frames out of the panel's image; before the copy out of it (presentation is ordered by
+        // the submission's semaphore).
+        VkSubpassDependency dependencies[2] = {};
+        dependencies[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+        dependencies[0].dstSubpass = 0;
+        dependencies[0].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+        dependencies[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+        dependencies[0].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+        dependencies[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+        dependencies[1].srcSubpass = 0;
+        dependencies[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+        dependencies[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+        dependencies[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+        dependencies[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+        dependencies[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        VkRenderPassCreateInfo passInfo{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+        passInfo.attachmentCount = 1;
+        passInfo.pAttachments = &attachment;
+        passInfo.subpassCount = 1;
+        passInfo.pSubpasses = &subpass;
+        passInfo.dependencyCount = 2;
+        passInfo.pDependencies = dependencies;
+        VK_CHECK(vkCreateRenderPass(ctx.device, &passInfo, nullptr, &renderPass_));
+
+        // The panel's own image: cleared to the panel's background, drawn, left for copying.
+        attachment.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        attachment.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        attachment.finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        VK_CHECK(vkCreateRenderPass(ctx.device, &passInfo, nullptr, &cachePass_));
+
+        // The font texture's one descriptor.
+        VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1};
+        VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+        poolInfo.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+        poolInfo.maxSets = 1;
+        poolInfo.poolSizeCount = 1;
+        poolInfo.pPoolSizes = &size;
+        VK_CHECK(vkCreateDescriptorPool(ctx.device, &poolInfo, nullptr, &descriptorPool_));
+
+        ImGui_ImplVulkan_InitInfo init{};
+        init.Instance = ctx.instance;
+        init.PhysicalDevice = ctx.physicalDevice;
+        init.Device = ctx.device;
+        init.QueueFamily = ctx.queueFamily;
+        init.Queue = ctx.queue;
+        init.DescriptorPool = descriptorPool_;
+        init.MinImageCount = std::max(2u, framesInFlight);
+        init.ImageCount = std::max(2u, framesInFlight);
+        init.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
+        init.CheckVkResultFn = checkVk;
+        if (!ImGui_ImplVulkan_Init(&init, renderPass_)) throw ink::Error("the viewer's panel cannot start");
+        ink::submitAndWait(ctx, [](VkCommandBuffer cmd) { ImGui_ImplVulkan_CreateFontsTexture(cmd); });
+        ImGui_ImplVulkan_DestroyFontUploadObjects();
+    } catch (...) {
+        release();
+        throw;
+    }
+}
+
+// The viewer waits for the device to be idle before it lets the panel go.
+ViewerPanel::~ViewerPanel() { release(); }
+
+void ViewerPanel::release() {
+    if (ImGui::GetCurrentContext()) {
+        if (ImGui::GetIO().BackendRendererUserData) ImGui_ImplVulkan_Shutdown();
+        if (ImGui::GetIO().BackendPlatformUserData) ImGui_ImplGlfw_Shutdown();
+        ImGui::DestroyContext();
+    }
+    releaseFramebuffers();
+    vkDestroyDescriptorPool(ctx_.device, descriptorPool_, nullptr);
+    vkDestroyRenderPass(ctx_.device, renderPass_, nullptr);
+    vkDestroyRenderPass(ctx_.device, cachePass_, nullptr);
+    descriptorPool_ = VK_NULL_HANDLE;
+    renderPass_ = cachePass_ = VK_NULL_HANDLE;
+}
+
+void ViewerPanel::releaseFramebuffers() {
+    for (VkFramebuffer f : framebuffers_) vkDestroyFramebuffer(ctx_.device, f, nullptr);
+    framebuffers_.clear();
+    vkDestroyFramebuffer(ctx_.device, cacheFramebuffer_, nullptr);
+    cacheFramebuffer_ = VK_NULL_HANDLE;
+    if (cache_.image) ink::destroyImage(ctx_, cache_);
+    cache_ = ink::Image{};
+    cacheValid_ = false;
+}
+
+// Straight into the swapchain image when something of the panel (a popup, the help) lies over the drawing, or
+// the swapchain's images cannot be copied into.
+bool ViewerPanel::direct(const ink::Swapchain& swapchain, uint32_t drawingWidth) const {
+    if (!swapchain.copyTarget) return true;
+    const ImDrawData* data = ImGui::GetDrawData();
+    if (!data || !data->Valid) return false;
+    // By the triangles, not their clip rectangles (a window's background is clipped to the whole display).
+    for (int l = 0; l < data->CmdListsCount; ++l)
+        for (const ImDrawVert& v : data->CmdLists[l]->VtxBuffer)
+            if (v.pos.x < float(drawingWidth) - 0.5f) return true;
+    return false;
+}
+
+VkImageLayout ViewerPanel::layoutBefore(const ink::Swapchain& swapchain, uint32_t drawingWidth) const {
+    return direct(swapchain, drawingWidth) ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL
+                                           : VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+}
+
+void ViewerPanel::ensureCache(VkFormat format, VkExtent2D extent) {
+    if (cache_.image && cache_.extent.width == extent.width && cache_.extent.height == extent.height) return;
+    if (cache_.image) VK_CHECK(vkDeviceWaitIdle(ctx_.device));  // an earlier frame may still copy from it
+    vkDestroyFramebuffer(ctx_.device, cacheFramebuffer_, nullptr);
+    if (cache_.image) ink::destroyImage(ctx_, cache_);
+    cache_ = ink::createImage(ctx_, extent.width, extent.height, format,
+                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              VK_IMAGE_ASPECT_COLOR_BIT);
+    VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+    info.renderPass = cachePass_;
+    info.attachmentCount = 1;
+    info.pAttachments = &cache_.view;
+    info.width = extent.width;
+    info.height = extent.height;
+    info.layers = 1;
+    VK_CHECK(vkCreateFramebuffer(ctx_.device, &info, nullptr, &cacheFramebuffer_));
+    cacheValid_ = false;
+}
+
+// Everything the panel's image depends on: the triangles, their clipping and texture, the display.
+static void signature(const ImDrawData& data, std::vector<uint8_t>& out) {
+    out.clear();
+    auto put = [&out](const void* p, size_t bytes) {
+        out.insert(out.end(), static_cast<const uint8_t*>(p), static_cast<const uint8_t*>(p) + bytes);
+    };
+    put(&data.DisplayPos, sizeof data.DisplayPos);
+    put(&data.DisplaySize, sizeof data.DisplaySize);
+    for (int l = 0; l < data.CmdListsCount; ++l) {
+        const ImDrawList& list = *data.CmdLists[l];
+        put(list.VtxBuffer.Data, size_t(list.VtxBuffer.Size) * sizeof(ImDrawVert));
+        put(list.IdxBuffer.Data, size_t(list.IdxBuffer.Size) * sizeof(ImDrawIdx));
+        for (const ImDrawCmd& c : list.CmdBuffer) {
+            put(&c.ClipRect, sizeof c.ClipRect);
+            put(&c.TextureId, sizeof c.TextureId);
+            put(&c.VtxOffset, sizeof c.VtxOffset);
+            put(&c.IdxOffset, sizeof c.IdxOffset);
+            put(&c.ElemCount, sizeof c.ElemCount);
+        }
+    }
+}
+
+bool ViewerPanel::wantsMouse() const { return shown_ && built_ && ImGui::GetIO().WantCaptureMouse; }
+bool ViewerPanel::wantsKeyboard() const { return shown_ && built_ && ImGui::GetIO().WantCaptureKeyboard; }
+
+PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo& info) {
+    PanelActions a;
+    // ImGui makes every frame's triangles anew; most frames nothing in the panel changed (a cursor blinks in an
+    // edited field, hence its exception; and once a second the panel is made anyway).
+    const double now = glfwGetTime();
+    if (built_ && framesToBuild_ == 0 && info == builtInfo_ && !ImGui::GetIO().WantTextInput && now - builtAt_ < 1.0)
+        return a;
+    framesToBuild_ = std::max(0, framesToBuild_ - 1);
+    builtInfo_ = info;
+    builtAt_ = now;
+    fresh_ = true;
+    ImGui_ImplVulkan_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    built_ = true;
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(float(info.drawing.width), 0));
+    ImGui::SetNextWindowSize(ImVec2(display.x - float(info.drawing.width), display.y));
+    ImGui::Begin("inkwell", nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                     ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoSavedSettings |
+                     ImGuiWindowFlags_NoBringToFrontOnFocus);
+    ImGui::PushItemWidth(-130);  // the labels' room on the right
+
+    ImGui::TextUnformatted(info.model.c_str());
+    ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 20);
+    if (ImGui::Button("?")) help_ = !help_;
+    ImGui::Text("%zu control points, %llu points", info.controlPoints, (unsigned long long)info.points);
+    ImGui::Text("%.1f ms a frame, drawing %u x %u", info.frameMs, info.drawing.width, info.drawing.height);
+    if (info.refining) {
+        char text[64];
+        if (std::string(info.task) == "refining") {
+            std::snprintf(text, sizeof text, "refining %d%%", int(100 * info.refineProgress));
+            ImGui::ProgressBar(float(info.refineProgress), ImVec2(-1, 0), text);
+        } else {  // the tracing says nothing of its progress: a bar that runs along
+            ImGui::ProgressBar(float(std::fmod(ImGui::GetTime() / 2.0, 1.0)), ImVec2(-1, 0), info.task);
+        }
+    }
+
+    ink::RenderStyle& s = o.render;
+    if (ImGui::CollapsingHeader("Style", ImGuiTreeNodeFlags_DefaultOpen)) {
+        // The style's parts: the dots (none: the stipple set only gives the lines their depth) and the pen lines.
+        int dots = s.drawDots ? int(o.style) + 1 : 0;
+        if (ImGui::Combo("dots", &dots, "none\0stipple\0direction\0both\0")) {
+            s.drawDots = dots > 0;
+            const DrawStyle style = dots > 0 ? DrawStyle(dots - 1) : DrawStyle::Stipple;
+            a.rerefine = style != o.style;
+            o.style = style;
+            a.restyle = true;
+        }
+        bool contours = o.lines.contours, hatching = o.lines.hatching;
+        a.rerefine |= ImGui::Checkbox("contours", &contours);
+        ImGui::SameLine();
+        a.rerefine |= ImGui::Checkbox("hatching", &hatching);
+        if (contours != o.lines.contours || hatching != o.lines.hatching) {
+            o.lines.contours = contours;
+            o.lines.hatching = hatching;
+            if (!s.drawDots && !o.lines.any()) {  // something is drawn: the stipples back
+                s.drawDots = true;
+                a.restyle = true;
+            }
+        }
+        if (o.lines.hatching) {
+            a.rerefine |= sliderOnRelease("hatch spacing", o.lines.hatch.spacing, 0.002f, 0.05f, "%.4f", spacingEdit_);
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("of the finest hatching, a fraction of the diagonal");
+            int families = int(o.lines.hatch.families);
+            ImGui::RadioButton("one family", &families, 1);
+            ImGui::SameLine();
+            ImGui::RadioButton("crossed", &families, 2);
+            if (uint32_t(families) != o.lines.hatch.families) {
+                o.lines.hatch.families = uint32_t(families);
+                a.rerefine = true;
+            }
+        }
+        a.rerefine |= sliderOnRelease("levels", o.refine.levels, 0, 8, levelsEdit_);
+        if (o.style != DrawStyle::Direction) {
+            int d = o.refine.distribution == ink::Distribution::BlueNoise ? 0 : 1;
+            if (ImGui::Combo("stipples", &d, "blue noise\0refinement\0")) {
+                o.refine.distribution = d == 0 ? ink::Distribution::BlueNoise : ink::Distribution::Refinement;
+                a.rerefine = true;
+            }
+        }
+        if (o.style != DrawStyle::Stipple) {
+            int d = int(o.refine.direction);
+            if (ImGui::Combo("direction", &d, "axis\0curvature-min\0curvature-max\0")) {
+                o.refine.direction = ink::DirectionField(d);
+                a.rerefine = true;
+            }
+        }
+        a.rerefine |= sliderOnRelease("passes", o.refine.passes, 0, 8, passesEdit_);
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("independent sets of level-1 children; 0: the default");
+    }
+    if (ImGui::CollapsingHeader("Drawing", ImGuiTreeNodeFlags_DefaultOpen)) {
+        bool changed = false;
+        bool tone = s.toneGamma > 0;
+        if (ImGui::Checkbox("tone", &tone)) {
+            if (!tone) toneGamma_ = s.toneGamma;
+            s.toneGamma = tone ? toneGamma_ : 0.0f;
+            changed = true;
+        }
+        if (tone) {
+            changed |= ImGui::SliderFloat("tone curve (gamma)", &s.toneGamma, 0.1f, 8.0f, "%.2f",
+                                          ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic);
+            changed |=
+                ImGui::SliderFloat("ink density", &s.inkDensity, 0.0f, 4.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+        }
+        if (s.drawDots) {  // the dots' own settings
+            changed |=
+                ImGui::SliderFloat("dot size (px)", &s.frontSize, 0.5f, 8.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+            changed |= ImGui::SliderFloat("silhouette (px)", &s.silhouetteSize, 0.5f, 8.0f, "%.2f",
+                                          ImGuiSliderFlags_AlwaysClamp);
+            changed |= ImGui::SliderFloat("tau (silhouette)", &s.tau, 0.0f, 0.9f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+        }
+        if (o.lines.contours) {
+            changed |=
+                ImGui::SliderFloat("contour pen (px)", &s.penWidth, 0.25f, 12.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+            changed |= ImGui::SliderFloat("halo (px)", &s.haloWidth, 0.0f, 16.0f, "%.1f", ImGuiSliderFlags_AlwaysClamp);
+        }
+        if (o.lines.hatching)
+            changed |=
+                ImGui::SliderFloat("hatch pen (px)", &s.hatchWidth, 0.25f, 8.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+        changed |= ImGui::Checkbox("hidden lines", &s.hiddenLines);
+        ImGui::SameLine();
+        changed |= ImGui::Checkbox("occlusion", &s.occlusion);
+        if (s.hiddenLines) {
+            if (s.drawDots)
+                changed |= ImGui::SliderFloat("hidden dots (px)", &s.hiddenSize, 0.25f, 8.0f, "%.2f",
+                                              ImGuiSliderFlags_AlwaysClamp);
+            if (o.lines.contours)
+                changed |= ImGui::SliderFloat("hidden pen (px)", &s.hiddenPenWidth, 0.25f, 8.0f, "%.2f",
+                                              ImGuiSliderFlags_AlwaysClamp);
+            changed |=
+                ImGui::SliderFloat("hidden ink", &s.hiddenInk.a, 0.05f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("how much of the ink the hidden lines take (opacity)");
+        }
+        // The light as two angles: around the view axis from straight ahead, and up from the horizon.
+        glm::vec3 l = glm::normalize(s.light);
+        float azimuth = glm::degrees(std::atan2(l.x, l.z)), elevation = glm::degrees(std::asin(l.y));
+        bool light = ImGui::SliderFloat("light azimuth", &azimuth, -180.0f, 180.0f, "%.0f deg");
+        light |= ImGui::SliderFloat("light elevation", &elevation, -90.0f, 90.0f, "%.0f deg");
+        if (light) {
+            float az = glm::radians(azimuth), el = glm::radians(elevation);
+            s.light = glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+            changed = true;
+        }
+        changed |= ImGui::Checkbox("light follows the camera", &s.lightFollowsCamera);
+        const ImGuiColorEditFlags colour = ImGuiColorEditFlags_DisplayHex | ImGuiColorEditFlags_NoOptions;
+        if (ImGui::ColorEdit3("ink", &s.ink.x, colour)) {
+            s.hiddenInk = glm::vec4(glm::vec3(s.ink), s.hiddenInk.a);
+            changed = true;
+        }
+        changed |= ImGui::ColorEdit3("paper", &s.paper.x, colour);
+        a.restyle |= changed;
+    }
+    if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
+        int mode = camera.freeOrbit ? 1 : 0;
+        ImGui::RadioButton("turntable", &mode, 0);
+        ImGui::SameLine();
+        ImGui::RadioButton("free", &mode, 1);
+        ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 70);
+        if (ImGui::Button("reset (R)")) a.resetCamera = true;
+        if ((mode == 1) != camera.freeOrbit) {
+            camera.freeOrbit = mode == 1;
+            if (!camera.freeOrbit) {  // back onto the turntable: the nearest view with the up axis up
+                float e = std::remainder(camera.elevationDeg, 360.0f);
+                if (std::abs(e) > 90) {
+                    e = std::copysign(180.0f, e) - e;
+                    camera.azimuthDeg += 180;
+                }
+                camera.elevationDeg = std::clamp(e, -89.0f, 89.0f);
+            }
+        }
+        int up = int(std::find(std::begin(kUpOrder), std::end(kUpOrder), s.up) - std::begin(kUpOrder));
+        if (ImGui::Combo("up axis", &up, kUpNames)) {
+            s.up = kUpOrder[up];
+            a.upChanged = a.restyle = true;
+        }
+        ImGui::SliderFloat("field of view", &camera.fovyDeg, 10.0f, 100.0f, "%.0f deg", ImGuiSliderFlags_AlwaysClamp);
+        ImGui::DragFloat("azimuth", &camera.azimuthDeg, 0.5f, 0, 0, "%.1f deg");
+        if (camera.freeOrbit)
+            ImGui::DragFloat("elevation", &camera.elevationDeg, 0.5f, 0, 0, "%.1f deg");
+        else
+            ImGui::DragFloat("elevation", &camera.elevationDeg, 0.5f, -89.0f, 89.0f, "%.1f deg",
+                             ImGuiSliderFlags_AlwaysClamp);
+        ImGui::DragFloat("distance", &camera.distance, 0.01f, 0.1f, 50.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+        if (ImGui::Button("copy camera")) a.copyCamera = true;
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("the camera as JSON on the clipboard (ctrl + C)");
+        ImGui::SameLine();
+        if (ImGui::Button("paste camera")) a.pasteCamera = true;
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("the clipboard's camera: JSON or --camera options (ctrl + V)");
+        ImGui::SameLine();
+        if (ImGui::Button("as options")) {
+            char text[160];
+            std::snprintf(text, sizeof text, "--camera %.2f %.2f %.3f --up %s", camera.azimuthDeg, camera.elevationDeg,
+                          camera.distance, ink::upAxisName(s.up));
+            ImGui::SetClipboardText(text);
+        }
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("--camera AZ EL DIST --up AXIS on the clipboard, for render");
+    }
+    if (ImGui::CollapsingHeader("Save", ImGuiTreeNodeFlags_DefaultOpen)) {
+        if (pngPath_.empty() && !ImGui::IsAnyItemActive()) pngPath_ = info.pngPath;
+        if (pngSize_[0] == 0) {
+            pngSize_[0] = int(info.drawing.width);
+            pngSize_[1] = int(info.drawing.height);
+        }
+        ImGui::InputText("file", &pngPath_);
+        ImGui::InputInt2("size (px)", pngSize_);
+        pngSize_[0] = std::clamp(pngSize_[0], 1, 8192);
+        pngSize_[1] = std::clamp(pngSize_[1], 1, 8192);
+        ImGui::BeginDisabled(info.refining || pngPath_.empty());
+        // The file's name with the button's extension: a PNG, or the marks on a page (--page, --pen-width, ...).
+        for (const char* type : {"PNG", "SVG", "PDF"}) {
+            if (type[1] != 'N') ImGui::SameLine();
+            if (ImGui::Button(type[1] == 'N' ? "save PNG" : type)) {
+                std::string extension = std::string(".") + type;
+                for (char& c : extension) c = char(std::tolower(c));
+                pngPath_ = std::filesystem::path(pngPath_).replace_extension(extension).string();
+                a.savePng = true;
+                a.pngPath = pngPath_;
+                a.pngSize[0] = uint32_t(pngSize_[0]);
+                a.pngSize[1] = uint32_t(pngSize_[1]);
+            }
+        }
+        ImGui::EndDisabled();
+        ImGui::SameLine();
+        if (ImGui::Button("screenshot (S)")) a.saveScreenshot = true;
+        ImGui::InputText("preset", &presetPath_);
+        ImGui::BeginDisabled(presetPath_.empty());
+        if (ImGui::Button("load preset")) a.loadPreset = true;
+        ImGui::SameLine();
+        if (ImGui::Button("save preset")) a.savePreset = true;
+        ImGui::EndDisabled();
+        a.presetPath = presetPath_;
+    }
+    // A mesh's feature lines, each on its own pen (docs/lines.md): last and closed at first, so that the sections
+    // above keep their places. The switches set --creases and --boundaries.
+    if (ImGui::CollapsingHeader("Creases and boundaries")) {
+        bool creases = o.lines.creases, boundaries = o.lines.boundaries;
+        a.rerefine |= ImGui::Checkbox("creases", &creases);
+        ImGui::SameLine();
+        a.rerefine |= ImGui::Checkbox("boundaries", &boundaries);
+        if (creases != o.lines.creases || boundaries != o.lines.boundaries) {
+            o.lines.creases = creases;
+            o.lines.boundaries = boundaries;
+            o.creases = creases ? "on" : "off";
+            o.boundaries = boundaries ? "on" : "off";
+        }
+        a.restyle |=
+            ImGui::SliderFloat("crease pen (px)", &s.creaseWidth, 0.25f, 12.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+        a.restyle |= ImGui::SliderFloat("boundary pen (px)", &s.boundaryWidth, 0.25f, 12.0f, "%.2f",
+                                        ImGuiSliderFlags_AlwaysClamp);
+    }
+    if (!info.message.empty()) {
+        ImGui::Separator();
+        ImGui::TextWrapped("%s", info.message.c_str());
+    }
+    ImGui::PopItemWidth();
+    ImGui::End();
+
+    if (help_) {
+        ImGui::SetNextWindowPos(ImVec2(float(info.drawing.width) / 2, display.y / 2), ImGuiCond_Always,
+                                ImVec2(0.5f, 0.5f));
+        ImGui::Begin(
+            "Mouse and keys", &help_,
+            ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings);
+        if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV)) {
+            for (const auto& row : kHelp) {
+                ImGui::TableNextRow();
+                ImGui::TableNextColumn();
+                ImGui::TextUnformatted(row[0]);
+                ImGui::TableNextColumn();
+                ImGui::TextUnformatted(row[1]);
+            }
+            ImGui::EndTable();
+        }
+        ImGui::Text("S saves to %s", info.screenshotPath.c_str());
+        ImGui::End();
+    }
+    ImGui::Render();
+    return a;
+}
+
+void ViewerPanel::record(VkCommandBuffer cmd, const ink::Swapchain& swapchain, uint32_t index, uint32_t drawingWidth) {
+    ImDrawData* data = ImGui::GetDrawData();  // the last built frame's
+    if (!direct(swapchain, drawingWidth)) {
+        const VkExtent2D extent{swapchain.extent.width - drawingWidth, swapchain.extent.height};
+        ensureCache(swapchain.format, extent);
+        if (fresh_ && data && data->Valid) signature(*data, drawn_);
+        if (!cacheValid_ || (fresh_ && drawn_ != signature_)) {
+            const ImVec4 bg = ImGui::GetStyle().Colors[ImGuiCol_WindowBg];
+            VkClearValue clear{};
+            clear.color = {{bg.x, bg.y, bg.z, 1.0f}};
+            VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+            begin.renderPass = cachePass_;
+            begin.framebuffer = cacheFramebuffer_;
+            begin.renderArea = {{0, 0}, extent};
+            begin.clearValueCount = 1;
+            begin.pClearValues = &clear;
+            vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+            if (data && data->Valid) {
+                // The panel's part of the display, mapped onto its image.
+                const ImVec2 pos = data->DisplayPos, size = data->DisplaySize;
+                data->DisplayPos.x += float(drawingWidth);
+                data->DisplaySize.x = float(extent.width);
+                ImGui_ImplVulkan_RenderDrawData(data, cmd);
+                data->DisplayPos = pos;
+                data->DisplaySize = size;
+            }
+            vkCmdEndRenderPass(cmd);
+            signature_.swap(drawn_);
+            cacheValid_ = true;
+        }
+        fresh_ = false;
+        VkImageCopy region{};
+        region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.dstSubresource = region.srcSubresource;
+        region.dstOffset = {int32_t(drawingWidth), 0, 0};
+        region.extent = {extent.width, extent.height, 1};
+        vkCmdCopyImage(cmd, cache_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, swapchain.images.at(index),
+                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+        // Presentation waits on the submission's semaphore.
+        ink::imageBarrier(cmd, swapchain.images.at(index), VK_IMAGE_ASPECT_COLOR_BIT,
+                          VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+                          VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_NONE, 0);
+        return;
+    }
+    cacheValid_ = false;  // drawn again once the popup is gone
+    if (framebuffers_.empty())
+        for (VkImageView view : swapchain.views) {
+            VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+            info.renderPass = renderPass_;
+            info.attachmentCount = 1;
+            info.pAttachments = &view;
+            info.width = swapchain.extent.width;
+            info.height = swapchain.extent.height;
+            info.layers = 1;
+            VkFramebuffer framebuffer;
+            VK_CHECK(vkCreateFramebuffer(ctx_.device, &info, nullptr, &framebuffer));
+            framebuffers_.push_back(framebuffer);
+        }
+    VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+    begin.renderPass = renderPass_;
+    begin.framebuffer = framebuffers_.at(index);
+    begin.renderArea = {{0, 0}, swapchain.extent};
+    vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+    // The panel's side of the image was not drawn (its contents are undefined): its background first.
+    if (drawingWidth < swapchain.extent.width) {
+        const ImVec4 bg = ImGui::GetStyle().Colors[ImGuiCol_WindowBg];
+        VkClearAttachment clear{VK_IMAGE_ASPECT_COLOR_BIT, 0, {}};
+        clear.clearValue.color = {{bg.x, bg.y, bg.z, 1.0f}};
+        VkClearRect rect{
+            {{int32_t(drawingWidth), 0}, {swapchain.extent.width - drawingWidth, swapchain.extent.height}}, 0, 1};
+        vkCmdClearAttachments(cmd, 1, &clear, 1, &rect);
+    }
+    if (data && data->Valid) ImGui_ImplVulkan_RenderDrawData(data, cmd);
+    vkCmdEndRenderPass(cmd);
+}
+
+}  // namespace app

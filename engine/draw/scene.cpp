@@ -1,0 +1,144 @@
+// Scene (scene.h): the model's point sets, made and replaced as one.
+#include "draw/scene.h"
+
+#include "base/common.h"
+#include "select/select.h"
+
+#include <chrono>
+
+namespace ink {
+
+namespace {
+
+// Drops the drawn points of `r` that `support` does not hold, keeping the others in order (a stipple keeps its
+// rank); returns how many went, and how many there were in `total`.
+size_t trimRefinement(Context& ctx, GpuRefinement& r, const Support& support, size_t& total) {
+    total = 0;
+    if (support.empty()) return 0;
+    const std::vector<PointRecord> points = readDrawnPoints(ctx, r);
+    total = points.size();
+    std::vector<PointRecord> kept;
+    kept.reserve(points.size());
+    for (const PointRecord& p : points)
+        if (support.supports(Eigen::Vector3d(p.position[0], p.position[1], p.position[2]))) kept.push_back(p);
+    if (kept.size() == points.size()) return 0;
+    uint32_t draw[4];
+    downloadBuffer(ctx, r.indirect, r.drawOffset(), draw, sizeof(draw));
+    const VkDeviceSize first = r.selection ? 0 : VkDeviceSize(draw[2]) * sizeof(PointRecord);
+    uploadBufferAt(ctx, r.selection ? r.selection->stipples : r.points, first, kept.data(),
+                   kept.size() * sizeof(PointRecord));
+    draw[0] = uint32_t(kept.size());
+    uploadBufferAt(ctx, r.indirect, r.drawOffset(), draw, sizeof(draw[0]));
+    return points.size() - kept.size();
+}
+
+}  // namespace
+
+const char* drawStyleName(DrawStyle s) {
+    return s == DrawStyle::Stipple ? "stipple" : s == DrawStyle::Direction ? "direction" : "both";
+}
+
+Scene::Scene(Context& c, Model m, DrawStyle style, const RefineOptions& options, const LineOptions& l)
+    : ctx(c), model(std::move(m)) {
+    refine(style, options, l);
+}
+
+void Scene::refine(DrawStyle style, const RefineOptions& options, const LineOptions& l) {
+    vkDeviceWaitIdle(ctx.device);
+    sets.clear();  // before the new ones are made: the device holds one scene's points at a time
+    auto start = std::chrono::steady_clock::now();
+    Sets made = build(style, options);
+    replace(std::move(made), std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), l);
+}
+
+Scene::Sets Scene::build(DrawStyle style, const RefineOptions& options) const {
+    std::vector<SampleStyle> styles;
+    if (style != DrawStyle::Direction) styles.push_back(SampleStyle::Stipple);
+    if (style != DrawStyle::Stipple) styles.push_back(SampleStyle::Direction);
+    Sets made;
+    for (SampleStyle sampling : styles) {
+        RefineOptions r = options;
+        r.style = sampling;
+        made.push_back(std::make_unique<Refinement>(ctx, model.surface, r));
+        runRefinement(ctx, made.back()->gpu());
+        size_t total = 0;
+        if (const size_t trimmed = trimRefinement(ctx, made.back()->gpu(), model.support, total))
+            note("trimmed " + std::to_string(trimmed) + " of " + std::to_string(total) + " " +
+                 (sampling == SampleStyle::Stipple ? "stipple" : "direction") +
+                 " points where the input has no points (an open surface's holes; --no-trim keeps them)");
+    }
+    return made;
+}
+
+void Scene::replace(Sets newSets, double seconds, const LineOptions& l) {
+    vkDeviceWaitIdle(ctx.device);  // a frame in flight may still read the old sets
+    sets = std::move(newSets);
+    refineSeconds = seconds;
+    setLines(traceLines(sets, l));
+}
+
+void Scene::replace(Sets newSets, double seconds, TracedLines traced) {
+    vkDeviceWaitIdle(ctx.device);
+    sets = std::move(newSets);
+    refineSeconds = seconds;
+    setLines(std::move(traced));
+}
+
+Scene::TracedLines Scene::traceLines(const Sets& from, const LineOptions& l) const {
+    TracedLines t;
+    t.options = l;
+    if (!l.any() || from.empty()) return t;
+    auto start = std::chrono::steady_clock::now();
+    for (const PointRecord& p : readDrawnPoints(ctx, from.front()->gpu()))
+        t.samples.push_back({Eigen::Vector3d(p.position[0], p.position[1], p.position[2]),
+                             Eigen::Vector3d(p.normal[0], p.normal[1], p.normal[2])});
+    if (l.hatching)
+        t.hatching = trimStrokes(traceHatching(model.surface, t.samples, l.hatch, &t.hatchStats), model.support);
+    t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return t;
+}
+
+void Scene::setLines(TracedLines traced) {
+    vkDeviceWaitIdle(ctx.device);  // a frame in flight may still read the old strokes
+    lines = traced.options;
+    samples = std::move(traced.samples);
+    hatching = std::move(traced.hatching);
+    hatchStats = traced.hatchStats;
+    contours.clear();
+    if (!lines.any()) {
+        strokes.reset();
+        hatchSeconds = 0;
+        return;
+    }
+    auto start = std::chrono::steady_clock::now();
+    if (!strokes) strokes = std::make_unique<StrokeBuffers>(ctx);
+    strokes->set(StrokeBuffers::Hatching, hatching);
+    strokes->set(StrokeBuffers::Contours, {});
+    strokes->set(StrokeBuffers::Creases, lines.creases ? model.features.creases : std::vector<PenStroke>{});
+    strokes->set(StrokeBuffers::Boundaries, lines.boundaries ? model.features.boundaries : std::vector<PenStroke>{});
+    hatchSeconds = traced.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void Scene::traceContours(const Camera& camera) {
+    if (!strokes || !lines.contours) return;
+    glm::vec3 eye = camera.eye();
+    contours = trimStrokes(
+        ink::traceContours(model.surface, Eigen::Vector3d(eye.x, eye.y, eye.z), samples, lines.contour, &contourStats),
+        model.support);
+    strokes->set(StrokeBuffers::Contours, contours);
+}
+
+std::vector<const GpuRefinement*> Scene::pointers() const {
+    std::vector<const GpuRefinement*> p;
+    for (const auto& s : sets) p.push_back(&s->gpu());
+    return p;
+}
+
+uint64_t Scene::points() {
+    uint64_t total = 0;
+    for (auto& s : sets)
+        for (const LevelStats& l : readLevelStats(ctx, s->gpu())) total += l.kept;
+    return total;
+}
+
+}  // namespace ink

@@ -1,0 +1,80 @@
+// A 4-symmetric direction field (a cross field) on points of the HRBF surface, for hatching (hatching.h,
+// docs/lines.md): the principal curvature directions of the fit where the surface is clearly anisotropic, smoothly
+// interpolated through umbilic and flat regions. Computed on the CPU, in parallel, with the same result for any
+// number of threads. No Vulkan here.
+//
+// Each point holds one unit tangent d; the cross is {±d, ±n × d}. Seeds: the direction of the largest principal
+// curvature, from the shape operator of the fit's analytic Hessian (S = P H P / |∇f|), with a confidence
+// c = a² / (1 + a²), a = |k1 − k2| · featureSize (0 on a sphere or a plane, → 1 where one curvature dominates).
+// Smoothing as Instant Meshes does on point clouds (Jakob et al. 2015), over the k nearest neighbours on a
+// hierarchy of point subsets, coarse to fine, but averaging crosses as the complex numbers e^{4iθ} in each point's
+// tangent frame (Knöppel et al. 2013; Ray et al. 2008), which needs no matching of the four directions:
+//   z_i ← Σ_j e^{4iθ_j} + fidelity · c_i · e^{4iψ_i},   θ_i ← arg(z_i) / 4,
+// θ_j a neighbour's direction projected into i's tangent plane, ψ_i the seed's. Jacobi sweeps (each reads the
+// previous sweep only): the result does not depend on the thread schedule.
+#pragma once
+
+#include "lines/lines.h"
+#include "surface/surface.h"
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace ink {
+
+struct CrossFieldOptions {
+    uint32_t neighbours = 10;                     // k of the k-nearest-neighbour graph on every level
+    uint32_t coarseSweeps = 60, fineSweeps = 12;  // on the coarsest level, and on each finer one
+    // The length against which |k1 − k2| is judged (normalized units, the diagonal is 1): a cylinder of this radius
+    // gets confidence 1/2. Smaller trusts only sharper bends.
+    double featureSize = 0.12;
+    // Weight of a point's own curvature seed at confidence 1, against the weight 1 of each neighbour: larger
+    // follows the curvature more closely and smooths its noise less.
+    double fidelity = 8.0;
+    unsigned threads = 0;  // 0: all hardware threads
+};
+
+class CrossField {
+public:
+    CrossField() = default;
+    CrossField(const Surface& surface, const std::vector<SurfaceSample>& samples,
+               const CrossFieldOptions& options = {});
+
+    size_t size() const { return positions_.size(); }
+    const std::vector<Eigen::Vector3d>& positions() const { return positions_; }
+    const std::vector<Eigen::Vector3d>& normals() const { return normals_; }
+    const std::vector<Eigen::Vector3d>& directions() const { return directions_; }  // one of each point's four
+    const std::vector<Eigen::Vector3d>& principal() const { return principal_; }    // largest |k|, the seed
+    // One of each point's four directions chosen consistently over the surface (a comb): grown from the most
+    // confident point along its smaller principal curvature, over the neighbour graph, most confident first, each
+    // point matched to the one it was reached from. The choices disagree only across a few cuts, in the least
+    // anisotropic regions (a 4-symmetric field with singularities cannot be combed everywhere).
+    const std::vector<Eigen::Vector3d>& combed() const { return combed_; }
+    const std::vector<float>& confidence() const { return confidence_; }
+    double radius() const { return radius_; }  // of an interpolation (lookup)
+
+    // The field at x (unit normal n) as the one of its four directions nearest `reference` (a tangent): the
+    // neighbours' crosses within radius() averaged as e^{4iθ} in x's tangent plane. `coherence` (0..1): |Σ w z| / Σ w,
+    // near 0 beside a singularity where the neighbours' crosses cancel. False without neighbours.
+    bool lookup(const Eigen::Vector3d& x, const Eigen::Vector3d& n, const Eigen::Vector3d& reference,
+                Eigen::Vector3d& direction, double* coherence = nullptr) const;
+
+    // Of the cross {±d, ±n × d}, the direction nearest `reference`; false when reference ∥ n.
+    static bool nearestOf(const Eigen::Vector3d& d, const Eigen::Vector3d& n, const Eigen::Vector3d& reference,
+                          Eigen::Vector3d& out);
+
+private:
+    std::vector<Eigen::Vector3d> positions_, normals_, directions_, principal_, combed_;
+    std::vector<float> confidence_;
+    double radius_ = 0;
+    double inverseCell_ = 0;
+    std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+};
+
+// The direction of u in the tangent frame (t1, t2) raised to the fourth power: e^{4iθ} as (cos 4θ, sin 4θ) times
+// |u|⁴ / |u|⁴ (unit). Zero for u ⟂ the plane.
+Eigen::Vector2d fourthPower(const Eigen::Vector3d& u, const Eigen::Vector3d& t1, const Eigen::Vector3d& t2);
+
+}  // namespace ink

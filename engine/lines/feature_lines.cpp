@@ -1,0 +1,170 @@
+#include "lines/feature_lines.h"
+
+#include "surface/surface_sampling.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <unordered_map>
+
+namespace ink {
+
+namespace {
+
+using Edge = std::array<uint32_t, 2>;
+
+uint64_t edgeKey(uint32_t a, uint32_t b) { return uint64_t(std::min(a, b)) << 32 | std::max(a, b); }
+
+// How far a mesh point may move onto the fitted surface (normalized units): the fit rounds a crease, and the
+// sharp edge lies off the rounded surface by about a tenth of the face samples' spacing (a cube's edges: 0.002).
+constexpr double kReach = 2 * kFaceSpacing;
+
+struct Chain {
+    std::vector<uint32_t> vertices;
+    bool closed = false;
+};
+
+// The edges as vertex paths: each runs between vertices where the edges do not simply continue (one edge, or
+// three and more) or, all of whose vertices have two, closes on itself. Deterministic: the edges' order decides.
+std::vector<Chain> chainEdges(const std::vector<Edge>& edges) {
+    std::unordered_map<uint32_t, std::vector<uint32_t>> around;  // vertex → its edges
+    for (uint32_t e = 0; e < edges.size(); ++e)
+        for (uint32_t v : edges[e]) around[v].push_back(e);
+    std::vector<bool> used(edges.size(), false);
+    std::vector<Chain> chains;
+    auto walk = [&](uint32_t start, uint32_t e) {
+        Chain c;
+        c.vertices.push_back(start);
+        uint32_t v = start;
+        for (;;) {
+            used[e] = true;
+            v = edges[e][0] == v ? edges[e][1] : edges[e][0];
+            c.vertices.push_back(v);
+            const std::vector<uint32_t>& next = around[v];
+            if (next.size() != 2) break;
+            const uint32_t f = next[0] == e ? next[1] : next[0];
+            if (used[f]) break;
+            e = f;
+        }
+        if (c.vertices.size() > 3 && c.vertices.front() == c.vertices.back()) {
+            c.vertices.pop_back();
+            c.closed = true;
+        }
+        chains.push_back(std::move(c));
+    };
+    for (uint32_t e = 0; e < edges.size(); ++e)
+        for (uint32_t v : edges[e])
+            if (!used[e] && around[v].size() != 2) walk(v, e);
+    for (uint32_t e = 0; e < edges.size(); ++e)
+        if (!used[e]) walk(edges[e][0], e);
+    return chains;
+}
+
+// The chain resampled at `step` along its edges and laid onto the surface; pieces between points that do not
+// reach it, shorter than minLength, are dropped.
+void layOnSurface(const Chain& chain, const OrientedPoints& mesh, const Surface& surface, const FeatureOptions& options,
+                  std::vector<PenStroke>& out) {
+    PenStroke stroke;
+    bool broken = false;
+    auto flush = [&] {
+        if (stroke.points.size() >= 2 && stroke.length() >= options.minLength) out.push_back(std::move(stroke));
+        stroke = {};
+    };
+    const size_t n = chain.vertices.size(), segments = chain.closed ? n : n - 1;
+    for (size_t i = 0; i < segments; ++i) {
+        const Eigen::Vector3d a = mesh.positions[chain.vertices[i]], b = mesh.positions[chain.vertices[(i + 1) % n]];
+        const int pieces = std::max(1, int(std::ceil((b - a).norm() / options.step)));
+        const bool last = !chain.closed && i + 1 == segments;
+        for (int j = 0; j < pieces + (last ? 1 : 0); ++j) {
+            Eigen::Vector3d x = a + (b - a) * (double(j) / pieces), normal;
+            if (!projectToSurface(surface, x, normal, kReach)) {
+                broken = true;
+                flush();
+                continue;
+            }
+            stroke.points.push_back(x.cast<float>());
+            stroke.normals.push_back(normal.cast<float>());
+        }
+    }
+    stroke.closed = chain.closed && !broken;
+    flush();
+}
+
+}  // namespace
+
+bool projectToSurface(const Surface& surface, Eigen::Vector3d& x, Eigen::Vector3d& normal, double reach) {
+    const Eigen::Vector3d start = x;
+    for (int k = 0; k < 8; ++k) {
+        Eigen::Vector3d g;
+        const double f = surface.eval(x, g), g2 = g.squaredNorm();
+        if (!(g2 > 0) || !std::isfinite(f)) return false;
+        if (std::abs(f) < 1e-7 * std::sqrt(g2)) {
+            normal = g / std::sqrt(g2);
+            return (x - start).norm() <= reach;
+        }
+        x -= (f / g2) * g;
+    }
+    return false;
+}
+
+FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, const FeatureOptions& options) {
+    FeatureLines lines;
+    if (mesh.triangles.empty()) return lines;
+    const std::vector<double> areas = triangleAreas(mesh);
+    // Face normals turned to the side of the vertex normals: a file's inconsistent winding is no crease.
+    std::vector<Eigen::Vector3d> normals(mesh.triangles.size(), Eigen::Vector3d::Zero());
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        if (!(areas[t] > 0)) continue;
+        const Triangle& tri = mesh.triangles[t];
+        const Eigen::Vector3d& a = mesh.positions[tri[0]];
+        Eigen::Vector3d n = (mesh.positions[tri[1]] - a).cross(mesh.positions[tri[2]] - a).normalized();
+        if (n.dot(mesh.normals[tri[0]] + mesh.normals[tri[1]] + mesh.normals[tri[2]]) < 0) n = -n;
+        normals[t] = n;
+    }
+    struct Uses {
+        uint32_t count = 0, faces[2] = {0, 0};
+    };
+    std::unordered_map<uint64_t, Uses> uses;
+    std::vector<Edge> order;  // each edge once, in the order the triangles give them
+    for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
+        for (size_t e = 0; e < 3; ++e) {
+            const uint32_t a = mesh.triangles[t][e], b = mesh.triangles[t][(e + 1) % 3];
+            if (a == b) continue;
+            Uses& u = uses[edgeKey(a, b)];
+            if (u.count == 0) order.push_back({a, b});
+            if (u.count < 2) u.faces[u.count] = t;
+            ++u.count;
+        }
+    const double creaseCos = std::cos(options.creaseAngleDeg * M_PI / 180.0);
+    // A coarse scan has sharp edges where its triangles are large for its curvature (the bunny's 1,839 vertices:
+    // 58 edges past 60°); the fit, which follows the vertex normals, is smooth there. A crease is kept where the
+    // fitted surface turns too: its normals at the two faces' centres (laid onto it) by more than ¾ of the angle.
+    const double fitCos = std::cos(0.75 * options.creaseAngleDeg * M_PI / 180.0);
+    auto fitAgrees = [&](uint32_t t0, uint32_t t1) {
+        Eigen::Vector3d n[2];
+        for (int k = 0; k < 2; ++k) {
+            const Triangle& tri = mesh.triangles[k == 0 ? t0 : t1];
+            Eigen::Vector3d x = (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3.0;
+            if (!projectToSurface(surface, x, n[k], kReach)) return false;
+        }
+        return n[0].dot(n[1]) < fitCos;
+    };
+    std::vector<Edge> creases, boundaries;
+    for (const Edge& e : order) {
+        const Uses& u = uses[edgeKey(e[0], e[1])];
+        if (u.count == 1) {
+            boundaries.push_back(e);
+        } else if (u.count == 2) {
+            const Eigen::Vector3d &n0 = normals[u.faces[0]], &n1 = normals[u.faces[1]];
+            if (n0.squaredNorm() > 0 && n1.squaredNorm() > 0 && n0.dot(n1) < creaseCos &&
+                fitAgrees(u.faces[0], u.faces[1]))
+                creases.push_back(e);
+        }
+    }
+    for (const Chain& c : chainEdges(creases)) layOnSurface(c, mesh, surface, options, lines.creases);
+    for (const Chain& c : chainEdges(boundaries)) layOnSurface(c, mesh, surface, options, lines.boundaries);
+    return lines;
+}
+
+}  // namespace ink

@@ -1,0 +1,46 @@
+// Feature lines of a mesh (docs/lines.md, Creases and boundaries): creases, where the faces on either side of an
+// edge turn by more than the crease angle, and boundaries, the edges of one face (an open scan's rim, a hole).
+// Chained into long polylines along the mesh's edges, then laid onto the fitted surface (f = 0, with its normals)
+// so that the device decides what shows as for every other pen line. No Vulkan here.
+#pragma once
+
+#include "io/oriented_points.h"
+#include "lines/lines.h"
+#include "surface/surface.h"
+
+#include <vector>
+
+namespace ink {
+
+// The crease angle: an edge whose two faces' normals turn by more than this is a crease. The same 60° at which
+// the face sampling stops smoothing a vertex's normal across faces (surface_sampling.h): a box's edges (90°) and
+// an octahedron's (70.5°) are creases, a mesh of a smooth shape at any usable resolution (the bunny, a torus of
+// 24 × 12 quads: 30°) has none.
+constexpr double kCreaseAngleDeg = 60.0;
+
+struct FeatureLines {
+    std::vector<PenStroke> creases, boundaries;  // normalized coordinates, on f = 0
+    bool empty() const { return creases.empty() && boundaries.empty(); }
+};
+
+struct FeatureOptions {
+    double creaseAngleDeg = kCreaseAngleDeg;
+    // Chains shorter than this (normalized units) are dropped: a lone sharp edge of a noisy scan, not a feature.
+    double minLength = 0.03;
+    // The lines are resampled at this spacing along the edges before they are laid onto the surface (as the
+    // contour's predictor step, ContourOptions::step).
+    double step = 0.003;
+};
+
+// The feature lines of `mesh` (normalized coordinates, welded: one vertex a position) on `surface`. Edges shared
+// by more than two faces, and edges whose other face has no area, are neither. Each chain runs between vertices
+// where the feature edges do not simply continue (an end, a corner where three creases meet) or closes on itself;
+// a point that does not reach f = 0 within a few Newton steps, or moves farther than `step` getting there, breaks
+// the line.
+FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, const FeatureOptions& options = {});
+
+// Moves x onto f = 0 by Newton steps along ∇f and returns the unit normal there in `normal`; false when it does
+// not converge or moves farther than `reach`.
+bool projectToSurface(const Surface& surface, Eigen::Vector3d& x, Eigen::Vector3d& normal, double reach);
+
+}  // namespace ink

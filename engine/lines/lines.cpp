@@ -1,0 +1,230 @@
+// Contour strokes (lines.h), traced on the CPU in object space.
+#include "lines/lines.h"
+
+#include "base/common.h"
+#include "base/point_hash.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <thread>
+#include <unordered_map>
+
+namespace ink {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using Eigen::Vector3f;
+
+double PenStroke::length() const {
+    double l = 0;
+    for (size_t i = 1; i < points.size(); ++i) l += (points[i] - points[i - 1]).norm();
+    if (closed && points.size() > 1) l += (points.front() - points.back()).norm();
+    return l;
+}
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// ---- Contours ---------------------------------------------------------------------------------------------------
+
+struct ContourEval {
+    double f, g;
+    Vector3d gradF, gradG;
+};
+
+ContourEval evalContour(const Surface& hrbf, const Vector3d& eye, const Vector3d& x) {
+    Vector3d gradient;
+    Matrix3d hessian;
+    double f = hrbf.eval(x, gradient, &hessian);
+    Vector3d r = x - eye;
+    return {f, gradient.dot(r), gradient, hessian * r + gradient};
+}
+
+// Newton on (f, g) = 0 with the minimum-norm step of the 2×3 system. `last` gets the evaluation of the last
+// iteration, taken within 1e-9 of the point returned: the next step's tangent.
+bool contourNewton(const Surface& hrbf, const Vector3d& eye, Vector3d& x, double maxMove, int iterations = 10,
+                   ContourEval* last = nullptr) {
+    const Vector3d start = x;
+    for (int i = 0; i < iterations; ++i) {
+        ContourEval e = evalContour(hrbf, eye, x);
+        if (last) *last = e;
+        double a = e.gradF.squaredNorm(), b = e.gradF.dot(e.gradG), c = e.gradG.squaredNorm();
+        double det = a * c - b * b;
+        if (!(det > 1e-14 * a * c)) return false;  // ∇f ∥ ∇g: a singular point of the contour
+        double y0 = (c * e.f - b * e.g) / det, y1 = (a * e.g - b * e.f) / det;
+        Vector3d dx = -(y0 * e.gradF + y1 * e.gradG);
+        x += dx;
+        if (!x.allFinite() || (x - start).norm() > maxMove) return false;
+        if (dx.norm() < 1e-9) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+bool projectToContour(const Surface& hrbf, const Vector3d& eye, Vector3d& x) {
+    return contourNewton(hrbf, eye, x, 0.05);
+}
+
+std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, const std::vector<SurfaceSample>& seeds,
+                                     const ContourOptions& options, ContourStats* stats) {
+    auto start = std::chrono::steady_clock::now();
+    ContourStats s;
+    const double step = options.step;
+    // Seeds nearest the contour first.
+    std::vector<std::pair<double, uint32_t>> order;
+    for (uint32_t i = 0; i < seeds.size(); ++i) {
+        Vector3d v = (eye - seeds[i].position).normalized();
+        double nv = std::abs(seeds[i].normal.dot(v));
+        if (nv < options.seedBand) order.push_back({nv, i});
+    }
+    std::sort(order.begin(), order.end());
+
+    PointHash traced(4.0 * step), tried(3.0 * step);
+    std::vector<PenStroke> pieces;
+    uint32_t curveId = 0;
+    Progress progress("contours", order.size());
+    for (size_t k = 0; k < order.size(); ++k) {
+        progress.update(k);
+        const uint32_t index = order[k].second;
+        Vector3d x0 = seeds[index].position;
+        // Most seeds lie beside a traced curve, or beside a seed that led nowhere.
+        if (traced.near(x0, seeds[index].normal, 4.0 * step) || tried.near(x0, seeds[index].normal, 3.0 * step))
+            continue;
+        ++s.seedsTried;
+        tried.add(x0, seeds[index].normal, 0, 0);
+        if (!contourNewton(hrbf, eye, x0, 8 * step, 5)) continue;
+        if (traced.near(x0, seeds[index].normal, 2.0 * step)) continue;  // on a curve already traced
+
+        // March one way until the curve closes (it always does, generically) or cannot go on, then the other.
+        std::vector<Vector3d> forward, backward;
+        bool closed = false;
+        const size_t hashStart = traced.size();
+        auto march = [&](double sign, std::vector<Vector3d>& out) {
+            Vector3d x = x0, previous = Vector3d::Zero();
+            double h = step, arc = 0;
+            ContourEval e = evalContour(hrbf, eye, x), next;
+            while (out.size() < options.maxVertices) {
+                Vector3d t = e.gradF.cross(e.gradG);
+                if (!(t.norm() > 1e-12 * e.gradF.norm() * e.gradG.norm())) return;
+                t.normalize();
+                if (previous.isZero())
+                    t *= sign;
+                else if (t.dot(previous) < 0)
+                    t = -t;
+                if (!previous.isZero()) {
+                    // Shorter steps where the curve turns: the chord stays within a fraction of a pixel.
+                    double turn = std::acos(std::clamp(t.dot(previous), -1.0, 1.0));
+                    if (turn > 0.15)
+                        h = std::max(step / 16, h * 0.5);
+                    else if (turn < 0.05)
+                        h = std::min(2 * step, h * 1.5);
+                }
+                Vector3d y = x + h * t;
+                if (!contourNewton(hrbf, eye, y, 2 * h, 10, &next)) {
+                    if (h <= step / 16) return;
+                    h *= 0.5;
+                    continue;
+                }
+                arc += (y - x).norm();
+                if (arc > 3 * step && (y - x0).norm() < 1.2 * h) {
+                    closed = true;
+                    return;
+                }
+                Vector3d n = e.gradF.normalized();
+                // Ran into another curve, or into itself more than 20 steps back along it (arcs are signed: the
+                // backward march counts down from the seed): a curve that missed its own start would otherwise go
+                // round again until maxVertices.
+                if (traced.near(y, n, 0.5 * step, curveId, sign * arc, 20 * step)) return;
+                traced.add(y, n, curveId, sign * arc);
+                out.push_back(y);
+                previous = t;
+                x = y;
+                e = next;
+            }
+        };
+        march(1.0, forward);
+        if (!closed) march(-1.0, backward);
+        std::vector<Vector3d> curve(backward.rbegin(), backward.rend());
+        curve.push_back(x0);
+        curve.insert(curve.end(), forward.begin(), forward.end());
+        double loop = 0;
+        for (size_t i = 1; i < curve.size(); ++i) loop += (curve[i] - curve[i - 1]).norm();
+        if (curve.size() < 4 || (closed && loop < options.minLoopLength)) {
+            s.smallLoops += curve.size() >= 4;
+            traced.truncate(hashStart);
+            continue;
+        }
+        if (s.vertices + curve.size() > options.maxTotalVertices || secondsSince(start) > options.maxSeconds)
+            throw Error("the contour of this view passed " +
+                        (s.vertices + curve.size() > options.maxTotalVertices
+                             ? std::to_string(options.maxTotalVertices) + " vertices"
+                             : std::to_string(int(options.maxSeconds)) + " seconds of tracing") +
+                        " after " + std::to_string(s.curves) + " curves and " + std::to_string(s.cusps) +
+                        " cusps: the surface is too rough to draw lines on (a noisy fit?); draw dots instead, or "
+                        "fit fewer points (--control-points)");
+        traced.add(x0, seeds[index].normal, curveId, 0);
+        ++s.curves;
+        s.closedCurves += closed;
+        s.vertices += curve.size();
+
+        // Normals, and the cusps: where the image of the curve reverses, i.e. the tangent's component along
+        // w = n × v (the tangent plane's direction across the view ray) changes sign.
+        const size_t m = curve.size();
+        std::vector<Vector3d> normals(m);
+        std::vector<double> across(m);
+        for (size_t i = 0; i < m; ++i) {
+            Vector3d gradient;
+            hrbf.eval(curve[i], gradient);
+            normals[i] = gradient.normalized();
+            size_t prev = i > 0 ? i - 1 : (closed ? m - 1 : i), next = i + 1 < m ? i + 1 : (closed ? 0 : i);
+            Vector3d t = curve[next] - curve[prev];
+            across[i] = t.dot(normals[i].cross((curve[i] - eye).normalized()));
+        }
+        std::vector<size_t> cusps;
+        for (size_t i = 0; i + (closed ? 0 : 1) < m; ++i) {
+            size_t j = (i + 1) % m;
+            if ((across[i] < 0) != (across[j] < 0)) cusps.push_back(std::abs(across[i]) < std::abs(across[j]) ? i : j);
+        }
+        s.cusps += cusps.size();
+        auto piece = [&](size_t from, size_t count, bool isClosed) {
+            PenStroke p;
+            p.closed = isClosed;
+            p.curve = curveId;
+            for (size_t k = 0; k < count; ++k) {
+                size_t i = (from + k) % m;
+                p.points.push_back(curve[i].cast<float>());
+                p.normals.push_back(normals[i].cast<float>());
+            }
+            if (p.points.size() >= 2) pieces.push_back(std::move(p));
+        };
+        if (cusps.empty()) {
+            piece(0, m, closed);
+        } else if (closed) {
+            for (size_t k = 0; k < cusps.size(); ++k) {
+                size_t a = cusps[k], b = cusps[(k + 1) % cusps.size()];
+                piece(a, (b + m - a) % m + 1 + (cusps.size() == 1 ? m : 0), false);
+            }
+        } else {
+            size_t a = 0;
+            for (size_t c : cusps) {
+                piece(a, c - a + 1, false);
+                a = c;
+            }
+            piece(a, m - a, false);
+        }
+        ++curveId;
+    }
+    s.pieces = pieces.size();
+    s.seconds = secondsSince(start);
+    if (stats) *stats = s;
+    return pieces;
+}
+
+}  // namespace ink

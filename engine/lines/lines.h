@@ -1,0 +1,65 @@
+// Pen lines on the HRBF surface, traced on the CPU in object space (docs/lines.md): the strokes every kind of line
+// is made of, and the occluding contour as polylines (Bremer & Hughes 1998); hatching is in hatching.h. The device
+// decides each frame which pieces show (lines.comp). No Vulkan here.
+#pragma once
+
+#include "surface/surface.h"
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+namespace ink {
+
+// A point on f = 0 and its unit normal: what the tracing is seeded from (the refined or selected points).
+struct SurfaceSample {
+    Eigen::Vector3d position, normal;
+};
+
+// A polyline on the surface, in normalized coordinates.
+struct PenStroke {
+    std::vector<Eigen::Vector3f> points;
+    std::vector<Eigen::Vector3f> normals;  // unit ∇f at each point
+    bool closed = false;                   // the last point joins the first
+    uint32_t curve = 0;                    // contours: the traced closed curve it is a piece of (pieces end at cusps)
+    uint32_t family = 0;  // hatching: 0 along the field, 1 across it (the crossing strokes of dark tones)
+    uint32_t level = 0;   // hatching: 0 traced at twice the spacing, 1 filled in between (darker tones)
+    double length() const;
+};
+
+// ---- Occluding contour ------------------------------------------------------------------------------------
+// The curve where f = 0 and g = ∇f·(p − eye) = 0, traced by predictor–corrector steps: a step of `step` along
+// t = ∇f × ∇g (∇g = H (p − eye) + ∇f, H the Hessian of f), then Newton steps onto both equations (the
+// minimum-norm correction Δ = −Jᵀ(JJᵀ)⁻¹(f, g), J = [∇f; ∇g]). Each curve is traced until it closes, and split
+// at its cusps (where its image reverses: the tangent's component along n × v changes sign).
+struct ContourOptions {
+    // Predictor step, normalized units (the diagonal is 1): about 2.6 pixels at the default 1024² view; twice this
+    // where the curve runs straight, down to a sixteenth where it turns.
+    double step = 0.003;
+    double seedBand = 0.12;         // samples with |n·v| below this (v the unit view vector) seed curves
+    uint32_t maxVertices = 100000;  // per curve
+    // All curves together: past this the tracing stops with an ink::Error (a smooth model's contour at 1024² has a
+    // few thousand; hundreds of thousands mean a surface too rough to draw lines on).
+    size_t maxTotalVertices = 300000;
+    double maxSeconds = 30;  // likewise past this much tracing time
+    // Closed curves shorter than this (normalized units; about 10 pixels at the default view) are dropped: the
+    // contour of a bump too small to read, which the pen would draw as a blot.
+    double minLoopLength = 0.012;
+};
+
+struct ContourStats {
+    size_t seedsTried = 0, curves = 0, closedCurves = 0, pieces = 0, cusps = 0, vertices = 0;
+    size_t smallLoops = 0;  // closed curves under minLoopLength, dropped
+    double seconds = 0;
+};
+
+// `eye` in normalized coordinates. Pieces come out in tracing order; a closed curve without cusps is one
+// closed stroke. Throws ink::Error when the curves pass maxTotalVertices. Reports progress over the seeds.
+std::vector<PenStroke> traceContours(const Surface& hrbf, const Eigen::Vector3d& eye,
+                                     const std::vector<SurfaceSample>& seeds, const ContourOptions& options = {},
+                                     ContourStats* stats = nullptr);
+
+// Corrects x onto the contour (f = 0, g = 0) by Newton steps; false when it does not converge.
+bool projectToContour(const Surface& hrbf, const Eigen::Vector3d& eye, Eigen::Vector3d& x);
+
+}  // namespace ink

@@ -1,0 +1,382 @@
+#include "surface/model.h"
+
+#include "base/common.h"
+#include "io/hrbf_io.h"
+#include "io/normals.h"
+#include "surface/surface_sampling.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <unordered_map>
+
+namespace ink {
+
+namespace {
+
+// Face samples the vertices' surface misses by more than this (normalized units: the diagonal is 1) are fitted
+// too, in at most this many rounds after the vertices' own fit.
+constexpr double kFaceSampleTolerance = 0.001;
+constexpr int kFaceSampleRounds = 6;
+// A mesh with fewer vertices is fitted to all its face samples at once.
+constexpr size_t kFewVertices = 64;
+
+// About the distance between neighbouring points, if they cover a surface as large as the faces of their
+// bounding box: sqrt(box surface / 2 / count) (a closed surface fills about half of it).
+double typicalSpacing(const std::vector<Eigen::Vector3d>& points) {
+    if (points.size() < 2) return 0;
+    Eigen::Vector3d lo = points.front(), hi = points.front();
+    for (const auto& p : points) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    Eigen::Vector3d d = hi - lo;
+    double area = d.x() * d.y() + d.y() * d.z() + d.z() * d.x();
+    return std::sqrt(area / double(points.size()));
+}
+
+// The mesh with each position kept once (io/normals.h's weld: bit-identical coordinates): triangles renumbered,
+// normals summed and normalized (each repeat's, area-weighted from its own side, adds up to the whole vertex's;
+// repeats whose normals cancel keep the first one's, as the file gave it).
+OrientedPoints weldByPosition(const OrientedPoints& mesh) {
+    OrientedPoints out;
+    const std::vector<uint32_t> renumber = io::weld(mesh.positions, out.positions);
+    out.normals.assign(out.positions.size(), Eigen::Vector3d::Zero());
+    for (size_t i = 0; i < mesh.positions.size(); ++i) out.normals[renumber[i]] += mesh.normals[i];
+    std::vector<bool> set(out.normals.size(), false);
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+        const uint32_t k = renumber[i];
+        if (set[k]) continue;
+        set[k] = true;
+        const double length = out.normals[k].norm();
+        out.normals[k] = length > 1e-9 ? Eigen::Vector3d(out.normals[k] / length) : mesh.normals[i];
+    }
+    for (const Triangle& t : mesh.triangles) out.triangles.push_back({renumber[t[0]], renumber[t[1]], renumber[t[2]]});
+    return out;
+}
+
+}  // namespace
+
+void checkModelOptions(const ModelOptions& options) {
+    if (options.method == FitMethod::Global && options.controlPoints > kMaxControlPoints)
+        throw Error("--control-points " + std::to_string(options.controlPoints) +
+                    " is more than the global fit can hold (at most " + std::to_string(kMaxControlPoints) +
+                    ": the system needs (4m+4)² doubles); the default --fit pu takes any number");
+    if (!(options.creaseAngleDeg > 0 && options.creaseAngleDeg < 180))
+        throw Error("the crease angle (--crease-angle) must be in (0, 180) degrees");
+    if (options.controlPoints > kMaxPuPoints)
+        throw Error("--control-points " + std::to_string(options.controlPoints) +
+                    " is more than the fit takes (at most " + std::to_string(kMaxPuPoints) + ")");
+}
+
+namespace {
+
+// The error of the fitted surface at the given points (normalized), as the device evaluates it.
+void measureInputs(Model& model, const std::vector<Eigen::Vector3d>& points,
+                   const std::vector<Eigen::Vector3d>& normals) {
+    const Surface& s = model.surface;
+    std::vector<Eigen::Vector4f> values;
+    if (s.method == FitMethod::PartitionOfUnity) values = PuFloat(s.pu).evalMany(points);
+    double sum = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+        Eigen::Vector3d g;
+        double f;
+        if (!values.empty()) {
+            f = values[i].w();
+            g = values[i].head<3>().cast<double>();
+        } else {
+            f = s.eval(points[i], g);
+        }
+        double gn = g.norm(), distance = gn > 0 ? std::abs(f) / gn : INFINITY;
+        model.inputMaxDistance = std::max(model.inputMaxDistance, distance);
+        sum += distance;
+        double angle = std::atan2(g.cross(normals[i]).norm(), g.dot(normals[i])) * 180.0 / M_PI;
+        model.inputMaxAngleDeg = std::max(model.inputMaxAngleDeg, angle);
+    }
+    model.inputMeanDistance = points.empty() ? 0 : sum / double(points.size());
+}
+
+}  // namespace
+
+Model fitModel(OrientedPoints points, const ModelOptions& options) {
+    checkModelOptions(options);
+    auto start = std::chrono::steady_clock::now();
+    const bool global = options.method == FitMethod::Global;
+    Model model;
+    model.inputPoints = points.positions.size();
+    if (model.inputPoints > kMaxPuPoints && options.controlPoints == 0)
+        throw Error("the input has " + std::to_string(model.inputPoints) + " points, more than the fit takes (" +
+                    std::to_string(kMaxPuPoints) + "): choose fewer with --control-points");
+    Frame frame = Frame::unitDiagonal(points.positions);
+    OrientedPoints inputs;  // normalized, for the error at every input point
+    for (size_t i = 0; i < points.positions.size(); ++i) {
+        inputs.positions.push_back(frame.toNormalized(points.positions[i]));
+        inputs.normals.push_back(points.normals[i]);
+    }
+
+    // A mesh's faces, sampled besides its vertices: the surface then follows the triangles, not only their
+    // corners (a low-poly model's long thin triangles have no vertex along them).
+    OrientedPoints samples;
+    std::vector<bool> onRim;  // the sample lies on a triangle with an open edge
+    OrientedPoints mesh;      // welded, normalized: its feature lines
+    if (!points.triangles.empty()) {
+        // Welded by position first: a file that repeats a vertex at a seam (for its texture or its normals) has
+        // open edges there that are no rim, and corners whose neighbours the patches would not see (the Wuson's
+        // 1,088 repeated vertices made every one of its 96,795 samples a rim sample).
+        mesh = weldByPosition(points);
+        std::vector<uint32_t> triangleOf;
+        samples = sampleFaces(mesh, faceSampleCount(mesh), 1, &triangleOf);
+        for (Eigen::Vector3d& x : mesh.positions) x = frame.toNormalized(x);
+        std::unordered_map<uint64_t, uint32_t> edges;
+        for (const Triangle& t : mesh.triangles)
+            for (size_t e = 0; e < 3; ++e)
+                ++edges[uint64_t(std::min(t[e], t[(e + 1) % 3])) << 32 | std::max(t[e], t[(e + 1) % 3])];
+        // The vertices of open edges, and the samples of the triangles that touch one.
+        std::vector<bool> rimVertex(mesh.positions.size(), false);
+        for (const auto& [edge, uses] : edges)
+            if (uses == 1) rimVertex[edge >> 32] = rimVertex[edge & 0xffffffffu] = true;
+        onRim.resize(samples.positions.size());
+        for (size_t i = 0; i < onRim.size(); ++i) {
+            const Triangle& t = mesh.triangles[triangleOf[i]];
+            onRim[i] = rimVertex[t[0]] || rimVertex[t[1]] || rimVertex[t[2]];
+        }
+        points.triangles.clear();
+    }
+    // The partition of unity of every point takes face samples only where its vertices alone leave the surface
+    // off the mesh (adaptive, below). A face sample sits on the curved patch through the triangle's corners, which
+    // agrees with the vertex normals only to first order: every sample fitted puts that disagreement into the
+    // surface's curvature (the bunny with all its 16,939 samples, flat or on their patches: 17,000 to 66,000
+    // contour cusps in the variants measured; with the 540 its vertices miss: 58).
+    const bool adaptive = !global && options.controlPoints == 0 && !samples.positions.empty();
+    if (!adaptive && !samples.positions.empty()) {
+        model.faceSamples = samples.positions.size();
+        note("sampled " + std::to_string(model.faceSamples) + " points over the mesh's faces, besides its " +
+             std::to_string(points.positions.size()) + " vertices");
+        points.positions.insert(points.positions.end(), samples.positions.begin(), samples.positions.end());
+        points.normals.insert(points.normals.end(), samples.normals.begin(), samples.normals.end());
+        samples = {};
+    }
+
+    // Duplicates make the system singular without a NaN to warn (ALGORITHM.md §2): merge them first.
+    model.mergedDuplicates = mergeDuplicates(points, 1e-9 / frame.scale);
+    if (model.mergedDuplicates)
+        note("merged " + std::to_string(model.mergedDuplicates) + " duplicate point" +
+             (model.mergedDuplicates == 1 ? "" : "s"));
+    const size_t distinct = points.positions.size();
+    if (distinct < 2)
+        throw Error("too few distinct points to fit a surface: " + std::to_string(distinct) + " (need at least 2)");
+
+    size_t wanted = options.controlPoints;
+    if (wanted == 0) {
+        wanted = global ? std::min(distinct, kDefaultControlPoints) : distinct;
+        if (wanted < distinct)
+            note("using " + std::to_string(wanted) + " of " + std::to_string(distinct) +
+                 " points as control points of the global fit (--control-points to change, or --fit pu for all)");
+    }
+    if (wanted > distinct)
+        note("asked for " + std::to_string(wanted) + " control points, but the model has " + std::to_string(distinct) +
+             " distinct points: using all of them");
+    wanted = std::min(wanted, distinct);
+
+    // Farthest-point sampling in normalized coordinates: in the input's units the squared distances of a model
+    // 1e-300 across underflow to zero, and every point would tie.
+    for (Eigen::Vector3d& x : points.positions) x = frame.toNormalized(x);
+    for (Eigen::Vector3d& x : samples.positions) x = frame.toNormalized(x);
+    OrientedPoints chosen;
+    if (wanted < distinct) {
+        for (size_t i : farthestPointSample(points.positions, wanted)) {
+            chosen.positions.push_back(points.positions[i]);
+            chosen.normals.push_back(points.normals[i]);
+        }
+    } else {
+        chosen = std::move(points);
+    }
+
+    Surface& surface = model.surface;
+    surface.method = options.method;
+    surface.frame = frame;
+    // Fits `fitted` (normalized) into `surface`, after merging its near points; `near` says what was merged.
+    NearMerge near;
+    auto fit = [&](OrientedPoints fitted) {
+        // Control points within 1% of the typical spacing of another (a crease's split vertices, a seam) leave
+        // the system too ill-conditioned to trust: merged, their normals averaged. The spacing is that of the
+        // chosen points spread over about the surface of their box, robust to how many of them sit in such pairs.
+        // The partition of unity merges within 25%: each patch's system is small, and a pair much closer than its
+        // neighbours (a face sample beside a vertex) gives it coefficients large enough (Σ|α| ~ 10⁴) for float
+        // evaluation to miss the surface: on the bunny with face samples, 2.6e-5 of the diagonal merging within
+        // 1%, 1.9e-6 within 10%, 3.7e-7 within 25%.
+        near = mergeNearPoints(fitted, (global ? 0.01 : 0.25) * typicalSpacing(fitted.positions));
+        if (fitted.positions.size() < 2)
+            throw Error("too few distinct points to fit a surface: " + std::to_string(fitted.positions.size()) +
+                        " (need at least 2)");
+        if (global) {
+            try {
+                Progress progress("fit", 1);
+                surface.global = fitHrbf(fitted.positions, fitted.normals, &model.fit);
+            } catch (const Error& e) {
+                // The one change that helps: farthest-point sampling keeps fewer points farther apart.
+                const size_t fewer = std::max<size_t>(4, fitted.positions.size() / 2);
+                if (std::string(e.what()).find("ill-conditioned") == std::string::npos &&
+                    std::string(e.what()).find("singular") == std::string::npos)
+                    throw;
+                throw Error(std::string(e.what()) + "; fit fewer control points (--control-points " +
+                            std::to_string(fewer) + ")");
+            }
+        } else {
+            surface.pu = fitPuHrbf(fitted.positions, fitted.normals, {}, &model.patches);
+            model.fit.relativeResidual = model.patches.maxRelativeResidual;
+        }
+        return fitted;
+    };
+
+    // The partition of unity of every point fits a mesh's vertices first, then, in rounds, the face samples its
+    // surface misses by more than kFaceSampleTolerance of the diagonal (a thin part between distant vertices, a
+    // long flat triangle), until it misses none. A mesh of a few vertices takes all its samples at once.
+    std::string sampled;
+    if (adaptive && chosen.positions.size() >= kFewVertices) {
+        // An open rim is where the fit extrapolates: sampled densely, its patches are small and the surface stops
+        // close to it (an open hemisphere: 98.1% of the refined points within 1% of the mesh with its vertices
+        // alone, 99.x% with its rim's samples).
+        std::vector<bool> used = onRim;
+        const size_t vertices = chosen.positions.size();
+        for (size_t i = 0; i < samples.positions.size(); ++i)
+            if (used[i]) {
+                chosen.positions.push_back(samples.positions[i]);
+                chosen.normals.push_back(samples.normals[i]);
+                ++model.faceSamples;
+            }
+        for (int round = 0;; ++round) {
+            OrientedPoints fitted = fit(chosen);
+            size_t added = 0;
+            for (size_t i = 0; i < samples.positions.size() && round < kFaceSampleRounds; ++i) {
+                if (used[i]) continue;
+                Eigen::Vector3d g;
+                const double f = surface.eval(samples.positions[i], g), gn = g.norm();
+                if (gn > 0 && std::abs(f) / gn <= kFaceSampleTolerance && g.dot(samples.normals[i]) > 0) continue;
+                used[i] = true;
+                chosen.positions.push_back(samples.positions[i]);
+                chosen.normals.push_back(samples.normals[i]);
+                ++added;
+            }
+            model.faceSamples += added;
+            if (added == 0) {
+                chosen = std::move(fitted);
+                break;
+            }
+        }
+        sampled = "fitted " + std::to_string(model.faceSamples) + " of " + std::to_string(samples.positions.size()) +
+                  " face samples besides the mesh's " + std::to_string(vertices) +
+                  " vertices: those its vertices alone missed by more than 0.1% of the diagonal";
+    } else {
+        if (adaptive) {
+            model.faceSamples = samples.positions.size();
+            sampled = "sampled " + std::to_string(model.faceSamples) + " points over the mesh's faces, besides its " +
+                      std::to_string(chosen.positions.size()) + " vertices";
+            chosen.positions.insert(chosen.positions.end(), samples.positions.begin(), samples.positions.end());
+            chosen.normals.insert(chosen.normals.end(), samples.normals.begin(), samples.normals.end());
+        }
+        chosen = fit(std::move(chosen));
+    }
+    if (near.merged)
+        note("merged " + std::to_string(near.merged) + " control point" + (near.merged == 1 ? "" : "s") + " within " +
+             (global ? "1%" : "25%") +
+             " of the point spacing of another (creases, seams, face samples by vertices), their normals averaged");
+    if (near.dropped)
+        note("dropped " + std::to_string(near.dropped) + " control point" + (near.dropped == 1 ? "" : "s") +
+             " in clusters whose normals cancel (both sides of a thin sheet at one place)");
+    if (!sampled.empty()) note(sampled);
+    surface.centers = std::move(chosen.positions);
+    surface.normals = std::move(chosen.normals);
+    if (!global) model.patches.seams = measureSeams(surface.pu);
+    chooseSeeds(surface);
+    if (adaptive) {
+        // Seeds from the vertices and every face sample, projected onto F = 0: a big flat face with few vertices
+        // is seeded as densely as the rest.
+        std::vector<Eigen::Vector3d> candidates = surface.centers;
+        for (Eigen::Vector3d x : samples.positions) {
+            bool on = false;
+            const Eigen::Vector3d start = x;
+            for (int k = 0; k < 6 && !on; ++k) {
+                Eigen::Vector3d g;
+                const double f = surface.eval(x, g), g2 = g.squaredNorm();
+                if (!(g2 > 0) || !std::isfinite(f)) break;
+                x -= (f / g2) * g;
+                on = std::abs(f) < 1e-9 * std::sqrt(g2);
+            }
+            if (on && (x - start).norm() < 0.01) candidates.push_back(x);
+        }
+        surface.seeds.clear();
+        for (size_t i : farthestPointSample(candidates, std::min(candidates.size(), kMaxSeeds)))
+            surface.seeds.push_back(candidates[i]);
+    }
+    FitStats measured = measureFit(surface);
+    model.fit.controlPoints = measured.controlPoints;
+    model.fit.maxDistance = measured.maxDistance;
+    model.fit.maxNormalAngleDeg = measured.maxNormalAngleDeg;
+    measureInputs(model, inputs.positions, inputs.normals);
+    model.features = meshFeatures(mesh, surface, {options.creaseAngleDeg});
+    // A mesh supports the surface near its triangles, by twice what the fit misses its vertices by where that is
+    // more (a fit of fewer control points); points near themselves.
+    if (options.trim && !mesh.triangles.empty() && 2 * model.inputMaxDistance > kMaxMeshSupport) {
+        char text[160];
+        std::snprintf(text, sizeof text,
+                      "not trimmed: the fit misses the mesh's vertices by up to %.1f%% of the diagonal (more control "
+                      "points follow it closer)",
+                      100 * model.inputMaxDistance);
+        note(text);
+    } else if (options.trim)
+        model.support = mesh.triangles.empty() ? Support(inputs.positions) : Support(mesh, 2 * model.inputMaxDistance);
+    model.fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return model;
+}
+
+namespace {
+
+bool isHrbfFile(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".hrbf";
+}
+
+}  // namespace
+
+Model loadModel(const std::string& path, const ModelOptions& options) {
+    checkModelOptions(options);
+    auto start = std::chrono::steady_clock::now();
+    if (isHrbfFile(path)) {
+        Model model;
+        FitStats measured;                          // the reader evaluates the model at its centres anyway
+        model.surface = loadHrbf(path, &measured);  // first: a broken file gets one line, not a note and the error
+        if (options.controlPoints)
+            note("--control-points is ignored for '" + path + "': a .hrbf model is already fitted");
+        model.inputPoints = model.surface.size();
+        model.loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        model.fit = measured;  // measureFit's figures; relativeResidual and seconds stay 0: nothing was solved
+        if (model.surface.method == FitMethod::PartitionOfUnity) {  // the inputs are the centres: measured already
+            model.inputMaxDistance = measured.maxDistance;
+            model.inputMaxAngleDeg = measured.maxNormalAngleDeg;
+            model.inputMeanDistance = measured.meanDistance;
+        } else {
+            measureInputs(model, model.surface.centers, model.surface.normals);
+        }
+        return model;
+    }
+    OrientedPoints points = loadPoints(path);
+    double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    Model model;
+    try {
+        model = fitModel(std::move(points), options);
+    } catch (const Error& e) {
+        // The loaders' messages start with the path; the fit's ("too few distinct points") say which file.
+        throw Error(path + ": " + e.what());
+    }
+    model.loadSeconds = load;
+    return model;
+}
+
+}  // namespace ink

@@ -1,0 +1,55 @@
+// From a file to a fitted HRBF: load, normalize (unit diagonal), merge duplicates, choose control points by
+// farthest-point sampling, fit (ALGORITHM.md §1–2).
+#pragma once
+
+#include "io/points.h"
+#include "lines/feature_lines.h"
+#include "surface/support.h"
+#include "surface/surface.h"
+
+#include <string>
+
+namespace ink {
+
+// The global fit's control points when the input has more and none were asked for (the dense solve grows as m³).
+constexpr size_t kDefaultControlPoints = 1000;
+// The most points the partition of unity fits (about 10 s and 1 GiB on two cores at 10⁶).
+constexpr size_t kMaxPuPoints = 2000000;
+
+struct ModelOptions {
+    // 0: every input point for the partition of unity, up to kDefaultControlPoints for the global fit.
+    size_t controlPoints = 0;
+    FitMethod method = FitMethod::PartitionOfUnity;
+    double creaseAngleDeg = kCreaseAngleDeg;  // a mesh's feature lines (feature_lines.h), in (0, 180)
+    bool trim = true;  // drop what the input does not support (support.h): an open scan's extrapolated caps
+};
+
+struct Model {
+    Surface surface;
+    FitStats fit;  // at the control points, evaluated as the device evaluates (float for the partition of unity)
+    PuStats patches;
+    size_t inputPoints = 0;  // read from the file (a mesh's vertices)
+    size_t faceSamples = 0;  // points sampled over a mesh's faces and fitted besides its vertices
+    size_t mergedDuplicates = 0;
+    double loadSeconds = 0;
+    // The error at every point the fit was given (all input points, not only the control points), normalized
+    // units (fractions of the diagonal), evaluated as the device evaluates.
+    double inputMaxDistance = 0, inputMeanDistance = 0, inputMaxAngleDeg = 0;
+    // A mesh's creases and boundaries (none for points and .hrbf files), and where the input supports the
+    // surface (everywhere without ModelOptions::trim, and for .hrbf files: they keep no input points).
+    FeatureLines features;
+    Support support;
+};
+
+// Refuses options no model can satisfy (--control-points above kMaxControlPoints for the global fit) before any
+// work is done.
+void checkModelOptions(const ModelOptions& options);
+
+// Fits points given in the input's units. Throws ink::Error for too few distinct points or absurd requests.
+Model fitModel(OrientedPoints points, const ModelOptions& options);
+// Loads a mesh or point file and fits it, or loads a fitted model from a .hrbf file (options.controlPoints
+// is then ignored; fit holds the stats at the stored centres, with seconds = 0). Every error from the file
+// or the fit names `path`.
+Model loadModel(const std::string& path, const ModelOptions& options);
+
+}  // namespace ink

@@ -1,0 +1,176 @@
+#include "surface/support.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace ink {
+
+Support::Cell Support::cellOf(const Eigen::Vector3d& x) const {
+    return {int(std::floor(x.x() / cell_)), int(std::floor(x.y() / cell_)), int(std::floor(x.z() / cell_))};
+}
+
+Support::Support(const std::vector<Eigen::Vector3d>& points) {
+    if (points.size() < 2) return;
+    // The typical spacing, as if the points covered about half the faces of their box (model.cpp's estimate);
+    // a point's local spacing is capped at twice that (a mesh's dense vertices beside its big faces' sparser
+    // samples), and the grid's cells are kSupportReach caps wide, so that a reach stays within a cell's
+    // neighbours.
+    Eigen::Vector3d lo = points.front(), hi = points.front();
+    for (const Eigen::Vector3d& p : points) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    const Eigen::Vector3d d = hi - lo;
+    const double typical = std::sqrt((d.x() * d.y() + d.y() * d.z() + d.z() * d.x()) / double(points.size()));
+    if (!(typical > 0) || !std::isfinite(typical)) return;
+    const double cap = 2 * typical;
+    cell_ = kSupportReach * cap;
+    points_.reserve(points.size());
+    for (uint32_t i = 0; i < points.size(); ++i) {
+        points_.push_back(points[i].cast<float>());
+        grid_[cellOf(points[i])].push_back(i);
+    }
+    reach2_.resize(points.size());
+    for (uint32_t i = 0; i < points.size(); ++i) {
+        // The kSupportNeighbours nearest others within the cells around (farther ones are past the cap anyway).
+        std::array<float, kSupportNeighbours> nearest;
+        nearest.fill(float(cap * cap));
+        const Cell c = cellOf(points[i]);
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    auto it = grid_.find({c.x + dx, c.y + dy, c.z + dz});
+                    if (it == grid_.end()) continue;
+                    for (uint32_t j : it->second) {
+                        const float d2 = (points_[j] - points_[i]).squaredNorm();
+                        if (j == i || d2 >= nearest.back()) continue;
+                        nearest.back() = d2;
+                        std::sort(nearest.begin(), nearest.end());
+                    }
+                }
+        reach2_[i] = float(kSupportReach * kSupportReach) * nearest.back();
+    }
+}
+
+namespace {
+
+// The squared distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
+float distance2(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                const Eigen::Vector3f& c) {
+    const Eigen::Vector3f ab = b - a, ac = c - a, ap = p - a;
+    const float d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0 && d2 <= 0) return ap.squaredNorm();
+    const Eigen::Vector3f bp = p - b;
+    const float d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0 && d4 <= d3) return bp.squaredNorm();
+    const float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return (ap - ab * (d1 / (d1 - d3))).squaredNorm();
+    const Eigen::Vector3f cp = p - c;
+    const float d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0 && d5 <= d6) return cp.squaredNorm();
+    const float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return (ap - ac * (d2 / (d2 - d6))).squaredNorm();
+    const float va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+        return (bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))).squaredNorm();
+    const float denom = 1.0f / (va + vb + vc);
+    return (ap - ab * (vb * denom) - ac * (vc * denom)).squaredNorm();
+}
+
+}  // namespace
+
+Support::Support(const OrientedPoints& mesh, double slack) {
+    if (mesh.triangles.empty()) return;
+    // Cells of 2% of the diagonal: a triangle goes into every cell its box, grown by the tolerance, touches.
+    cell_ = 0.02;
+    for (const Eigen::Vector3d& p : mesh.positions) points_.push_back(p.cast<float>());
+    for (const Triangle& t : mesh.triangles) {
+        const Eigen::Vector3d &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+        if (!((b - a).cross(c - a).norm() > 0) || !a.allFinite() || !b.allFinite() || !c.allFinite()) continue;
+        double offset = 0;
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                offset =
+                    std::max(offset, std::abs((mesh.positions[t[j]] - mesh.positions[t[i]]).dot(mesh.normals[t[i]])));
+        const double reach = std::min(std::max({kMeshSupport, 0.5 * offset, slack}), kMaxMeshSupport);
+        if (!std::isfinite(reach)) continue;
+        const Eigen::Vector3d grow = Eigen::Vector3d::Constant(reach);
+        const Cell lo = cellOf(a.cwiseMin(b).cwiseMin(c) - grow), hi = cellOf(a.cwiseMax(b).cwiseMax(c) + grow);
+        const uint32_t index = uint32_t(triangles_.size());
+        triangles_.push_back(t);
+        reach2_.push_back(float(reach * reach));
+        for (int z = lo.z; z <= hi.z; ++z)
+            for (int y = lo.y; y <= hi.y; ++y)
+                for (int x = lo.x; x <= hi.x; ++x) grid_[{x, y, z}].push_back(index);
+    }
+    if (triangles_.empty()) points_.clear();
+}
+
+bool Support::supports(const Eigen::Vector3d& x) const {
+    if (points_.empty()) return true;
+    const Cell c = cellOf(x);
+    const Eigen::Vector3f xf = x.cast<float>();
+    if (!triangles_.empty()) {
+        auto it = grid_.find(c);
+        if (it == grid_.end()) return false;
+        for (uint32_t j : it->second) {
+            const Triangle& t = triangles_[j];
+            if (distance2(xf, points_[t[0]], points_[t[1]], points_[t[2]]) <= reach2_[j]) return true;
+        }
+        return false;
+    }
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                auto it = grid_.find({c.x + dx, c.y + dy, c.z + dz});
+                if (it == grid_.end()) continue;
+                for (uint32_t j : it->second)
+                    if ((points_[j] - xf).squaredNorm() <= reach2_[j]) return true;
+            }
+    return false;
+}
+
+std::vector<PenStroke> trimStrokes(const std::vector<PenStroke>& strokes, const Support& support, size_t* dropped) {
+    if (support.empty()) return strokes;
+    std::vector<PenStroke> out;
+    size_t removed = 0;
+    for (const PenStroke& s : strokes) {
+        const size_t m = s.points.size();
+        std::vector<bool> in(m);
+        size_t kept = 0;
+        for (size_t i = 0; i < m; ++i) kept += in[i] = support.supports(s.points[i].cast<double>());
+        removed += m - kept;
+        if (kept == m) {
+            out.push_back(s);
+            continue;
+        }
+        // A closed stroke cut open starts after its first cut, so that its run across the start stays whole.
+        size_t start = 0;
+        if (s.closed)
+            while (start < m && in[start]) ++start;
+        PenStroke run;
+        auto flush = [&] {
+            if (run.points.size() >= 2) out.push_back(std::move(run));
+            run = {};
+        };
+        for (size_t k = 0; k < m; ++k) {
+            const size_t i = (start + k) % m;
+            if (!in[i]) {
+                flush();
+                continue;
+            }
+            run.points.push_back(s.points[i]);
+            run.normals.push_back(s.normals[i]);
+            run.curve = s.curve;
+            run.family = s.family;
+            run.level = s.level;
+        }
+        flush();
+    }
+    if (dropped) *dropped = removed;
+    return out;
+}
+
+}  // namespace ink

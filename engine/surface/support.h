@@ -1,0 +1,71 @@
+// Where the input supports the fitted surface (docs/lines.md, Open surfaces). An implicit fit closes every hole:
+// past an open scan's rim or across a mesh's hole it extrapolates a surface no data stands for. As screened
+// Poisson reconstruction trims by sample density, a point of a point cloud's drawing is supported when it lies
+// within kSupportReach local sample spacings of an input point; a mesh's, when it lies within kMeshSupport of one
+// of its triangles. The refined points, the contours and the hatching beyond are dropped. No Vulkan here.
+#pragma once
+
+#include "io/oriented_points.h"
+#include "lines/lines.h"
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace ink {
+
+// A point is supported within this many local spacings of an input point. The local spacing is an input point's
+// distance to its kSupportNeighbours-th nearest neighbour: on a closed surface every point of the fit lies within
+// about half a spacing of an input point, so the margin is wide (the bunny loses none of its refined points);
+// across a hole it ends the surface about this far past the rim.
+constexpr double kSupportReach = 2.0;
+constexpr int kSupportNeighbours = 4;
+// A mesh supports the points within this of a triangle (normalized units): three times the 0.1% of the
+// diagonal within which the fit follows every face sample it was given (model.cpp), and less than the inradius of
+// a hole of one missing triangle at the face samples' spacing (kFaceSpacing, 1%). A curved triangle reaches
+// farther: the fit follows its curved patch (surface_sampling.h), which leaves the flat triangle by up to about
+// half its largest corner offset |(p_j − p_i)·n_i| (n_i the vertex normals).
+constexpr double kMeshSupport = 0.003;
+// The most a mesh's triangle reaches (normalized units). A fit that misses the mesh by more than half this (few
+// control points) is not trimmed: its surface lies away from the mesh everywhere, and the grid of reaches would
+// grow with the cube of the miss (a 64-point fit of the bunny: 100 million cells, minutes).
+constexpr double kMaxMeshSupport = 0.03;
+
+class Support {
+public:
+    Support() = default;  // supports everything
+    // From the input's points (normalized coordinates): a mesh's vertices and face samples, or a point cloud.
+    explicit Support(const std::vector<Eigen::Vector3d>& points);
+    // From a mesh (normalized coordinates); its triangles without area support nothing. `slack` widens every
+    // triangle's reach: a fit of fewer control points than the mesh has (--control-points) leaves it by more.
+    explicit Support(const OrientedPoints& mesh, double slack = 0);
+
+    bool empty() const { return points_.empty(); }
+    bool supports(const Eigen::Vector3d& x) const;
+
+private:
+    struct Cell {
+        int x, y, z;
+        bool operator==(const Cell&) const = default;
+    };
+    struct CellHash {
+        size_t operator()(const Cell& c) const {
+            return size_t(uint32_t(c.x) * 73856093u ^ uint32_t(c.y) * 19349663u ^ uint32_t(c.z) * 83492791u);
+        }
+    };
+    Cell cellOf(const Eigen::Vector3d& x) const;
+
+    std::vector<Eigen::Vector3f> points_;
+    std::vector<Triangle> triangles_;  // a mesh's: points_ are its vertices, the grid holds triangles
+    std::vector<float> reach2_;        // squared reach of each point, or of each triangle of a mesh
+    std::unordered_map<Cell, std::vector<uint32_t>, CellHash> grid_;
+    double cell_ = 1;
+};
+
+// Strokes cut where they leave the support: the runs of supported points, each kept when it has two or more.
+// `dropped` (when given) counts the points removed.
+std::vector<PenStroke> trimStrokes(const std::vector<PenStroke>& strokes, const Support& support,
+                                   size_t* dropped = nullptr);
+
+}  // namespace ink

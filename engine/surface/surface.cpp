@@ -1,0 +1,37 @@
+#include "surface/surface.h"
+
+#include "surface/clean.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+namespace ink {
+
+void chooseSeeds(Surface& surface) {
+    surface.seeds.clear();
+    for (size_t i : farthestPointSample(surface.centers, std::min(surface.centers.size(), kMaxSeeds)))
+        surface.seeds.push_back(surface.centers[i]);
+}
+
+FitStats measureFit(const Surface& surface) {
+    if (surface.method == FitMethod::Global) return measureFit(surface.global);
+    FitStats stats;
+    stats.controlPoints = surface.size();
+    const std::vector<Eigen::Vector4f> values = PuFloat(surface.pu).evalMany(surface.centers);
+    for (size_t i = 0; i < surface.size(); ++i) {
+        double f = values[i].w();
+        Eigen::Vector3d g = values[i].head<3>().cast<double>();
+        double gn = g.norm();
+        stats.maxDistance = std::max(stats.maxDistance, gn > 0 ? std::abs(f) / gn : INFINITY);
+        if (i < surface.normals.size()) {
+            const Eigen::Vector3d& n = surface.normals[i];
+            double angle = std::atan2(g.cross(n).norm(), g.dot(n));
+            stats.maxNormalAngleDeg = std::max(stats.maxNormalAngleDeg, angle * 180.0 / M_PI);
+        }
+    }
+    return stats;
+}
+
+}  // namespace ink

@@ -1,0 +1,256 @@
+#include "surface/viewpoint.h"
+
+#include "base/common.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <limits>
+
+namespace ink {
+
+ViewSamples viewSamples(const std::vector<PointRecord>& all, size_t maxCount, uint32_t maxLevel) {
+    ViewSamples s;
+    std::vector<PointRecord> points;
+    for (const PointRecord& p : all)
+        if (p.level <= maxLevel) points.push_back(p);
+    if (points.empty() || maxCount == 0) return s;
+    const double stride = std::max(1.0, double(points.size()) / double(maxCount));
+    for (double i = 0; size_t(i) < points.size(); i += stride) {
+        const PointRecord& p = points[size_t(i)];
+        glm::vec3 position(p.position[0], p.position[1], p.position[2]), normal(p.normal[0], p.normal[1], p.normal[2]);
+        const float length = glm::length(normal);
+        if (!std::isfinite(length) || !(length > 0) || !std::isfinite(glm::length(position))) continue;
+        s.positions.push_back(position);
+        s.normals.push_back(normal / length);
+    }
+    return s;
+}
+
+static std::string lowerExtension(const std::string& path) {
+    const size_t dot = path.find_last_of('.'), slash = path.find_last_of("/\\");
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+    std::string e = path.substr(dot + 1);
+    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return e;
+}
+
+std::optional<UpAxis> formatUpAxis(const std::string& path) {
+    const std::string e = lowerExtension(path);
+    if (e == "gltf" || e == "glb") return UpAxis::PosY;
+    return std::nullopt;
+}
+
+static UpAxis axisOf(int coordinate, bool negative) { return UpAxis(2 * coordinate + (negative ? 1 : 0)); }
+
+// Along coordinate `c`: the third standardized moment, and the area fractions facing straight out (n within
+// 25° of the axis) in the lowest and the highest 5% of the extent (feet, a plinth, a flat bottom or top).
+struct AxisProfile {
+    double skew = 0, baseBelow = 0, baseAbove = 0;
+    // A mirror plane across the axis leaves both ends alike: no skew, equal bases. Gravity makes up and down
+    // differ, so such an axis is left and right (an animal's flank to flank), not up.
+    bool mirrored() const {
+        return std::abs(skew) < 0.05 &&
+               std::abs(baseBelow - baseAbove) <= 0.25 * std::max(baseBelow, baseAbove) + 0.001;
+    }
+};
+
+static AxisProfile profile(const ViewSamples& samples, int c) {
+    AxisProfile a;
+    const size_t n = samples.positions.size();
+    float low = std::numeric_limits<float>::max(), high = -low;
+    double mean = 0;
+    for (const glm::vec3& p : samples.positions) {
+        low = std::min(low, p[c]);
+        high = std::max(high, p[c]);
+        mean += p[c];
+    }
+    mean /= double(n);
+    const float band = 0.05f * (high - low);
+    double second = 0, third = 0;
+    size_t below = 0, above = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const float h = samples.positions[i][c], facing = samples.normals[i][c];
+        below += h <= low + band && facing < -0.9f;
+        above += h >= high - band && facing > 0.9f;
+        const double d = double(h) - mean;
+        second += d * d;
+        third += d * d * d;
+    }
+    second /= double(n);
+    a.skew = second > 0 ? third / double(n) / std::pow(second, 1.5) : 0.0;
+    a.baseBelow = double(below) / double(n);
+    a.baseAbove = double(above) / double(n);
+    return a;
+}
+
+UpChoice detectUpAxis(const ViewSamples& samples) {
+    UpChoice choice;
+    const size_t n = samples.positions.size();
+    if (n < 16) {
+        choice.reason = "too few samples: y";
+        return choice;
+    }
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const glm::vec3& p : samples.positions) mean += Eigen::Vector3d(p.x, p.y, p.z);
+    mean /= double(n);
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (const glm::vec3& p : samples.positions) {
+        const Eigen::Vector3d d = Eigen::Vector3d(p.x, p.y, p.z) - mean;
+        covariance += d * d.transpose();
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance / double(n));  // ascending
+    const Eigen::Vector3d values = solver.eigenvalues().cwiseMax(0.0);
+    for (int k = 0; k < 3; ++k) choice.sigma[k] = float(std::sqrt(values[2 - k]));
+    AxisProfile axes[3];
+    for (int c = 0; c < 3; ++c) axes[c] = profile(samples, c);
+    // Flat: the thinnest axis, snapped to a coordinate axis, unless a mirror plane lies across it while y is
+    // lopsided (a camel is thin from flank to flank). Otherwise +y: a figure's up and front axes are both
+    // lopsided, and nothing in the shape alone told them apart reliably.
+    int thinnest = 0;
+    solver.eigenvectors().col(0).cwiseAbs().maxCoeff(&thinnest);
+    if (choice.sigma[2] < 0.55f * choice.sigma[1] &&
+        !(axes[thinnest].mirrored() && thinnest != 1 && !axes[1].mirrored())) {
+        choice.up = axisOf(thinnest, false);
+        choice.reason = "flat: its thinnest axis";
+        return choice;
+    }
+    choice.up = UpAxis::PosY;
+    choice.reason = "not flat: y";
+    return choice;
+}
+
+// An orthonormal image basis for looking along -towardsEye.
+static void imageBasis(const glm::vec3& towardsEye, const glm::vec3& up, glm::vec3& right, glm::vec3& upInImage) {
+    glm::vec3 r = glm::cross(up, towardsEye);
+    if (glm::length(r) < 1e-6f) r = glm::cross(glm::vec3(1, 0, 0), towardsEye);
+    if (glm::length(r) < 1e-6f) r = glm::cross(glm::vec3(0, 1, 0), towardsEye);
+    right = glm::normalize(r);
+    upInImage = glm::cross(towardsEye, right);
+}
+
+ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye) {
+    constexpr int G = 96;  // the depth buffer's side: about 1% of the diagonal a pixel
+    const size_t n = samples.positions.size();
+    if (n == 0) return {};
+    glm::vec3 right, upInImage;
+    imageBasis(towardsEye, glm::vec3(0, 1, 0), right, upInImage);
+    float radius = 0;
+    for (const glm::vec3& p : samples.positions) radius = std::max(radius, glm::length(p));
+    if (!(radius > 0)) return {};
+    const float pixel = 2 * radius / G;
+    std::vector<float> nearest(G * G, -std::numeric_limits<float>::max());
+    std::vector<int> cell(n);
+    for (size_t i = 0; i < n; ++i) {
+        const glm::vec3& p = samples.positions[i];
+        const int x = std::clamp(int((glm::dot(p, right) + radius) / pixel), 0, G - 1);
+        const int y = std::clamp(int((glm::dot(p, upInImage) + radius) / pixel), 0, G - 1);
+        cell[i] = y * G + x;
+        nearest[cell[i]] = std::max(nearest[cell[i]], glm::dot(p, towardsEye));
+    }
+    // A visible sample faces the eye and lies within two pixels of the nearest surface in its pixel. Each
+    // sample stands for the same area, which is the covered pixels' area over the visible samples' Σ n·v.
+    double facing = 0;
+    size_t front = 0, hidden = 0;
+    std::vector<float> projected;
+    projected.reserve(n);
+    for (size_t i = 0; i < n; ++i) {
+        const float c = glm::dot(samples.normals[i], towardsEye);
+        if (c <= 0) continue;
+        ++front;
+        if (glm::dot(samples.positions[i], towardsEye) < nearest[cell[i]] - 2 * pixel) {
+            ++hidden;
+            continue;
+        }
+        projected.push_back(c);
+        facing += c;
+    }
+    size_t covered = 0;
+    for (float d : nearest) covered += d > -std::numeric_limits<float>::max();
+    if (facing <= 0) return {};
+    // Areas relative to the image square's: the covered part split over the visible samples, the rest
+    // background. The entropy of that split, in bits.
+    const double total = double(G) * G, scale = double(covered) / facing / total;
+    double h = 0;
+    for (float c : projected) {
+        const double p = c * scale;
+        if (p > 0) h -= p * std::log2(p);
+    }
+    const double background = 1.0 - double(covered) / total;
+    if (background > 0) h -= background * std::log2(background);
+    return {float(h), float(double(hidden) / double(front))};
+}
+
+static float candidateAzimuth(int k) { return std::fmod(30.0f + 360.0f * float(k) / kViewAzimuths, 360.0f); }
+
+ViewChoice chooseView(const ViewSamples& samples, UpAxis up) {
+    ViewChoice best;
+    best.score = -1;
+    const glm::mat3 basis = upBasis(up);
+    // The samples in the y-up frame the orbit is written in (the basis is a rotation: its transpose inverts).
+    ViewSamples local;
+    local.positions.reserve(samples.positions.size());
+    local.normals.reserve(samples.normals.size());
+    const glm::mat3 toLocal = glm::transpose(basis);
+    for (size_t i = 0; i < samples.positions.size(); ++i) {
+        local.positions.push_back(toLocal * samples.positions[i]);
+        local.normals.push_back(toLocal * samples.normals[i]);
+    }
+    constexpr int E = int(std::size(kViewElevations));
+    ViewScore scores[E][kViewAzimuths];
+    glm::vec2 front(0);
+    for (int e = 0; e < E; ++e)
+        for (int k = 0; k < kViewAzimuths; ++k) {
+            const float az = glm::radians(candidateAzimuth(k)), el = glm::radians(kViewElevations[e]);
+            scores[e][k] =
+                scoreView(local, glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)));
+            front += scores[e][k].hidden * glm::vec2(std::sin(az), std::cos(az));
+        }
+    // The front: where the shape hides the most of itself (limbs, a head, arms before the body), the resultant
+    // of the hidden fractions around the circle. Only views within 90° of it are candidates, when it is clear.
+    const bool sided = glm::length(front) > 0.02f * kViewAzimuths;
+    best.frontDeg = sided ? std::fmod(glm::degrees(std::atan2(front.x, front.y)) + 360.0f, 360.0f) : -1.0f;
+    for (int e = 0; e < E; ++e)
+        for (int k = 0; k < kViewAzimuths; ++k) {
+            const float azimuth = candidateAzimuth(k);
+            const float off = std::abs(std::remainder(azimuth - best.frontDeg, 360.0f));
+            if (sided && off > 90.0f) continue;
+            if (scores[e][k].entropy > best.score + 1e-4f) {
+                best.azimuthDeg = azimuth;
+                best.elevationDeg = kViewElevations[e];
+                best.score = scores[e][k].entropy;
+            }
+        }
+    if (best.score < 0) best = ViewChoice{};
+    return best;
+}
+
+void frameSamples(Camera& camera, const ViewSamples& samples, float aspect, float fill) {
+    if (samples.positions.empty() || !(aspect > 0) || !(fill > 0)) return;
+    const float t = std::tan(glm::radians(camera.fovyDeg) / 2);
+    // Iterate: project at the current distance and target, then scale the distance by how much the extent
+    // over- or under-fills, and move the target to centre it. Converges in a few rounds (perspective is mild).
+    camera.target = glm::vec3(0);
+    for (int round = 0; round < 8; ++round) {
+        const glm::mat4 view = camera.view();
+        glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+        for (const glm::vec3& p : samples.positions) {
+            const glm::vec4 q = view * glm::vec4(p, 1.0f);
+            const float depth = std::max(-q.z, 1e-4f);
+            const glm::vec2 ndc(q.x / (depth * t * aspect), q.y / (depth * t));
+            lo = glm::min(lo, ndc);
+            hi = glm::max(hi, ndc);
+        }
+        const glm::vec2 size = hi - lo, centre = 0.5f * (hi + lo);
+        const float reach = std::max(size.x, size.y) / 2;  // of the half-frame's 1
+        if (!(reach > 0)) return;
+        // Move the target in the image plane to the extent's centre (at the target's depth), then scale.
+        const glm::mat3 rotation = glm::transpose(glm::mat3(view));  // view to model
+        camera.target +=
+            rotation * glm::vec3(centre.x * camera.distance * t * aspect, centre.y * camera.distance * t, 0);
+        camera.distance = std::clamp(camera.distance * reach / fill, 0.06f, 99.0f);
+    }
+}
+
+}  // namespace ink

@@ -1,0 +1,68 @@
+// The first picture: how a model is shown when the user says nothing about the camera. Its up axis (the file's
+// convention, else the shape's principal axes), a view chosen by a viewpoint-quality measure at an illustrator's
+// elevation, and a distance that makes the model fill about 85% of the frame (docs/usage.md, "The first picture").
+// All of it on the CPU from a few thousand surface samples (the refined points): milliseconds.
+#pragma once
+
+#include "draw/camera.h"
+#include "refine/point_record.h"
+
+#include <glm/glm.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ink {
+
+// Points spread evenly over the surface (equal area each) with unit outward normals, normalized coordinates.
+struct ViewSamples {
+    std::vector<glm::vec3> positions, normals;
+};
+// At most `maxCount` of the refined `points` of levels up to `maxLevel`, taken at an even stride (the refined
+// points are spread evenly: so are these). The first levels are the same whatever the style and the number of
+// levels, so every style of a model gets the same first picture.
+ViewSamples viewSamples(const std::vector<PointRecord>& points, size_t maxCount = 20000, uint32_t maxLevel = 1);
+
+// The up axis a file format fixes: glTF's is +y by its specification. None for the others.
+std::optional<UpAxis> formatUpAxis(const std::string& path);
+struct UpChoice {
+    UpAxis up = UpAxis::PosY;
+    std::string reason;          // "flat: its thinnest axis", ... (notes and --stats)
+    float sigma[3] = {0, 0, 0};  // the principal standard deviations, largest first
+};
+// The up axis of a shape (docs/usage.md, "The first picture"), from the principal axes of the samples (PCA)
+// and how lopsided each coordinate axis is:
+// - flat (thinnest spread under 0.55 of the middle one): that axis, snapped to the nearest coordinate axis (a
+//   spider, a plate, a knot lying down), unless it is a mirror axis while y is not (a camel, thin flank to flank);
+// - else +y (most modelling tools; a z-up figure needs --up z).
+// Always the positive direction: files are seldom upside down, and neither a base nor the mass told the sign
+// reliably on the test models (docs/usage.md).
+UpChoice detectUpAxis(const ViewSamples& samples);
+
+struct ViewChoice {
+    float azimuthDeg = 30.0f, elevationDeg = 15.0f;
+    float score = 0;         // the viewpoint entropy of the choice (bits)
+    float frontDeg = -1.0f;  // the azimuth of the side found to be the front, -1 when none is clear
+};
+// The candidate views: azimuths every 15°, elevations 15° and 30° above the horizon.
+constexpr int kViewAzimuths = 24;
+constexpr float kViewElevations[] = {15.0f, 30.0f};
+// The view of `samples` about `up` with the largest viewpoint entropy (Vázquez et al. 2001): the samples are
+// drawn into a small depth buffer from each candidate direction, and a visible sample counts with its projected
+// area |n·v|; the entropy of those areas (and the background's) is larger the more surface is seen and the more
+// evenly it faces the eye. Views along the principal axes of the silhouette, that flatten the shape, score low.
+// Ties (a symmetric shape) keep the first of the candidate order, which starts at azimuth 30°, elevation 15°.
+ViewChoice chooseView(const ViewSamples& samples, UpAxis up);
+// One view direction (unit, from the model towards the eye; samples in the y-up frame): its viewpoint entropy
+// in bits, and the fraction of the samples facing the eye that something nearer hides.
+struct ViewScore {
+    float entropy = 0, hidden = 0;
+};
+ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye);
+
+// Sets camera.distance and camera.target so that the projected extent of `samples` (not a bounding sphere)
+// fills `fill` of the frame's width or height, whichever it reaches first, centred. The camera's angles, up
+// axis and field of view are kept.
+void frameSamples(Camera& camera, const ViewSamples& samples, float aspect, float fill = 0.85f);
+
+}  // namespace ink

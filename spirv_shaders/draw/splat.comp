@@ -1,0 +1,114 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
+// Once per point and frame, the two things that need every point:
+// - visibility splatting (ALGORITHM.md §6): each front-facing point is a disk in its tangent plane; the view
+//   ray of every depth cell the disk may cover is cast onto the disk's plane, and the plane's depth, pushed
+//   back by one radius, goes into the cell with atomicMin. Depth cells are half the target's resolution: dots
+//   are tested against surfaces, and surfaces vary slowly.
+// - the dot the point may draw: its class (report §5), its tone (Brazil et al. 2011) and the frustum decide;
+//   the dots that pass go to the list that stamp.comp tests against the finished depth.
+#include "draw/render_common.glsl"
+
+layout(local_size_x = GROUP_SIZE) in;
+
+const int MAX_CELLS = 9;  // a disk spans at most this many cells a side; larger disks are sampled sparsely
+
+void splat(vec3 c, vec3 n) {
+    vec4 clip = project(c);
+    vec2 grid = cam.viewport.zw;
+    vec2 center = (clip.xy / clip.w * 0.5 + 0.5) * grid;
+    // The disk's screen footprint lies within this many cells of its centre's projection, a side: a disk point
+    // c + u (|u| ≤ R) lands f·(u.x·z + c.x·u.z) / (z·(z − u.z)) cells away in x, z = −c.z, f cells per unit
+    // (likewise in y). The cells whose centres it may reach are tested, exactly.
+    float z = -c.z;
+    vec2 f = abs(cam.projection.xy) * 0.5 * grid;
+    vec2 radius = min(f * cam.splat.x * (1.0 + abs(c.xy) / z) / max(z - cam.splat.x, 1e-6), grid);
+    ivec2 lo = max(ivec2(ceil(center - radius - 0.5)), ivec2(0));
+    ivec2 hi = min(ivec2(floor(center + radius - 0.5)), ivec2(grid) - 1);
+    int step = max(1, (max(hi.x - lo.x, hi.y - lo.y) + MAX_CELLS) / MAX_CELLS);
+    float planeD = dot(c, n);
+    for (int y = lo.y; y <= hi.y; y += step) {
+        for (int x = lo.x; x <= hi.x; x += step) {
+            vec2 ndc = (vec2(x, y) + 0.5) / grid * 2.0 - 1.0;
+            vec3 ray = vec3(ndc.x / cam.projection.x, ndc.y / cam.projection.y, -1.0);
+            float denom = dot(ray, n);
+            vec3 hit;
+            if (abs(denom) > 1e-6) {
+                hit = ray * (planeD / denom);
+                if (distance(hit, c) > cam.splat.x) continue;
+            } else if (ivec2(x, y) == ivec2(floor(center))) {
+                hit = c;  // edge-on: the centre cell still gets the point's own depth
+            } else {
+                continue;
+            }
+            hit += normalize(hit) * cam.splat.y;
+            vec4 h = project(hit);
+            atomicMin(depth[y * int(grid.x) + x], floatBitsToUint(max(h.z / h.w, 0.0)));
+        }
+    }
+}
+
+// Whether the point's dot may show — its class is not BACK, its tone keeps it, it is in the frustum — and
+// that dot.
+bool selectDot(Point p, uint index, vec3 c, vec3 n, float nv, out Dot d) {
+    uint cls = classify(nv);
+    d.cls = cls | (index << 2u);
+    d.radius = 0.0;
+    d.key = floatBitsToUint(p.tone);
+    d.state = SPACE_FIXED;
+    d.pad = 0u;
+    if (cls == BACK) return false;
+    if (cls == FRONT && style.light.w > 0.0) {
+        // Drawn when its rank (or, for the report's look, its fixed random value) is below the darkness: the
+        // stipples of a tone are a prefix of the ranking, evenly spaced, a darker tone only adds dots, and a dot
+        // keeps its state while the light on it does not change (a light fixed to the model: as the camera moves).
+        float lit = max(0.0, dot(style.options.x != 0.0 ? p.normal : n, style.light.xyz));
+        float darkness = (style.tone.y + pow(1.0 - lit, style.light.w)) * style.tone.x;
+        float threshold = darkness * cam.splat.z;
+        if (style.options.z > 0.0) {
+            // Screen spacing (spacing.comp): the candidates of a tone, about SPACE_SUPPLY times the dots it asks
+            // for, on the page, where the surface turns away (n·v) and recedes (depth²) they crowd on the screen.
+            threshold *= nv * (c.z * c.z) / cam.splat.w;
+            d.radius = min(style.options.z / sqrt(max(darkness, 1e-3)), SPACE_MAX_CELLS / style.options.w);
+            d.state = SPACE_OPEN;
+        }
+        if (p.tone >= threshold) return false;
+    }
+    vec4 clip = project(c);
+    vec3 ndc = clip.xyz / clip.w;
+    if (any(greaterThan(abs(ndc.xy), vec2(1.0))) || ndc.z > 1.0) return false;
+    d.pixel = (ndc.xy * 0.5 + 0.5) * cam.viewport.xy;
+    d.z = ndc.z;
+    if (cls == SILHOUETTE) {
+        // Near the outline the disks are edge-on and their depths jump from cell to cell: a silhouette dot is
+        // tested two push-backs nearer the camera, so that its own surface does not hide it in one frame and
+        // show it in the next.
+        vec4 nearer = project(c - normalize(c) * (2.0 * cam.splat.y));
+        d.z = nearer.z / nearer.w;
+    }
+    return true;
+}
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    Point p = fetchPoint(cam.counts.z + min(i, cam.counts.x - 1u));
+    vec3 c = (cam.view * vec4(p.position, 1.0)).xyz;
+    vec3 n = mat3(cam.view) * p.normal;
+    float nv = dot(n, -normalize(c));
+    bool inFront = i < cam.counts.x && -c.z > 1e-6;
+    // Disks facing away lie behind the front surface of a closed shape; keep a margin for edge-on ones.
+    if (inFront && cam.splat.x > 0.0 && nv >= -0.2) splat(c, n);
+
+    Dot d;
+    bool selected = inFront && style.options.y == 0.0 && selectDot(p, i, c, n, nv, d);
+    // Appended a subgroup at a time: one atomic for the slots, one for the dispatch size.
+    uvec4 ballot = subgroupBallot(selected);
+    uint count = subgroupBallotBitCount(ballot), first = 0u;
+    if (subgroupElect() && count > 0u) {
+        first = atomicAdd(list.dispatch.w, count);
+        atomicMax(list.dispatch.x, (first + count + GROUP_SIZE - 1u) / GROUP_SIZE);
+    }
+    first = subgroupBroadcastFirst(first);
+    if (selected) list.dots[first + subgroupBallotExclusiveBitCount(ballot)] = d;
+}

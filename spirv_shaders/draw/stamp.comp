@@ -1,0 +1,74 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+// The dots splat.comp selected, in two passes (cam.counts.w). PASS_VISIBILITY tests each against the splat depth
+// (occluded ones vanish, or become hidden silhouettes) and opens the visible toned ones to the screen spacing
+// (spacing.comp); PASS_STAMP stamps the visible ones the spacing kept into the coverage bits that ink.frag turns
+// into colour. Dots are rasterized here rather than drawn as point primitives: a CPU driver sets up each point
+// primitive on one thread (lavapipe: ~0.45 µs a point, whatever its size and shaders), while a stamp is a few
+// atomic ORs.
+#include "draw/render_common.glsl"
+
+layout(local_size_x = GROUP_SIZE) in;
+
+// Sets the pixels whose centres lie within the dot's disk, and always the pixel under its centre, so that a
+// dot smaller than a pixel never vanishes between pixel centres. Returns the pixel box it may have set.
+ivec4 stamp(vec2 center, float diameter, uint bit) {
+    float r = 0.5 * diameter;
+    ivec2 size = ivec2(cam.viewport.xy);
+    ivec2 own = ivec2(floor(center));
+    ivec2 lo = max(min(ivec2(ceil(center - r - 0.5)), own), ivec2(0));
+    ivec2 hi = min(max(ivec2(floor(center + r - 0.5)), own), size - 1);
+    for (int y = lo.y; y <= hi.y; ++y) {
+        for (int x = lo.x; x <= hi.x; ++x) {
+            vec2 d = vec2(x, y) + 0.5 - center;
+            if (dot(d, d) > r * r && ivec2(x, y) != own) continue;
+            uint i = uint(y) * uint(size.x) + uint(x);
+            atomicOr(coverage[i >> COVERAGE_SHIFT], bit << ((i & 7u) * COVERAGE_BITS));
+        }
+    }
+    return ivec4(lo, hi);
+}
+
+// The dot's class once occlusion is known: as selected, HIDDEN, or BACK for a dot that does not show.
+uint visibleClass(Dot d) {
+    uint cls = d.cls & 3u;
+    if (cam.splat.x <= 0.0) return cls;
+    vec2 grid = cam.viewport.zw;
+    ivec2 cell = clamp(ivec2(d.pixel / cam.viewport.xy * grid), ivec2(0), ivec2(grid) - 1);
+    if (d.z <= uintBitsToFloat(depth[cell.y * int(grid.x) + cell.x])) return cls;
+    return cls == SILHOUETTE && (cam.counts.y & 1u) != 0u ? HIDDEN : BACK;
+}
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    Dot d = list.dots[min(i, list.dispatch.w - 1u)];
+    if (cam.counts.w == PASS_VISIBILITY) {
+        if (i >= list.dispatch.w) return;
+        uint cls = visibleClass(d);
+        list.dots[i].cls = d.cls >> 2u << 4u | cls << 2u | (d.cls & 3u);
+        if (cls == BACK) list.dots[i].state = SPACE_FIXED;
+        return;
+    }
+    uint cls = (d.cls >> 2u) & 3u;
+    bool visible = i < list.dispatch.w && cls != BACK && (d.state == SPACE_FIXED || d.state == SPACE_ACCEPTED);
+    ivec4 box = ivec4(0x7FFFFFFF, 0x7FFFFFFF, -1, -1);
+    if (visible) {
+        uint sizeSlot = cls == HIDDEN ? 2u : cls;
+        box = stamp(d.pixel, clamp(style.size[sizeSlot], style.tone.z, style.tone.w),
+                    cls == HIDDEN ? HIDDEN_BIT : INK_BIT);
+    } else if (i < list.dispatch.w && cls != BACK) {
+        list.dots[i].cls = d.cls & ~12u | BACK << 2u;  // spaced out: not drawn
+    }
+    // One atomic a subgroup for the count and the bounds.
+    uint dots = subgroupBallotBitCount(subgroupBallot(visible));
+    ivec2 lo = subgroupMin(box.xy), hi = subgroupMax(box.zw);
+    if (subgroupElect() && dots > 0u) {
+        atomicAdd(drawn.dotCount.x, dots);
+        atomicMin(drawn.bounds.x, uint(lo.x));
+        atomicMin(drawn.bounds.y, uint(lo.y));
+        atomicMax(drawn.bounds.z, uint(hi.x));
+        atomicMax(drawn.bounds.w, uint(hi.y));
+    }
+}

@@ -1,0 +1,116 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Once per traced segment and frame: whether it shows, against the splat depth grid the dots' pass built.
+// - Contours: visible when not behind the surface (tested two push-backs nearer the camera, as silhouette dots
+//   are), else hidden; interior when there is surface on both sides of it in the image (it lies in front of more
+//   surface), which gets the halo.
+// - Hatching: drawn where its surface faces the camera, its tone is dark enough for its family and level, over a run
+//   of its stroke long enough to read as a stroke (tone.w pixels), and it is not behind the surface. The strokes
+//   are fixed to the model; only these per-frame decisions change.
+// - Crease and boundary lines: visible when not behind the surface at their own pixel (tested four push-backs
+//   nearer the camera: they run along the surface, not beside it), else hidden like contours.
+// Contour, crease and boundary lines then take the visibility most of their stroke around them has
+// (lines_runs.comp).
+// Each segment's decision goes to its own slot of the draw list (flags 0 where nothing of it shows; hidden
+// hatching is dropped), so the list's order, and with it the blending of overlapping lines, does not depend on
+// how the device schedules the threads: a GPU draws every frame the same, bit for bit.
+#include "lines/lines_common.glsl"
+
+layout(local_size_x = GROUP_SIZE) in;
+
+uint depthAt(vec2 pixel) {
+    vec2 grid = cam.viewport.zw;
+    ivec2 cell = clamp(ivec2(pixel / cam.viewport.xy * grid), ivec2(0), ivec2(grid) - 1);
+    return depth[cell.y * int(grid.x) + cell.x];
+}
+
+vec2 toPixels(vec4 clip) { return (clip.xy / clip.w * 0.5 + 0.5) * cam.viewport.xy; }
+
+// Whether hatching segment `index` faces the camera and its tone is dark enough for its family and level; `pixels`
+// its length in the image.
+bool hatchWanted(uint index, out float pixels) {
+    vec4 t0 = texelFetch(segments, int(3u * index)), t1 = texelFetch(segments, int(3u * index + 1u)),
+         t2 = texelFetch(segments, int(3u * index + 2u));
+    uint kind = floatBitsToUint(t2.w);
+    vec3 a = (cam.view * vec4(t0.xyz, 1.0)).xyz, b = (cam.view * vec4(t1.xyz, 1.0)).xyz;
+    vec3 mid = 0.5 * (a + b), n = mat3(cam.view) * t2.xyz;
+    pixels = -a.z > 1e-6 && -b.z > 1e-6 ? length(toPixels(project(b)) - toPixels(project(a))) : 0.0;
+    float nv = dot(n, -normalize(mid));
+    uint family = (kind >> 1u) & 1u, level = (kind >> 2u) & 1u;
+    float lit = max(0.0, dot(lineStyle.options.x != 0.0 ? t2.xyz : n, lineStyle.light.xyz));
+    float darkness = (lineStyle.tone.y + pow(1.0 - lit, max(lineStyle.light.w, 1e-3))) * lineStyle.tone.x;
+    return nv > lineStyle.tone.z && darkness > lineStyle.thresholds[family * 2u + level];
+}
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    uint index = min(i, max(cam.counts.x, 1u) - 1u);
+    vec4 t0 = texelFetch(segments, int(3u * index)), t1 = texelFetch(segments, int(3u * index + 1u)),
+         t2 = texelFetch(segments, int(3u * index + 2u));
+    uint kind = floatBitsToUint(t2.w);
+    bool hatch = (kind & KIND_HATCH) != 0u, feature = (kind & (KIND_CREASE | KIND_BOUNDARY)) != 0u;
+    vec3 a = (cam.view * vec4(t0.xyz, 1.0)).xyz, b = (cam.view * vec4(t1.xyz, 1.0)).xyz;
+    vec3 mid = 0.5 * (a + b);
+    vec3 n = mat3(cam.view) * t2.xyz;
+    bool keep = i < cam.counts.x && -a.z > 1e-6 && -b.z > 1e-6;
+    uint flags = 0u, raw = 0u;  // raw: this pass's decision for lines_runs.comp (contour, crease, boundary)
+    vec4 ca = project(a), cb = project(b);
+    vec2 pa = toPixels(ca), pb = toPixels(cb);
+    // Off screen (with a margin for the pen).
+    vec2 lo = min(pa, pb), hi = max(pa, pb);
+    keep = keep && all(greaterThan(hi, vec2(-8.0))) && all(lessThan(lo, cam.viewport.xy + 8.0));
+    float width;
+    if (hatch) {
+        // Wanted by its tone and facing, and within a run of wanted segments of its stroke at least tone.w of the
+        // image long: walked both ways along the stroke until the run ends or is long enough.
+        const float minRun = lineStyle.tone.w * min(cam.viewport.x, cam.viewport.y);
+        float run;
+        keep = keep && hatchWanted(index, run);
+        uint before = (kind >> HATCH_BEFORE_SHIFT) & HATCH_REACH, after = (kind >> HATCH_AFTER_SHIFT) & HATCH_REACH;
+        float pixels;
+        for (uint k = 1u; keep && k <= before && run < minRun && hatchWanted(index - k, pixels); ++k)
+            run += pixels;
+        for (uint k = 1u; keep && k <= after && run < minRun && hatchWanted(index + k, pixels); ++k)
+            run += pixels;
+        keep = keep && run >= minRun;
+        vec4 nearer = project(mid - normalize(mid) * cam.params.x);
+        keep = keep && nearer.z / nearer.w <= uintBitsToFloat(depthAt(toPixels(nearer)));
+        flags = SEG_VISIBLE;
+        width = lineStyle.widths.z;
+    } else if (feature) {
+        // Four push-backs: the fit rounds a crease, and the splat disks of the faces either side stand out past
+        // the rounded edge (two left the fandisk's curved creases dashed).
+        vec4 nearer = project(mid - normalize(mid) * (4.0 * cam.params.x));
+        bool visible = nearer.z / nearer.w <= uintBitsToFloat(depthAt(toPixels(nearer)));
+        flags = visible ? SEG_VISIBLE : SEG_HIDDEN;
+        raw = (keep ? SEG_RAW_SHOWN : 0u) | (visible ? SEG_RAW_VISIBLE : 0u);
+        keep = keep && (visible || lineStyle.options.y != 0.0);
+        width = lineWidth(kind, visible);
+    } else {
+        // Tested a little beyond the contour in the image, on the side its normal points to (its own surface lies
+        // on the other): near the outline the splat disks of that surface stand almost edge-on and reach out in
+        // front of the contour, while beyond it lies only what the contour passes in front of, or what hides it.
+        vec4 nearer = project(mid - normalize(mid) * (2.0 * cam.params.x));
+        vec2 pm = toPixels(nearer);
+        vec2 outward = toPixels(project(mid + n * (1e-3 * -mid.z))) - toPixels(project(mid));
+        vec2 beyond = pm + (length(outward) > 1e-6 ? outward / length(outward) : vec2(0.0)) * 3.0;
+        bool visible = nearer.z / nearer.w <= uintBitsToFloat(depthAt(beyond));
+        flags = visible ? SEG_VISIBLE : SEG_HIDDEN;
+        raw = (keep ? SEG_RAW_SHOWN : 0u) | (visible ? SEG_RAW_VISIBLE : 0u);
+        keep = keep && (visible || lineStyle.options.y != 0.0);
+        // Surface on both sides in the image: the contour lies in front of more surface (interior).
+        vec2 dir = pb - pa;
+        vec2 side = length(dir) > 1e-6 ? vec2(-dir.y, dir.x) / length(dir) : vec2(1.0, 0.0);
+        float reach = 0.5 * lineStyle.widths.x + lineStyle.widths.w + 2.0 * cam.params.y;
+        if (visible && depthAt(pm + side * reach) != FAR_DEPTH && depthAt(pm - side * reach) != FAR_DEPTH)
+            flags |= SEG_INTERIOR;
+        width = lineWidth(kind, visible);
+    }
+    DrawSegment s;
+    s.ends = vec4(pa, pb);
+    s.widths = 0.5 * width * vec2(t0.w, t1.w);
+    s.flags = keep ? flags : 0u;
+    s.segment = index | raw;
+    if (i < cam.counts.x) drawList.list[i] = s;
+    if (i == 0u) drawList.draw.x = 6u * cam.counts.x;
+}
