@@ -443,6 +443,10 @@ double dropRetraced(std::vector<PlotPath>& paths, double tolerance) {
         }
     };
     const double cosParallel = std::cos(30.0 * M_PI / 180.0);
+    // A path's own stretch within this many tolerances of arc length does not count as drawn before: at a cusp
+    // of a contour the curve folds back along itself for a few tolerances (0.3 mm on the torus's inner contour
+    // with a 0.3 mm pen), and cutting the fold there split one stroke into pieces with a gap at every cusp.
+    constexpr double kFoldArc = 10.0;
     // Whether point q (at arc length s along path `path`, heading `dir`) lies on a kept stretch: within
     // `tolerance`, near parallel, and of another path or far along this one.
     auto covered = [&](glm::dvec2 q, glm::dvec2 dir, uint32_t path, double s) {
@@ -458,7 +462,7 @@ double dropRetraced(std::vector<PlotPath>& paths, double tolerance) {
                     const glm::dvec2 d = piece.b - piece.a;
                     const double len = glm::length(d);
                     if (!(len > 0) || std::abs(glm::dot(d, dir)) < cosParallel * len) continue;
-                    if (piece.path == path && std::abs(piece.arc + t * len - s) <= 3 * tolerance) continue;
+                    if (piece.path == path && std::abs(piece.arc + t * len - s) <= kFoldArc * tolerance) continue;
                     return true;
                 }
             }
