@@ -2,20 +2,20 @@
 // end (a read-only file or folder inside is made writable first).
 #pragma once
 
-#include <unistd.h>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 
 struct TempDir {
     std::filesystem::path path;
+    // A new directory of its own (mkdtemp): never one a killed run left behind, with a process ID used again.
     explicit TempDir(const std::string& prefix = "inkwell-test") {
-        static int counter = 0;
-        path = std::filesystem::temp_directory_path() /
-               (prefix + "-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
-        std::filesystem::remove_all(path);
-        std::filesystem::create_directories(path);
+        std::string pattern = (std::filesystem::temp_directory_path() / (prefix + "-XXXXXX")).string();
+        if (!::mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp " + pattern + " failed");
+        path = pattern;
     }
     ~TempDir() {
         std::error_code ec;
