@@ -170,15 +170,7 @@ void PointRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pi
     spacing_ = spacingRadius(s, pixelScale);
     b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.drawDots ? 0.0f : 1.0f, spacing_.x, spacing_.y);
     b.tone = glm::vec4(s.inkDensity, s.ambient, 1.0f, kMaxDotPixels * pixelScale);
-    // A frame still in flight may be reading the block: its reads finish before this write.
-    stageBarrier(cmd,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
-                     VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
-                 0, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
-    vkCmdUpdateBuffer(cmd, styleBuffer_.buffer, 0, sizeof(b), &b);
-    stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
-                 VK_ACCESS_2_UNIFORM_READ_BIT);
+    recordUniformUpdate(cmd, styleBuffer_, &b, sizeof(b));  // a frame still in flight may be reading the block
     if (lines_) lines_->setStyle(cmd, s, pixelScale);
 }
 
@@ -483,7 +475,6 @@ VectorDrawing PointRenderer::vectorDrawing(uint32_t frame) const {
         // hatching in a layer of its own, contours above it and their hidden parts below everything.
         auto chains = [&](StrokeBuffers::Kind kind) {
             std::vector<DrawnSegment> drawn = lines_->drawn(kind, frame);
-            std::sort(drawn.begin(), drawn.end(), [](const auto& a, const auto& b) { return a.segment < b.segment; });
             std::vector<Stroke> strokes;
             for (size_t i = 0; i < drawn.size(); ++i) {
                 const DrawnSegment& d = drawn[i];

@@ -146,6 +146,16 @@ void stageBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessF
     vkCmdPipelineBarrier2(cmd, &dep);
 }
 
+void recordUniformUpdate(VkCommandBuffer cmd, const Buffer& buffer, const void* data, VkDeviceSize bytes) {
+    constexpr VkPipelineStageFlags2 shaders = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT |
+                                              VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
+                                              VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+    stageBarrier(cmd, shaders, 0, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    vkCmdUpdateBuffer(cmd, buffer.buffer, 0, bytes, data);
+    stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, shaders,
+                 VK_ACCESS_2_UNIFORM_READ_BIT);
+}
+
 void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout oldLayout,
                   VkImageLayout newLayout, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {

@@ -39,6 +39,9 @@ void destroyImage(Context& ctx, Image& image);
 // Synchronization2 barriers: one global memory barrier between stages, or an image layout transition.
 void stageBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
+// Writes `bytes` of `data` to the start of a uniform buffer in the command stream (vkCmdUpdateBuffer: at most
+// 64 KiB), after the shaders of a frame still in flight have read it and before the next shaders read it.
+void recordUniformUpdate(VkCommandBuffer cmd, const Buffer& buffer, const void* data, VkDeviceSize bytes);
 void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout oldLayout,
                   VkImageLayout newLayout, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);

@@ -70,9 +70,8 @@ std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, StrokeBu
         const size_t segments = m - 1 + (s.closed ? 1 : 0);
         for (size_t i = 0; i < segments; ++i) {
             // The kind, and the segments before and after this one in its stroke (every kind: lines.comp walks them).
-            const uint32_t kind = kind0 | uint32_t(std::min<size_t>(i, gpu::HATCH_REACH)) << gpu::HATCH_BEFORE_SHIFT |
-                                  uint32_t(std::min<size_t>(segments - 1 - i, gpu::HATCH_REACH))
-                                      << gpu::HATCH_AFTER_SHIFT;
+            const uint32_t kind = kind0 | uint32_t(std::min<size_t>(i, gpu::SEG_REACH)) << gpu::SEG_BEFORE_SHIFT |
+                                  uint32_t(std::min<size_t>(segments - 1 - i, gpu::SEG_REACH)) << gpu::SEG_AFTER_SHIFT;
             size_t j = (i + 1) % m;
             Eigen::Vector3f n = (normals[i] + normals[j]).normalized();
             const float texels[12] = {s.points[i].x(), s.points[i].y(), s.points[i].z(), width(i),
@@ -204,15 +203,7 @@ void LineRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pix
     b.tone = glm::vec4(s.inkDensity, s.ambient, s.hatchMinFacing, s.hatchMinRun);
     b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.hiddenLines ? 1.0f : 0.0f, 0.0f, 0.0f);
     b.features = glm::vec4(glm::vec2(s.creaseWidth, s.boundaryWidth) * pixelScale, s.lineMinRun, 0.0f);
-    stageBarrier(cmd,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
-                     VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
-                 0, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
-    vkCmdUpdateBuffer(cmd, styleBuffer_.buffer, 0, sizeof(b), &b);
-    stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT |
-                     VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
-                 VK_ACCESS_2_UNIFORM_READ_BIT);
+    recordUniformUpdate(cmd, styleBuffer_, &b, sizeof(b));
 }
 
 void LineRenderer::sync(uint32_t frame, const Buffer& depth, const Buffer& coverage, const Buffer& drawn) {

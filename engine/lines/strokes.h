@@ -80,7 +80,7 @@ public:
     void recordStamp(VkCommandBuffer cmd, uint32_t frame);
     // Inside the rendering pass, after the dots (nothing when stamps()).
     void recordDraw(VkCommandBuffer cmd, VkExtent2D extent, uint32_t frame) const;
-    // The segments of `kind` frame `frame` drew last (waits for the device).
+    // The segments of `kind` frame `frame` drew last, in the order of the traced segments (waits for the device).
     std::vector<DrawnSegment> drawn(StrokeBuffers::Kind kind, uint32_t frame = 0) const;
 
 private:

@@ -66,7 +66,7 @@ void main() {
         const float minRun = lineStyle.tone.w * min(cam.viewport.x, cam.viewport.y);
         float run;
         keep = keep && hatchWanted(index, run);
-        uint before = (kind >> HATCH_BEFORE_SHIFT) & HATCH_REACH, after = (kind >> HATCH_AFTER_SHIFT) & HATCH_REACH;
+        uint before = (kind >> SEG_BEFORE_SHIFT) & SEG_REACH, after = (kind >> SEG_AFTER_SHIFT) & SEG_REACH;
         float pixels;
         for (uint k = 1u; keep && k <= before && run < minRun && hatchWanted(index - k, pixels); ++k)
             run += pixels;

@@ -18,7 +18,7 @@ void main() {
     DrawSegment s = drawList.list[i];
     if ((s.segment & SEG_RAW_SHOWN) == 0u) return;  // hatching, or not in the image
     uint kind = floatBitsToUint(texelFetch(segments, int(3u * i + 2u)).w);
-    uint before = (kind >> HATCH_BEFORE_SHIFT) & HATCH_REACH, after = (kind >> HATCH_AFTER_SHIFT) & HATCH_REACH;
+    uint before = (kind >> SEG_BEFORE_SHIFT) & SEG_REACH, after = (kind >> SEG_AFTER_SHIFT) & SEG_REACH;
     const float window = lineStyle.features.z * min(cam.viewport.x, cam.viewport.y);
     // Length shown visible and hidden: this segment, then its neighbours until the window is covered, the stroke
     // ends or leaves the image.

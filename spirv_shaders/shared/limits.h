@@ -49,11 +49,12 @@ INK_CONST uint FAR_DEPTH = 0x7F7FFFFFu;
 INK_CONST uint KIND_HATCH = 1u;
 INK_CONST uint KIND_CREASE = 8u;
 INK_CONST uint KIND_BOUNDARY = 16u;
-// Hatching segments also carry how many segments of their stroke lie before them (bits 8–15) and after them
-// (bits 16–23), each clamped to HATCH_REACH: lines.comp walks along the stroke to measure the run a segment is in.
-INK_CONST uint HATCH_BEFORE_SHIFT = 8u;
-INK_CONST uint HATCH_AFTER_SHIFT = 16u;
-INK_CONST uint HATCH_REACH = 255u;
+// Every segment also carries how many segments of its stroke lie before it (bits 8–15) and after it (bits 16–23),
+// each clamped to SEG_REACH: lines.comp walks along a hatching stroke to measure the run a segment is in, and
+// lines_runs.comp along a contour, crease or boundary line for the visibility around a segment.
+INK_CONST uint SEG_BEFORE_SHIFT = 8u;
+INK_CONST uint SEG_AFTER_SHIFT = 16u;
+INK_CONST uint SEG_REACH = 255u;
 INK_CONST uint SEG_VISIBLE = 1u;
 INK_CONST uint SEG_HIDDEN = 2u;
 INK_CONST uint SEG_INTERIOR = 4u;
