@@ -101,16 +101,18 @@ TEST_CASE("viewpoint: the up axis of flat shapes is their thinnest, of others y,
 
 TEST_CASE("viewpoint: the chosen view is on the figure's front side, not along its arms, nor along the L's axis" *
           doctest::test_suite("unit")) {
-    // The figure's arms reach out in front (+z). The view is within 90° of the side found to be the front (the
-    // side that hides the most of itself; on this box figure the back, where the body hides the arms' top),
-    // never straight along x where the arms vanish into the body.
+    // The figure's arms reach out in front (+z). The view is a three-quarter view (20-60° off) of the side found
+    // to be the front (the side that hides the most of itself; on this box figure the back, where the body hides
+    // the arms' top), never straight along x where the arms vanish into the body.
     for (ink::UpAxis up : {ink::UpAxis::PosY, ink::UpAxis::PosZ}) {
         CAPTURE(ink::upAxisName(up));
         const ink::ViewSamples s = turned(boxes(figure()), up);
         const ink::ViewChoice v = ink::chooseView(s, up);
         // A front was found (the figure is lopsided front to back), and the view is on its side of the figure.
         REQUIRE(v.frontDeg >= 0);
-        CHECK(std::abs(std::remainder(v.azimuthDeg - v.frontDeg, 360.0f)) <= 90.0f);
+        const float off = std::abs(std::remainder(v.azimuthDeg - v.frontDeg, 360.0f));
+        CHECK(off >= ink::kThreeQuarterMinDeg);
+        CHECK(off <= ink::kThreeQuarterMaxDeg);
         CHECK(std::abs(std::abs(std::remainder(v.azimuthDeg, 360.0f)) - 90.0f) > 10.0f);
         // Deterministic.
         const ink::ViewChoice again = ink::chooseView(s, up);
@@ -135,6 +137,50 @@ TEST_CASE("viewpoint: the chosen view is on the figure's front side, not along i
     }
     CHECK(v.elevationDeg >= 15.0f);
     CHECK(v.elevationDeg <= 30.0f);
+}
+
+TEST_CASE("viewpoint: a sphere with detail on one side is seen from that side, at three-quarters" *
+          doctest::test_suite("unit")) {
+    // An even sphere hides nothing of itself from any side; a rough cap (ripples in its normals, as a face or a
+    // paw has) around `face` tells its front. Without the cap no front is found.
+    const auto sphere = [](const glm::vec3& face, float ripples) {
+        ink::ViewSamples s;
+        const int n = 6000;
+        for (int i = 0; i < n; ++i) {  // a Fibonacci sphere: even spacing
+            const float y = 1.0f - 2.0f * (float(i) + 0.5f) / float(n), r = std::sqrt(1.0f - y * y);
+            const float a = 2.39996323f * float(i);
+            const glm::vec3 p(r * std::cos(a), y, r * std::sin(a));
+            glm::vec3 normal = p;
+            if (glm::dot(p, face) > 0.7f)
+                normal = glm::normalize(p + ripples * glm::vec3(std::sin(40 * p.y), std::sin(40 * p.z), std::sin(40 * p.x)));
+            s.positions.push_back(0.4f * p);
+            s.normals.push_back(normal);
+        }
+        return s;
+    };
+    CHECK(ink::chooseView(sphere({1, 0, 0}, 0.0f), ink::UpAxis::PosY).frontDeg == -1.0f);
+    for (float faceDeg : {90.0f, 200.0f}) {
+        CAPTURE(faceDeg);
+        const glm::vec3 face(std::sin(glm::radians(faceDeg)), 0, std::cos(glm::radians(faceDeg)));
+        const ink::ViewChoice v = ink::chooseView(sphere(face, 0.6f), ink::UpAxis::PosY);
+        CAPTURE(v.azimuthDeg);
+        REQUIRE(v.frontDeg >= 0);
+        CHECK(std::abs(std::remainder(v.frontDeg - faceDeg, 360.0f)) < 15.0f);
+        const float off = std::abs(std::remainder(v.azimuthDeg - v.frontDeg, 360.0f));
+        CHECK(off >= ink::kThreeQuarterMinDeg);
+        CHECK(off <= ink::kThreeQuarterMaxDeg);
+    }
+    // The detail itself: 0 on the even part, larger on the cap.
+    const ink::ViewSamples s = sphere({1, 0, 0}, 0.6f);
+    const std::vector<float> d = ink::sampleDetail(s);
+    REQUIRE(d.size() == s.positions.size());
+    double even = 0, cap = 0;
+    size_t nEven = 0, nCap = 0;
+    for (size_t i = 0; i < d.size(); ++i)
+        if (s.positions[i].x > 0.4f * 0.8f) cap += d[i], ++nCap;
+        else if (s.positions[i].x < 0) even += d[i], ++nEven;
+    CHECK(even / double(nEven) < 0.01);
+    CHECK(cap / double(nCap) > 10 * even / double(nEven));
 }
 
 TEST_CASE("viewpoint: framing puts the projected extent at 85% of the frame, centred" * doctest::test_suite("unit")) {

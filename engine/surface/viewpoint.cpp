@@ -1,6 +1,7 @@
 #include "surface/viewpoint.h"
 
 #include "base/common.h"
+#include "base/point_tree.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -130,7 +131,28 @@ static void imageBasis(const glm::vec3& towardsEye, const glm::vec3& up, glm::ve
     upInImage = glm::cross(towardsEye, right);
 }
 
-ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye) {
+std::vector<float> sampleDetail(const ViewSamples& samples) {
+    constexpr size_t k = 16;
+    const size_t n = samples.positions.size();
+    std::vector<float> detail(n, 0.0f);
+    if (n < k) return detail;
+    std::vector<Eigen::Vector3d> points(n);
+    for (size_t i = 0; i < n; ++i) points[i] = {samples.positions[i].x, samples.positions[i].y, samples.positions[i].z};
+    const PointCloud cloud{points};
+    PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+    tree.buildIndex();
+    uint32_t nearest[k];
+    double distances[k];
+    for (size_t i = 0; i < n; ++i) {
+        const size_t found = tree.knnSearch(points[i].data(), k, nearest, distances);
+        glm::vec3 mean(0);
+        for (size_t j = 0; j < found; ++j) mean += samples.normals[nearest[j]];
+        detail[i] = found > 0 ? std::max(0.0f, 1.0f - glm::length(mean) / float(found)) : 0.0f;
+    }
+    return detail;
+}
+
+ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye, const std::vector<float>* detail) {
     constexpr int G = 96;  // the depth buffer's side: about 1% of the diagonal a pixel
     const size_t n = samples.positions.size();
     if (n == 0) return {};
@@ -151,7 +173,7 @@ ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye) {
     }
     // A visible sample faces the eye and lies within two pixels of the nearest surface in its pixel. Each
     // sample stands for the same area, which is the covered pixels' area over the visible samples' Σ n·v.
-    double facing = 0;
+    double facing = 0, seen = 0;
     size_t front = 0, hidden = 0;
     std::vector<float> projected;
     projected.reserve(n);
@@ -165,6 +187,7 @@ ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye) {
         }
         projected.push_back(c);
         facing += c;
+        if (detail) seen += (*detail)[i];
     }
     size_t covered = 0;
     for (float d : nearest) covered += d > -std::numeric_limits<float>::max();
@@ -179,7 +202,7 @@ ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye) {
     }
     const double background = 1.0 - double(covered) / total;
     if (background > 0) h -= background * std::log2(background);
-    return {float(h), float(double(hidden) / double(front))};
+    return {float(h), float(double(hidden) / double(front)), float(seen)};
 }
 
 static float candidateAzimuth(int k) { return std::fmod(30.0f + 360.0f * float(k) / kViewAzimuths, 360.0f); }
@@ -197,29 +220,61 @@ ViewChoice chooseView(const ViewSamples& samples, UpAxis up) {
         local.positions.push_back(toLocal * samples.positions[i]);
         local.normals.push_back(toLocal * samples.normals[i]);
     }
+    const std::vector<float> detail = sampleDetail(local);
     constexpr int E = int(std::size(kViewElevations));
     ViewScore scores[E][kViewAzimuths];
-    glm::vec2 front(0);
+    glm::vec2 front(0), detailed(0);
+    double detailSum = 0;
     for (int e = 0; e < E; ++e)
         for (int k = 0; k < kViewAzimuths; ++k) {
             const float az = glm::radians(candidateAzimuth(k)), el = glm::radians(kViewElevations[e]);
-            scores[e][k] =
-                scoreView(local, glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)));
-            front += scores[e][k].hidden * glm::vec2(std::sin(az), std::cos(az));
+            scores[e][k] = scoreView(
+                local, glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)), &detail);
+            const glm::vec2 towards(std::sin(az), std::cos(az));
+            front += scores[e][k].hidden * towards;
+            detailed += scores[e][k].detail * towards;
+            detailSum += scores[e][k].detail;
         }
     // The front: where the shape hides the most of itself (limbs, a head, arms before the body), the resultant
-    // of the hidden fractions around the circle. Only views within 90° of it are candidates, when it is clear.
-    const bool sided = glm::length(front) > 0.02f * kViewAzimuths;
+    // of the hidden fractions around the circle. Where the side that shows the most detail (a face, hands; the
+    // resultant of the visible detail, against its mean) is clearly on the same half of the circle, the front
+    // turns halfway towards it: self-occlusion finds the front's half, detail where in it the face is (the
+    // bunny's hidden-side front is 45° off its face, its detail side 10°).
+    const float mean = float(detailSum / (E * kViewAzimuths));  // a candidate's visible detail, on average
+    const float contrast = mean > 0 ? glm::length(detailed) / mean : 0.0f;
+    const float clear = 0.02f * kViewAzimuths;
+    const bool hiddenSided = glm::length(front) > clear;
+    // Whether detail found (or helped find) the front, and so also chooses between its three-quarter views.
+    bool faced = false;
+    if (hiddenSided && contrast > 1.0f && glm::dot(front, detailed) > 0) {
+        front = glm::normalize(front) + glm::normalize(detailed);
+        faced = true;
+    } else if (glm::length(front) < 0.5f * clear && contrast > 3.0f) {
+        // No side hides itself (a head, a bust: nearly convex), but one clearly shows the detail.
+        front = detailed;
+        faced = true;
+    }
+    const bool sided = hiddenSided || faced;
     best.frontDeg = sided ? std::fmod(glm::degrees(std::atan2(front.x, front.y)) + 360.0f, 360.0f) : -1.0f;
+    // Where the front is clear, only three-quarter views of it compete, by entropy; where detail told the front,
+    // by entropy plus log₂ of the detail a view shows against a candidate's mean (as maximizing 2^entropy ×
+    // detail: the number of evenly seen areas, weighted by what is in them, after the saliency-guided views of
+    // Lee et al. 2005): of the two three-quarter sides, the one with the face.
+    float bestMerit = -std::numeric_limits<float>::max();
     for (int e = 0; e < E; ++e)
         for (int k = 0; k < kViewAzimuths; ++k) {
             const float azimuth = candidateAzimuth(k);
             const float off = std::abs(std::remainder(azimuth - best.frontDeg, 360.0f));
-            if (sided && off > 90.0f) continue;
-            if (scores[e][k].entropy > best.score + 1e-4f) {
+            if (sided && (off < kThreeQuarterMinDeg || off > kThreeQuarterMaxDeg)) continue;
+            const ViewScore& score = scores[e][k];
+            if (!(score.entropy > 0)) continue;
+            const float merit =
+                score.entropy + (faced ? std::log2(std::max(score.detail, 1e-3f * mean) / mean) : 0.0f);
+            if (merit > bestMerit + 1e-4f) {
+                bestMerit = merit;
                 best.azimuthDeg = azimuth;
                 best.elevationDeg = kViewElevations[e];
-                best.score = scores[e][k].entropy;
+                best.score = score.entropy;
             }
         }
     if (best.score < 0) best = ViewChoice{};

@@ -47,18 +47,30 @@ struct ViewChoice {
 // The candidate views: azimuths every 15°, elevations 15° and 30° above the horizon.
 constexpr int kViewAzimuths = 24;
 constexpr float kViewElevations[] = {15.0f, 30.0f};
-// The view of `samples` about `up` with the largest viewpoint entropy (Vázquez et al. 2001): the samples are
-// drawn into a small depth buffer from each candidate direction, and a visible sample counts with its projected
-// area |n·v|; the entropy of those areas (and the background's) is larger the more surface is seen and the more
-// evenly it faces the eye. Views along the principal axes of the silhouette, that flatten the shape, score low.
+// A three-quarter view: where a front is clear, the candidates lie this far from it in azimuth (the canonical
+// views of Palmer et al. 1981 and Blanz et al. 1999: the front and a side at once, neither face-on nor profile).
+constexpr float kThreeQuarterMinDeg = 20.0f, kThreeQuarterMaxDeg = 60.0f;
+// The view of `samples` about `up` among the three-quarter views of its front, by viewpoint entropy (Vázquez
+// et al. 2001) and the detail it shows: the samples are drawn into a small depth buffer from each candidate
+// direction, and a visible sample counts with its projected area |n·v|; the entropy of those areas (and the
+// background's) is larger the more surface is seen and the more evenly it faces the eye. Views along the
+// principal axes of the silhouette, that flatten the shape, score low. The front is the side from which the
+// shape hides the most of itself, turned towards the side that shows the most detail where the two agree (or
+// that side alone, on a nearly convex shape); where detail helped, a view's merit is its entropy + log₂(the
+// detail it shows / a candidate's mean), else its entropy (docs/usage.md, "The first picture").
 // Ties (a symmetric shape) keep the first of the candidate order, which starts at azimuth 30°, elevation 15°.
 ViewChoice chooseView(const ViewSamples& samples, UpAxis up);
+// How much the surface turns around each sample: 1 − |the mean of the unit normals of its 16 nearest
+// samples|, 0 where it is flat (a point-set stand-in for the mesh saliency of Lee et al. 2005: faces, hands
+// and paws score high, a smooth back low).
+std::vector<float> sampleDetail(const ViewSamples& samples);
 // One view direction (unit, from the model towards the eye; samples in the y-up frame): its viewpoint entropy
-// in bits, and the fraction of the samples facing the eye that something nearer hides.
+// in bits, the fraction of the samples facing the eye that something nearer hides, and the sum of `detail`
+// (one value a sample, or none) over the visible samples.
 struct ViewScore {
-    float entropy = 0, hidden = 0;
+    float entropy = 0, hidden = 0, detail = 0;
 };
-ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye);
+ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye, const std::vector<float>* detail = nullptr);
 
 // Sets camera.distance and camera.target so that the projected extent of `samples` (not a bounding sphere)
 // fills `fill` of the frame's width or height, whichever it reaches first, centred. The camera's angles, up
