@@ -232,7 +232,8 @@ uint32_t Device::validationErrors() const { return impl_->ctx.validationErrors.l
 ink::LineOptions toLines(const DrawingOptions& o) {
     if (!(o.hatchSpacing >= 0.001f && o.hatchSpacing <= 0.1f))
         throw Error("hatchSpacing must be in [0.001, 0.1] of the diagonal");
-    if (o.hatchFamilies < 1 || o.hatchFamilies > 2) throw Error("hatchFamilies must be 1 or 2");
+    if (o.hatchFamilies < 1 || o.hatchFamilies > ink::kMaxHatchFamilies)
+        throw Error("hatchFamilies must be 1, 2 or 3");
     ink::LineOptions l;
     l.contours = o.contours;
     l.hatching = o.hatching;

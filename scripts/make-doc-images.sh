@@ -23,7 +23,7 @@ trap 'rm -f "$svg"' EXIT
 $ink -q render assets/bunny.obj --control-points 684 --size 640 640 --hidden-lines --page A5 --margin 10 -o "$svg" \
   > /dev/null
 rsvg-convert -h 640 -b white -o $out/bunny-plot.png "$svg"
-rsvg-convert -z 8 --left=-1900 --top=-2600 --page-width 452 --page-height 640 -b white \
+rsvg-convert -z 8 --left=-3150 --top=-2656 --page-width 452 --page-height 640 -b white \
   -o $out/bunny-plot-detail.png "$svg"
 # Pen lines (docs/lines.md): contours alone, hatching (one family), cross-hatching with stipples, and the presets.
 $ink -q render assets/bunny.obj --control-points 684 --style contours --hidden-lines --size 640 640 \

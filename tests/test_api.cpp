@@ -217,6 +217,7 @@ TEST_CASE("api: a drawing's contour is the sphere's circle seen from the eye, an
     inkwell::DrawingOptions options;
     options.levels = 3;
     options.contours = options.hatching = true;
+    options.hatchFamilies = 3;
     inkwell::Drawing drawing(device, model, options);
     inkwell::Camera camera;
     camera.azimuthDeg = 0;  // the eye on +z, 1.6 diagonals (of the sphere's box, √3) away
@@ -233,19 +234,42 @@ TEST_CASE("api: a drawing's contour is the sphere's circle seen from the eye, an
     }
     std::vector<inkwell::Polyline> hatching = drawing.hatching();
     REQUIRE(hatching.size() > 20);
-    size_t families[2] = {0, 0};
+    size_t families[3] = {0, 0, 0};
     for (const inkwell::Polyline& s : hatching) {
+        REQUIRE(s.family < 3);
         ++families[s.family];
         for (const inkwell::Vec3& p : s.points) CHECK(std::abs(model.value(p)) < 1e-5);
     }
     CHECK(families[0] > 10);
     CHECK(families[1] > 10);
+    CHECK(families[2] > 10);  // the third, diagonal family
     inkwell::Look look;
     look.dots = false;
     inkwell::Image image = inkwell::Renderer(drawing, 128, 128, look).render(camera);
     size_t inked = 0;
     for (size_t i = 0; i < image.rgba.size(); i += 4) inked += image.rgba[i] < 128;
     CHECK(inked > 200);  // the circle alone is about 2π·40 pixels of pen
+    {
+        // The diagonal family inks only the darkest tones: against the same drawing with two families, the ink it
+        // adds lies on the side turned from the light (the upper left, following the camera), none towards it.
+        inkwell::DrawingOptions two = options;
+        two.hatchFamilies = 2;
+        inkwell::Drawing crossed(device, model, two);
+        const inkwell::Image a = inkwell::Renderer(crossed, 256, 256, look).render(camera);
+        const inkwell::Image b = inkwell::Renderer(drawing, 256, 256, look).render(camera);
+        REQUIRE(a.rgba.size() == b.rgba.size());
+        size_t lit = 0, dark = 0;
+        for (uint32_t y = 0; y < 256; ++y)
+            for (uint32_t x = 0; x < 256; ++x) {
+                const size_t i = 4 * (size_t(y) * 256 + x);
+                if (!(b.rgba[i] < 128 && a.rgba[i] >= 128)) continue;
+                lit += x < 128 && y < 128;    // the quarter towards the light
+                dark += x >= 128 && y >= 128;  // the quarter turned from it
+            }
+        MESSAGE("diagonal family: " << dark << " pixels added turned from the light, " << lit << " towards it");
+        CHECK(dark > 10);
+        CHECK(lit == 0);
+    }
     look.penWidth = 0;
     CHECK_THROWS_WITH_AS(inkwell::Renderer(drawing, 128, 128, look), "pen widths must be in (0, 32] pixels",
                          inkwell::Error);

@@ -82,6 +82,7 @@ TEST_CASE("hatching: on a torus the strokes are long, evenly spaced rings along 
     const ink::Model& m = torus();
     const std::vector<ink::SurfaceSample> samples = torusSamples(m, 96, 32, nullptr);
     ink::HatchOptions options;
+    options.families = 3;
     ink::HatchStats stats;
     const std::vector<ink::PenStroke> strokes = ink::traceHatching(m.surface, samples, options, &stats);
     options.field.threads = 1;
@@ -89,9 +90,10 @@ TEST_CASE("hatching: on a torus the strokes are long, evenly spaced rings along 
     REQUIRE(again.size() == strokes.size());
     for (size_t k = 0; k < strokes.size(); ++k) CHECK(again[k].points == strokes[k].points);
 
-    // Family 0 runs around the axis (|t·z| = 0, constant distance from the axis), family 1 around the tube.
-    std::vector<double> lengths[2];
-    size_t closed[2] = {0, 0}, along = 0, segments = 0;
+    // Family 0 runs around the axis (|t·z| = 0, constant distance from the axis), family 1 around the tube,
+    // family 2 (the darkest tones) diagonal to both: a helix at 45° to the rings.
+    std::vector<double> lengths[3];
+    size_t closed[3] = {0, 0, 0}, along = 0, segments = 0;
     const Vector3d axis = Vector3d::UnitZ();
     for (const ink::PenStroke& s : strokes) {
         lengths[s.family].push_back(s.length());
@@ -100,17 +102,21 @@ TEST_CASE("hatching: on a torus the strokes are long, evenly spaced rings along 
             Vector3d p = s.points[i].cast<double>(), t = (s.points[i + 1] - s.points[i]).cast<double>().normalized();
             Vector3d radial = Vector3d(p.x(), p.y(), 0).normalized(), u = axis.cross(radial);
             const double c = std::abs(t.dot(u));
-            along += s.family == 0 ? c > std::cos(10 * M_PI / 180) : c < std::sin(10 * M_PI / 180);
+            along += s.family == 0   ? c > std::cos(10 * M_PI / 180)
+                     : s.family == 1 ? c < std::sin(10 * M_PI / 180)
+                                     : std::abs(c - std::sqrt(0.5)) < std::sin(10 * M_PI / 180);
             ++segments;
         }
     }
     REQUIRE(!lengths[0].empty());
     REQUIRE(!lengths[1].empty());
+    REQUIRE(!lengths[2].empty());
     const double share = double(along) / double(segments);
     MESSAGE("torus hatching: " << stats.strokes << " strokes (" << lengths[0].size() << " around the axis, "
                                << closed[0] << " closed; " << lengths[1].size() << " around the tube, " << closed[1]
-                               << " closed), median length " << quantile(lengths[0], 0.5) << " and "
-                               << quantile(lengths[1], 0.5) << " (spacing " << options.spacing << "), " << share
+                               << " closed; " << lengths[2].size() << " diagonal), median length "
+                               << quantile(lengths[0], 0.5) << ", " << quantile(lengths[1], 0.5) << " and "
+                               << quantile(lengths[2], 0.5) << " (spacing " << options.spacing << "), " << share
                                << " of segments within 10° of their principal direction, field " << stats.fieldSeconds
                                << " s of " << stats.seconds << " s");
     CHECK(share > 0.95);
@@ -118,5 +124,7 @@ TEST_CASE("hatching: on a torus the strokes are long, evenly spaced rings along 
     // 2π (R − r) = 1.09 to 2π (R + r) = 2.19 (a ring ends a step short where it meets its own start beside it).
     CHECK(quantile(lengths[0], 0.5) > 1.0);
     CHECK(quantile(lengths[1], 0.5) > 0.45);
+    // Diagonal strokes wind round the tube and the axis at once: longer than a tube ring's quarter.
+    CHECK(quantile(lengths[2], 0.5) > 0.3);
     CHECK(stats.strokes == strokes.size());
 }

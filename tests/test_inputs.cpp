@@ -200,7 +200,7 @@ TEST_CASE("inputs: a preset's values are checked for type, size and range, namin
         {R"({"style": "contours+"})", "\"style\" is 'contours+', not parts of"},
         {R"({"contour_width": 0})", "\"contour_width\" must be in (0, 32] pixels"},
         {R"({"hatch_spacing": 0.5})", "\"hatch_spacing\" must be in [0.001, 0.1] of the diagonal"},
-        {R"({"hatch_families": 3})", "\"hatch_families\" must be an integer from 1 to 2"},
+        {R"({"hatch_families": 4})", "\"hatch_families\" must be an integer from 1 to 3"},
         {R"({"ink": "#12345"})", "\"ink\" is '#12345', not a colour"},
         {R"({"hidden_lines": 1})", "\"hidden_lines\" must be true or false"},
         {R"({"hidden_dot_size": 0})", "\"hidden_dot_size\" must be in (0, 64] pixels"},
@@ -246,7 +246,7 @@ TEST_CASE("inputs: --style parts, pen and hidden-line options are refused before
     refused(render + "--style contours --contour-width 0", {"pen widths must be in (0, 32] pixels"});
     refused(render + "--style hatching --hatch-spacing 0.5", {"--hatch-spacing must be in [0.001, 0.1]"});
     refused(render + "--style hatching --halo -1", {"--halo must be in [0, 32] pixels"});
-    refused(render + "--style hatching --hatch-families 3", {"--hatch-families"}, true);
+    refused(render + "--style hatching --hatch-families 4", {"--hatch-families"}, true);
     refused(render + "--hidden-lines --hidden-dot-size 0", {"dot sizes must be in (0, 64] pixels"});
     refused(render + "--hidden-lines --hidden-dot-size 65", {"dot sizes must be in (0, 64] pixels"});
     refused(render + "--style contours --hidden-lines --hidden-contour-width -1",

@@ -109,8 +109,8 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
                     "Spacing of the finest hatching, as a fraction of the bounding-box diagonal")
         ->capture_default_str();
     cmd->add_option("--hatch-families", o.lines.hatch.families,
-                    "Hatching families: 1, or 2 to cross the first in dark tones")
-        ->check(CLI::Range(1u, 2u))
+                    "Hatching families: 1; 2 to cross the first in dark tones; 3 to add a diagonal one in the darkest")
+        ->check(CLI::Range(1u, ink::kMaxHatchFamilies))
         ->capture_default_str();
     cmd->add_option("--size", o.size, "Image width and height in pixels")
         ->expected(2)

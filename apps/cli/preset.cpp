@@ -1,6 +1,7 @@
 #include "preset.h"
 
 #include "base/common.h"
+#include "lines/hatching.h"
 #include "refine/refine_plan.h"
 
 #include <cmath>
@@ -103,7 +104,7 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
         else if (key == "hatch_spacing")
             p.hatchSpacing = ranged(value, name, key, 0.001, 0.1, false, false, "[0.001, 0.1] of the diagonal");
         else if (key == "hatch_families")
-            p.hatchFamilies = integer(value, name, key, 1, 2);
+            p.hatchFamilies = integer(value, name, key, 1, ink::kMaxHatchFamilies);
         else if (key == "direction")
             p.direction = text(value, name, key, {"axis", "curvature-min", "curvature-max"});
         else if (key == "up")

@@ -334,6 +334,8 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
             ImGui::RadioButton("one family", &families, 1);
             ImGui::SameLine();
             ImGui::RadioButton("crossed", &families, 2);
+            ImGui::SameLine();
+            ImGui::RadioButton("+ diagonal", &families, 3);
             if (uint32_t(families) != o.lines.hatch.families) {
                 o.lines.hatch.families = uint32_t(families);
                 a.rerefine = true;

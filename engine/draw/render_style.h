@@ -47,6 +47,8 @@ struct RenderStyle {
     // The darkness (ambient + (1 − max(0, n·l))^γ) · inkDensity from which each hatching family and level shows:
     // (along, coarse), (along, fine), (across, coarse), (across, fine).
     glm::vec4 hatchThresholds{0.25f, 0.45f, 0.65f, 0.85f};
+    // The same for the third, diagonal family (coarse, fine): only the darkest tones.
+    glm::vec2 diagonalThresholds{0.9f, 0.97f};
     float hatchMinFacing = 0.1f;  // hatching where |n·v| is below this is not drawn (foreshortened strokes)
     // Where the tone and facing would show a hatching stroke over a shorter run than this (a fraction of the image's
     // shorter side: 40 pixels at 1024²), that run is not drawn: no dashes where a stroke grazes the edge of a tone.

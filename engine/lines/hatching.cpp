@@ -55,12 +55,13 @@ public:
                     continue;
                 }
                 // The queue is empty: the next sample far enough from every stroke starts a new region, along the
-                // larger principal curvature (family 0) or across it (family 1).
+                // larger principal curvature (family 0), across it (family 1) or diagonal to both (family 2).
                 bool started = false;
                 for (; sample < field_.size() && !started; ++sample) {
                     const Vector3d& n = field_.normals()[sample];
                     const Vector3d& d = field_.combed()[sample];
-                    started = tryStroke(field_.positions()[sample], family_ == 0 ? d : n.cross(d), level, dsep, &n);
+                    const Vector3d start = family_ == 0 ? d : family_ == 1 ? n.cross(d) : turned(d, n, 1.0);
+                    started = tryStroke(field_.positions()[sample], start, level, dsep, &n);
                 }
                 if (!started) break;
             }
@@ -69,10 +70,21 @@ public:
     }
 
 private:
-    // The field's direction at x (normal n) nearest `reference`; false near a singularity.
+    // `t` (tangent at normal n) turned by 45° about n, `sign` the way.
+    static Vector3d turned(const Vector3d& t, const Vector3d& n, double sign) {
+        return (t + sign * n.cross(t)) * std::sqrt(0.5);
+    }
+
+    // The field's direction at x (normal n) nearest `reference`; false near a singularity. The diagonal family
+    // follows the cross field turned by 45° (itself a cross field): the reference is turned back, matched to the
+    // field's four directions, and the match turned forward.
     bool field(const Vector3d& x, const Vector3d& n, const Vector3d& reference, Vector3d& d) const {
         double coherence = 0;
-        return field_.lookup(x, n, reference, d, &coherence) && coherence >= o_.minCoherence;
+        if (family_ < 2) return field_.lookup(x, n, reference, d, &coherence) && coherence >= o_.minCoherence;
+        const Vector3d back = turned(reference - reference.dot(n) * n, n, -1.0);
+        if (!field_.lookup(x, n, back, d, &coherence) || coherence < o_.minCoherence) return false;
+        d = turned(d, n, 1.0);
+        return true;
     }
 
     // Seeds at the separation on both sides of stroke k, each along the stroke's own direction there (tracing
@@ -174,7 +186,7 @@ private:
 std::vector<PenStroke> traceHatching(const Surface& hrbf, const CrossField& field, const HatchOptions& options,
                                      HatchStats* stats) {
     auto start = std::chrono::steady_clock::now();
-    const uint32_t families = std::clamp(options.families, 1u, 2u);
+    const uint32_t families = std::clamp(options.families, 1u, kMaxHatchFamilies);
     std::vector<std::vector<PenStroke>> traced(families);
     std::vector<std::thread> threads;
     for (uint32_t f = 1; f < families; ++f)

@@ -10,10 +10,12 @@
 
 namespace ink {
 
+constexpr uint32_t kMaxHatchFamilies = 3;  // along the field, across it, diagonal to both
+
 struct HatchOptions {
     double spacing = 0.007;  // separation of the finest level, normalized units: about 6 pixels at the default view
     double testRatio = 0.6;  // a stroke stops closer than this × its separation to another (d_test / d_sep)
-    uint32_t families = 2;   // 1: no crossing strokes
+    uint32_t families = 2;   // 1: no crossing strokes; 3: diagonal ones too, in the darkest tones
     uint32_t levels = 2;     // level k is traced at spacing · 2^(levels − 1 − k)
     double minLengthRatio = 3.0;  // strokes shorter than this × their separation are dropped
     // A stroke ends where the field's neighbours disagree (coherence below this: a singularity of the cross field)
@@ -32,7 +34,7 @@ struct HatchStats {
 
 // Streamlines of the cross field on f = 0, seeded à la Jobard & Lefer (1997): beside every accepted stroke at the
 // separation d_sep, then from the samples for what those do not reach. Family 0 starts along the larger principal
-// curvature (strokes wrap round the form), family 1 across it; along a stroke the field's four directions are
+// curvature (strokes wrap round the form), family 1 across it, family 2 at 45° to both; along a stroke the field's four directions are
 // matched to the stroke's own. Each step (spacing / 2) is projected back onto the surface by Newton steps along
 // ∇f. A stroke ends where it comes closer than d_test to another of its family (tested against a spatial hash),
 // where the field has a singularity or turns sharply, or where it closes. Families are traced in parallel.

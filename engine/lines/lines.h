@@ -22,7 +22,7 @@ struct PenStroke {
     std::vector<Eigen::Vector3f> normals;  // unit ∇f at each point
     bool closed = false;                   // the last point joins the first
     uint32_t curve = 0;                    // contours: the traced closed curve it is a piece of (pieces end at cusps)
-    uint32_t family = 0;  // hatching: 0 along the field, 1 across it (the crossing strokes of dark tones)
+    uint32_t family = 0;  // hatching: 0 along the field, 1 across it (dark tones), 2 diagonal to both (the darkest)
     uint32_t level = 0;   // hatching: 0 traced at twice the spacing, 1 filled in between (darker tones)
     double length() const;
 };

@@ -66,7 +66,8 @@ std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, StrokeBu
                 if (n.norm() > 1e-6f) normals[i] = n.normalized();
             }
         }
-        const uint32_t kind0 = hatching ? gpu::KIND_HATCH | (s.family & 1u) << 1 | (s.level & 1u) << 2 : feature;
+        const uint32_t kind0 = hatching ? gpu::KIND_HATCH | (s.family & 3u) << gpu::HATCH_FAMILY_SHIFT |
+                                           (s.level & 1u) << gpu::HATCH_LEVEL_SHIFT : feature;
         const size_t segments = m - 1 + (s.closed ? 1 : 0);
         for (size_t i = 0; i < segments; ++i) {
             // The kind, and the segments before and after this one in its stroke (every kind: lines.comp walks them).
@@ -199,6 +200,7 @@ void LineRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pix
     b.paper = s.paper;
     b.widths = glm::vec4(s.penWidth, s.hiddenPenWidth, s.hatchWidth, s.haloWidth) * pixelScale;
     b.thresholds = s.hatchThresholds;
+    b.diagonal = glm::vec4(s.diagonalThresholds, 0.0f, 0.0f);
     b.light = glm::vec4(shaderLight(s), s.toneGamma);
     b.tone = glm::vec4(s.inkDensity, s.ambient, s.hatchMinFacing, s.hatchMinRun);
     b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.hiddenLines ? 1.0f : 0.0f, 0.0f, 0.0f);

@@ -170,7 +170,7 @@ struct DrawingOptions {
     bool creases = false;
     bool boundaries = false;
     float hatchSpacing = 0.007f;  // of the bounding-box diagonal, the finest level (the coarse one is twice this)
-    uint32_t hatchFamilies = 2;   // 1, or 2 to cross the first in dark tones
+    uint32_t hatchFamilies = 2;   // 1; 2 to cross the first in dark tones; 3 with a diagonal one in the darkest
     Distribution distribution = Distribution::BlueNoise;
     uint32_t levels = 4;                // refinement levels after the seeds (each about 4× the points)
     float candidatesPerStipple = 4.0f;  // blue noise: keep about one refined point in this many (2..16)
@@ -191,7 +191,7 @@ struct Camera;  // below
 struct Polyline {
     std::vector<Vec3> points;
     bool closed = false;  // the last point joins the first
-    uint32_t family = 0;  // hatching: 0 along the field, 1 across it (dark tones)
+    uint32_t family = 0;  // hatching: 0 along the field, 1 across it (dark tones), 2 diagonal (the darkest)
     uint32_t level = 0;   // hatching: 0 the coarse spacing, 1 filled in between (darker tones)
 };
 

@@ -36,10 +36,11 @@ bool hatchWanted(uint index, out float pixels) {
     vec3 mid = 0.5 * (a + b), n = mat3(cam.view) * t2.xyz;
     pixels = -a.z > 1e-6 && -b.z > 1e-6 ? length(toPixels(project(b)) - toPixels(project(a))) : 0.0;
     float nv = dot(n, -normalize(mid));
-    uint family = (kind >> 1u) & 1u, level = (kind >> 2u) & 1u;
+    uint family = (kind >> HATCH_FAMILY_SHIFT) & 3u, level = (kind >> HATCH_LEVEL_SHIFT) & 1u;
     float lit = max(0.0, dot(lineStyle.options.x != 0.0 ? t2.xyz : n, lineStyle.light.xyz));
     float darkness = (lineStyle.tone.y + pow(1.0 - lit, max(lineStyle.light.w, 1e-3))) * lineStyle.tone.x;
-    return nv > lineStyle.tone.z && darkness > lineStyle.thresholds[family * 2u + level];
+    float threshold = family < 2u ? lineStyle.thresholds[family * 2u + level] : lineStyle.diagonal[level];
+    return nv > lineStyle.tone.z && darkness > threshold;
 }
 
 void main() {

@@ -44,11 +44,14 @@ INK_CONST uint COVERAGE_BITS = 4u;
 // The splat depth of an empty cell: FLT_MAX's bits (positive floats order as their bits do).
 INK_CONST uint FAR_DEPTH = 0x7F7FFFFFu;
 
-// Pen lines: a traced segment's kind bits (KIND_HATCH, family << 1, level << 2; KIND_CREASE, KIND_BOUNDARY; none
-// for contours), and a drawn segment's flags.
+// Pen lines: a traced segment's kind bits (KIND_HATCH, family << HATCH_FAMILY_SHIFT (2 bits: 0 along the field,
+// 1 across it, 2 diagonal), level << HATCH_LEVEL_SHIFT; KIND_CREASE, KIND_BOUNDARY; none for contours), and a
+// drawn segment's flags.
 INK_CONST uint KIND_HATCH = 1u;
-INK_CONST uint KIND_CREASE = 8u;
-INK_CONST uint KIND_BOUNDARY = 16u;
+INK_CONST uint HATCH_FAMILY_SHIFT = 1u;
+INK_CONST uint HATCH_LEVEL_SHIFT = 3u;
+INK_CONST uint KIND_CREASE = 16u;
+INK_CONST uint KIND_BOUNDARY = 32u;
 // Every segment also carries how many segments of its stroke lie before it (bits 8–15) and after it (bits 16–23),
 // each clamped to SEG_REACH: lines.comp walks along a hatching stroke to measure the run a segment is in, and
 // lines_runs.comp along a contour, crease or boundary line for the visibility around a segment.

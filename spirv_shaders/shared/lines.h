@@ -9,7 +9,7 @@
 INK_BEGIN
 
 // Traced segments, fixed in object space: LINE_TEXELS RGBA32F texels each, (p0, width factor 0), (p1, width
-// factor 1), (unit normal, kind bits: limits.h's KIND_HATCH, family << 1, level << 2, or KIND_CREASE, KIND_BOUNDARY,
+// factor 1), (unit normal, kind bits: limits.h's KIND_HATCH | family << HATCH_FAMILY_SHIFT | level << HATCH_LEVEL_SHIFT, or KIND_CREASE, KIND_BOUNDARY,
 // and the segments before and after it in its stroke).
 INK_CONST uint LINE_TEXELS = 3u;
 
@@ -33,6 +33,7 @@ struct LineStyle {
     vec4 paper;       // halos
     vec4 widths;      // pen widths in pixels: contour, hidden contour, hatching; w: halo width beyond the pen
     vec4 thresholds;  // darkness from which each hatching (family, level) shows: (0,0), (0,1), (1,0), (1,1)
+    vec4 diagonal;    // x, y: the same for the third, diagonal family (2,0), (2,1); zw unused
     vec4 light;       // xyz: unit direction towards the light (model space, or view space when options.x = 0); w: γ
     vec4 tone;        // x: ink density, y: ambient darkness, z: |n·v| below which hatching is not drawn,
                       // w: hatching whose tone shows it over a shorter run of its stroke than this fraction of the
@@ -42,9 +43,10 @@ struct LineStyle {
                       // of contour, crease and boundary lines, either way along the stroke (fraction of the
                       // shorter side)
 };
-INK_ASSERT_SIZE(LineStyle, 144);
+INK_ASSERT_SIZE(LineStyle, 160);
 INK_ASSERT_OFFSET(LineStyle, widths, 48);
-INK_ASSERT_OFFSET(LineStyle, options, 112);
+INK_ASSERT_OFFSET(LineStyle, diagonal, 80);
+INK_ASSERT_OFFSET(LineStyle, options, 128);
 
 // The push constants (std430).
 struct LineCamera {
