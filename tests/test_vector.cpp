@@ -308,6 +308,19 @@ TEST_CASE("vector: pen lines are simplified, their retraced stretches dropped an
     REQUIRE(cusp.size() == 1);
     CHECK(cusp[0].points.size() == 4);
 
+    // A stroke that runs along a kept one but leaves it for a moment (where the view crowds strokes of several
+    // families together) leaves a sliver between its retraced stretches: a pen lift for a dot, dropped with them
+    // (under kSliverTolerances tolerances, 3 pen widths); a longer excursion stays.
+    std::vector<ink::PlotPath> weave = {path({{0, 0}, {10, 0}}),
+                                        path({{0, 0}, {4, 0}, {4.1, 0.2}, {4.4, 0.2}, {4.5, 0}, {10, 0}}),
+                                        path({{0, 0}, {4, 0}, {4.5, 1}, {5.5, 1}, {6, 0}, {10, 0}})};
+    ink::dropRetraced(weave, tol);
+    REQUIRE(weave.size() == 2);
+    CHECK(weave[0].points == std::vector<glm::dvec2>{{0, 0}, {10, 0}});
+    CHECK(weave[1].length() > 2.8);  // the excursion off the kept line: 3.24 mm, less its ends within tol
+    CHECK(weave[1].length() < 3.3);
+    CHECK(ink::kSliverTolerances * tol > 0.75);  // the sliver is at most 0.75 mm long
+
     // Merged end to end within the tolerance, reversing where needed: three strokes on a line (gaps 0.05 and
     // 0.1 mm, the middle one given backwards) become one; a stroke 10 mm away stays, and so does the dot.
     paths = {path({{0, 20}, {10, 20}}), path({{20, 20}, {10.05, 20}}), path({{-10, 20}, {-0.1, 20}}),

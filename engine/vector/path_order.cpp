@@ -545,7 +545,9 @@ double dropRetraced(std::vector<PlotPath>& paths, double tolerance) {
             double len = 0;
             for (; e < subs.size() && subs[e].covered == cut; ++e)
                 len += (subs[e].t1 - subs[e].t0) * (arcs[subs[e].segment + 1] - arcs[subs[e].segment]);
-            if (cut || len < tolerance) {
+            // A sliver left between retraced stretches (a stroke weaving through others where the view crowds
+            // them, near an outline) would be a pen lift for a dot: it goes with them.
+            if (cut || len < kSliverTolerances * tolerance) {
                 dropped += len;
             } else {
                 PlotPath run;

@@ -50,9 +50,11 @@ struct PlotPrep {
 size_t simplifyPaths(std::vector<PlotPath>& paths, double tolerance, double resolution);
 
 // Drops retraced pen lines: walking the polylines in order, a stretch (sampled every tolerance / 2) that lies
-// within `tolerance` of a stretch already kept — of another polyline, or of the same one more than
-// 3·tolerance of arc length away (a stroke that doubles back) — is cut out; what is left of a cut polyline
-// and shorter than `tolerance` goes too. Returns the pen-down length dropped.
+// within `tolerance` of a stretch already kept and near parallel to it — of another polyline, or of the same one
+// more than 10·tolerance of arc length away (a stroke that doubles back) — is cut out; what is left of a cut
+// polyline and shorter than kSliverTolerances·tolerance (a sliver) goes too. Returns the pen-down length
+// dropped.
+constexpr double kSliverTolerances = 12.0;  // 3 pen widths at the default --retrace 0.25
 double dropRetraced(std::vector<PlotPath>& paths, double tolerance);
 
 // Joins polylines end to end (vpype's `linemerge`): from each polyline in turn, the nearest free end of
