@@ -379,17 +379,26 @@ TEST_CASE("viewer: without a display it says so in one line and exits 1" * docte
           "use 'inkwell render' for headless output\n");
 }
 
-TEST_CASE("viewer: opens on the chosen view, and R returns to it after an orbit" * doctest::test_suite("viewer")) {
+TEST_CASE("viewer: opens on the chosen view, R returns to it after an orbit, and U to it through the up axes" *
+          doctest::test_suite("viewer")) {
     if (skipWithoutTools(true)) return;
     TempDir dir("inkwell-viewer-reset");
-    // Orbit by dragging over the drawing, R, then "copy camera" (window coordinates as in the copy and paste test).
+    // Orbit by dragging over the drawing, R, then "copy camera" (window coordinates as in the copy and paste test);
+    // then orbit again and press U six times: through the five other up axes and back to auto (the bunny's y),
+    // which returns to its first picture; "copy camera" again.
     Run r;
-    const std::string log = driveViewer(dir, kBunny, 230, R"(
+    const std::string log = driveViewer(dir, kBunny, 230, R"SH(
 at 300 300; xdotool mousedown 1; sleep 0.3
 for x in 330 360 390 420; do xdotool mousemove --window $wid $x 340; sleep 0.2; done
 xdotool mouseup 1; sleep 0.5
 at 300 300; hold r
-at 755 588; xdotool click 1; await 'copied the camera')",
+at 755 588; xdotool click 1; await 'copied the camera'
+at 300 300; xdotool mousedown 1; sleep 0.3
+for x in 330 360 390; do xdotool mousemove --window $wid $x 340; sleep 0.2; done
+xdotool mouseup 1; sleep 0.5
+for k in 1 2 3 4 5 6; do at 300 300; hold u; done
+at 755 588; xdotool click 1
+for i in $(seq 150); do [ "$(grep -c 'copied the camera' log.txt)" -ge 2 ] && break; sleep 0.2; done)SH",
                                         r);
     INFO(r.output);
     INFO(log);
@@ -405,6 +414,9 @@ at 755 588; xdotool click 1; await 'copied the camera')",
     char expected[128];
     std::snprintf(expected, sizeof expected, "view: copied the camera {\"azimuth_deg\":%.1f,\"elevation_deg\":%.1f,",
                   azimuth, elevation);
-    CHECK(log.find(expected) != std::string::npos);
+    const size_t first = log.find(expected);
+    CHECK(first != std::string::npos);
+    // After U's round, the same camera again: up auto, the first picture.
+    CHECK(log.find(expected, first + 1) != std::string::npos);
     CHECK(log.find("exit 0") != std::string::npos);
 }

@@ -254,6 +254,7 @@ private:
     std::string pngDefault_;  // the panel's PNG file to begin with
 
     ink::Camera camera_, home_;
+    std::optional<ink::Camera> autoHome_;  // the first picture of `--up auto`, for the panel's "auto" up entry
     glm::vec3 tracedEye_{NAN}, previousEye_{NAN};  // where the contours were traced from; the last frame's eye
     DrawStyle appliedStyle_;
     ink::RefineOptions appliedRefine_;
@@ -278,6 +279,7 @@ Viewer::Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene
       surface_(surface),
       camera_(cameraFrom(o)),
       home_(camera_),
+      autoHome_(o.autoUp && o.autoView ? std::optional<ink::Camera>(camera_) : std::nullopt),
       appliedStyle_(o.style),
       appliedRefine_(o.refine),
       appliedLines_(o.lines),
@@ -429,14 +431,23 @@ void Viewer::onKey(int key, int scancode, int action, int mods) {
             break;
         case GLFW_KEY_U:  // the next up axis: y, z, x, -y, -z, -x (a z-up scan stands up in one press)
         {
+            // With `--up auto` at the start, "auto" takes the place of the axis it found: the cycle goes on from
+            // it to the next axis, and back to it (and to its first picture) where that axis would come.
             static constexpr ink::UpAxis kOrder[] = {ink::UpAxis::PosY, ink::UpAxis::PosZ, ink::UpAxis::PosX,
                                                      ink::UpAxis::NegY, ink::UpAxis::NegZ, ink::UpAxis::NegX};
             size_t k = 0;
             while (kOrder[k] != s.up) ++k;
-            s.up = kOrder[(k + 1) % 6];
-            camera_.up = home_.up = s.up;
-            o_.autoUp = false;  // chosen: a saved preset keeps it
-            restyle_ = true;    // the light is fixed to the model as seen from the default camera of this axis
+            const ink::UpAxis next = kOrder[(k + 1) % 6];
+            if (autoHome_ && !o_.autoUp && next == autoHome_->up) {
+                s.up = next;
+                camera_ = home_ = *autoHome_;
+                o_.autoUp = true;
+            } else {
+                s.up = next;
+                camera_.up = home_.up = s.up;
+                o_.autoUp = false;  // chosen: a saved preset keeps it
+            }
+            restyle_ = true;  // the light is fixed to the model as seen from the default camera of this axis
             break;
         }
         case GLFW_KEY_S:
@@ -695,6 +706,7 @@ void Viewer::buildPanel(double frameMs) {
     info.message = message_;
     info.screenshotPath = v_.screenshot.empty() ? "inkwell-view-N.png (the first free N)" : v_.screenshot;
     info.drawing = drawingExtent();
+    info.autoUp = autoHome_ ? ink::upAxisName(autoHome_->up) : nullptr;
     if (pngDefault_.empty()) pngDefault_ = nextDrawingPath();
     info.pngPath = pngDefault_;
     PanelActions a = panel_->build(o_, camera_, info);
@@ -703,6 +715,11 @@ void Viewer::buildPanel(double frameMs) {
     if (a.upChanged) {
         camera_.up = home_.up = o_.render.up;
         o_.autoUp = false;
+    }
+    if (a.upAuto && autoHome_) {
+        o_.render.up = autoHome_->up;
+        camera_ = home_ = *autoHome_;
+        o_.autoUp = true;
     }
     if (a.resetCamera) camera_ = home_;
     if (a.copyCamera) copyCamera();

@@ -38,7 +38,7 @@ constexpr const char* kHelp[][2] = {
     {"T", "tone on/off"},
     {"H", "hidden lines on/off"},
     {"O", "occlusion on/off"},
-    {"U", "the next up axis"},
+    {"U", "the next up axis (and back to auto, the first picture)"},
     {"L", "the next light direction"},
     {"S", "screenshot of the drawing"},
     {"V", "the drawing's marks as SVG (--vector)"},
@@ -52,7 +52,7 @@ constexpr const char* kHelp[][2] = {
 
 constexpr ink::UpAxis kUpOrder[] = {ink::UpAxis::PosY, ink::UpAxis::PosZ, ink::UpAxis::PosX,
                                     ink::UpAxis::NegY, ink::UpAxis::NegZ, ink::UpAxis::NegX};
-constexpr const char* kUpNames = "y\0z\0x\0-y\0-z\0-x\0";
+constexpr char kUpNames[] = "y\0z\0x\0-y\0-z\0-x\0";
 
 // A slider for a setting that needs a new refinement: the value is taken when the slider is let go (or a typed
 // value entered), not at every step of a drag. `editing` holds the value while the slider is held.
@@ -439,10 +439,20 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
                 camera.elevationDeg = std::clamp(e, -89.0f, 89.0f);
             }
         }
-        int up = int(std::find(std::begin(kUpOrder), std::end(kUpOrder), s.up) - std::begin(kUpOrder));
-        if (ImGui::Combo("up axis", &up, kUpNames)) {
-            s.up = kUpOrder[up];
-            a.upChanged = a.restyle = true;
+        // With `--up auto` at the start, the first entry returns to what it found, and to its first picture.
+        const int offset = info.autoUp ? 1 : 0;
+        const std::string names = (info.autoUp ? "auto (" + std::string(info.autoUp) + ")" + std::string(1, '\0') : "") +
+                                  std::string(kUpNames, sizeof(kUpNames) - 1);
+        int up = o.autoUp && info.autoUp
+                     ? 0
+                     : offset + int(std::find(std::begin(kUpOrder), std::end(kUpOrder), s.up) - std::begin(kUpOrder));
+        if (ImGui::Combo("up axis", &up, names.c_str())) {
+            if (up < offset) {
+                a.upAuto = a.restyle = true;
+            } else {
+                s.up = kUpOrder[up - offset];
+                a.upChanged = a.restyle = true;
+            }
         }
         ImGui::SliderFloat("field of view", &camera.fovyDeg, 10.0f, 100.0f, "%.0f deg", ImGuiSliderFlags_AlwaysClamp);
         ImGui::DragFloat("azimuth", &camera.azimuthDeg, 0.5f, 0, 0, "%.1f deg");

@@ -26,12 +26,13 @@ struct PanelInfo {
     std::string screenshotPath;     // the S key's next file
     std::string pngPath;            // the PNG file the panel offers first
     VkExtent2D drawing{0, 0};       // the drawing's size in the window
+    const char* autoUp = nullptr;   // the up axis `--up auto` found ("y", ...), when the viewer started with it
 
     bool operator==(const PanelInfo& o) const {
         return model == o.model && controlPoints == o.controlPoints && points == o.points && frameMs == o.frameMs &&
                refining == o.refining && refineProgress == o.refineProgress && std::string(task) == o.task &&
                message == o.message && screenshotPath == o.screenshotPath && pngPath == o.pngPath &&
-               drawing.width == o.drawing.width && drawing.height == o.drawing.height;
+               drawing.width == o.drawing.width && drawing.height == o.drawing.height && autoUp == o.autoUp;
     }
 };
 
@@ -42,6 +43,7 @@ struct PanelActions {
     bool resetCamera = false;
     bool copyCamera = false, pasteCamera = false;  // the camera as text on the clipboard, or from it
     bool upChanged = false;                        // the up axis changed (the camera's and the home view's)
+    bool upAuto = false;  // back to the up axis and the first picture `--up auto` chose (PanelInfo::autoUp)
     bool savePng = false;  // pngPath (.png, .svg or .pdf) at pngSize, as `inkwell render` draws it
     bool saveScreenshot = false;
     bool savePreset = false, loadPreset = false;  // presetPath
