@@ -96,6 +96,45 @@ TEST_CASE("contours: fitted meshes have their true cusps only (issue 24)" * doct
     CHECK(s.curves >= 3);
 }
 
+TEST_CASE("contours: swallowtails smaller than the pen are no cusps; the pieces either side join" *
+          doctest::test_suite("unit")) {
+    // The bunny from its first picture (330°, 15°): its fit's ripples fold the contour's image into tiny
+    // swallowtails, each a pair of cusps a few pixels apart.
+    const ink::Model bunny = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {});
+    ink::Camera camera;
+    camera.azimuthDeg = 330;
+    camera.elevationDeg = 15;
+    const glm::vec3 e = camera.eye();
+    std::vector<ink::SurfaceSample> seeds;
+    for (size_t i = 0; i < bunny.surface.size(); ++i) seeds.push_back({bunny.surface.centers[i], bunny.surface.normals[i]});
+    auto trace = [&](double minSwallowtail, ink::ContourStats& stats) {
+        ink::ContourOptions options;
+        options.minSwallowtail = minSwallowtail;
+        return ink::traceContours(bunny.surface, Vector3d(e.x, e.y, e.z), seeds, options, &stats);
+    };
+    ink::ContourStats raw, merged, all;
+    const std::vector<ink::PenStroke> rawPieces = trace(0.0, raw);
+    const std::vector<ink::PenStroke> pieces = trace(ink::ContourOptions{}.minSwallowtail, merged);
+    trace(10.0, all);  // every pair merges: at most one cusp a curve is left
+    MESSAGE("bunny contour: " << raw.cusps << " cusps, " << merged.swallowtails << " swallowtails under "
+                              << ink::ContourOptions{}.minSwallowtail << " rad merged, " << merged.cusps << " left");
+    CHECK(raw.swallowtails == 0);
+    CHECK(merged.swallowtails > 0);
+    CHECK(merged.cusps + 2 * merged.swallowtails == raw.cusps);
+    CHECK(all.cusps <= all.curves);
+    // The same curves and vertices, in fewer pieces: each merged pair joins three pieces into one (two into a
+    // closed one where a closed curve's last pair goes).
+    CHECK(merged.vertices == raw.vertices);
+    CHECK(merged.curves == raw.curves);
+    CHECK(pieces.size() + 2 * merged.swallowtails >= rawPieces.size());
+    CHECK(pieces.size() + merged.swallowtails <= rawPieces.size());
+    size_t rawPoints = 0, points = 0;
+    for (const ink::PenStroke& p : rawPieces) rawPoints += p.points.size();
+    for (const ink::PenStroke& p : pieces) points += p.points.size();
+    CHECK(points < rawPoints);  // a piece shares its end point with the next: fewer pieces, fewer shared points
+    CHECK(points + 2 * merged.swallowtails + merged.curves >= rawPoints);
+}
+
 TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of the analytic one, in few pieces" *
           doctest::test_suite("unit")) {
     const ink::Model& m = torus();

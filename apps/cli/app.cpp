@@ -713,6 +713,7 @@ json linesJson(const ink::Scene& scene) {
               {"pieces", scene.contours.size()},
               {"cusps", c.cusps},
               {"small_loops_dropped", c.smallLoops},
+              {"swallowtails_merged", c.swallowtails},
               {"seeds_tried", c.seedsTried},
               {"vertices", c.vertices},
               {"seconds", c.seconds}}}};

@@ -192,6 +192,29 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, c
             size_t j = (i + 1) % m;
             if ((across[i] < 0) != (across[j] < 0)) cusps.push_back(std::abs(across[i]) < std::abs(across[j]) ? i : j);
         }
+        // Swallowtails too small to see: a pair of cusps whose retrograde piece between them spans less than
+        // minSwallowtail of view angle (a ripple of the normal field, not the shape) is no cusp at all; the pair
+        // goes, smallest first, and the pieces either side join.
+        auto viewAngle = [&](size_t from, size_t to) {
+            double angle = 0;
+            for (size_t i = from; i != to; i = (i + 1) % m)
+                angle += ((curve[(i + 1) % m] - eye).normalized() - (curve[i] - eye).normalized()).norm();
+            return angle;
+        };
+        while (cusps.size() >= 2) {
+            size_t best = SIZE_MAX;
+            double smallest = options.minSwallowtail;
+            const size_t pairs = closed ? cusps.size() : cusps.size() - 1;
+            for (size_t k = 0; k < pairs; ++k) {
+                const double angle = viewAngle(cusps[k], cusps[(k + 1) % cusps.size()]);
+                if (angle < smallest) smallest = angle, best = k;
+            }
+            if (best == SIZE_MAX) break;
+            const size_t next = (best + 1) % cusps.size();
+            cusps.erase(cusps.begin() + std::max(best, next));
+            cusps.erase(cusps.begin() + std::min(best, next));
+            ++s.swallowtails;
+        }
         s.cusps += cusps.size();
         auto piece = [&](size_t from, size_t count, bool isClosed) {
             PenStroke p;

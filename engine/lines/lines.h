@@ -45,11 +45,16 @@ struct ContourOptions {
     // Closed curves shorter than this (normalized units; about 10 pixels at the default view) are dropped: the
     // contour of a bump too small to read, which the pen would draw as a blot.
     double minLoopLength = 0.012;
+    // A pair of cusps whose retrograde piece spans less than this view angle (radians; about 4 pixels, two widths
+    // of the default contour pen, at the default 1024² view) is a swallowtail too small to see, made by a ripple
+    // of the surface's normals: both go and the pieces either side join.
+    double minSwallowtail = 0.003;
 };
 
 struct ContourStats {
     size_t seedsTried = 0, curves = 0, closedCurves = 0, pieces = 0, cusps = 0, vertices = 0;
-    size_t smallLoops = 0;  // closed curves under minLoopLength, dropped
+    size_t smallLoops = 0;    // closed curves under minLoopLength, dropped
+    size_t swallowtails = 0;  // cusp pairs under minSwallowtail, merged away (not in `cusps`)
     double seconds = 0;
 };
 
