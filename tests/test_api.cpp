@@ -263,7 +263,7 @@ TEST_CASE("api: a drawing's contour is the sphere's circle seen from the eye, an
             for (uint32_t x = 0; x < 256; ++x) {
                 const size_t i = 4 * (size_t(y) * 256 + x);
                 if (!(b.rgba[i] < 128 && a.rgba[i] >= 128)) continue;
-                lit += x < 128 && y < 128;    // the quarter towards the light
+                lit += x < 128 && y < 128;     // the quarter towards the light
                 dark += x >= 128 && y >= 128;  // the quarter turned from it
             }
         MESSAGE("diagonal family: " << dark << " pixels added turned from the light, " << lit << " towards it");

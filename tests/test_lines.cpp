@@ -106,7 +106,8 @@ TEST_CASE("contours: swallowtails smaller than the pen are no cusps; the pieces 
     camera.elevationDeg = 15;
     const glm::vec3 e = camera.eye();
     std::vector<ink::SurfaceSample> seeds;
-    for (size_t i = 0; i < bunny.surface.size(); ++i) seeds.push_back({bunny.surface.centers[i], bunny.surface.normals[i]});
+    for (size_t i = 0; i < bunny.surface.size(); ++i)
+        seeds.push_back({bunny.surface.centers[i], bunny.surface.normals[i]});
     auto trace = [&](double minSwallowtail, ink::ContourStats& stats) {
         ink::ContourOptions options;
         options.minSwallowtail = minSwallowtail;

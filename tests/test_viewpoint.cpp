@@ -152,7 +152,8 @@ TEST_CASE("viewpoint: a sphere with detail on one side is seen from that side, a
             const glm::vec3 p(r * std::cos(a), y, r * std::sin(a));
             glm::vec3 normal = p;
             if (glm::dot(p, face) > 0.7f)
-                normal = glm::normalize(p + ripples * glm::vec3(std::sin(40 * p.y), std::sin(40 * p.z), std::sin(40 * p.x)));
+                normal =
+                    glm::normalize(p + ripples * glm::vec3(std::sin(40 * p.y), std::sin(40 * p.z), std::sin(40 * p.x)));
             s.positions.push_back(0.4f * p);
             s.normals.push_back(normal);
         }
@@ -177,8 +178,10 @@ TEST_CASE("viewpoint: a sphere with detail on one side is seen from that side, a
     double even = 0, cap = 0;
     size_t nEven = 0, nCap = 0;
     for (size_t i = 0; i < d.size(); ++i)
-        if (s.positions[i].x > 0.4f * 0.8f) cap += d[i], ++nCap;
-        else if (s.positions[i].x < 0) even += d[i], ++nEven;
+        if (s.positions[i].x > 0.4f * 0.8f)
+            cap += d[i], ++nCap;
+        else if (s.positions[i].x < 0)
+            even += d[i], ++nEven;
     CHECK(even / double(nEven) < 0.01);
     CHECK(cap / double(nCap) > 10 * even / double(nEven));
 }

@@ -254,7 +254,7 @@ private:
     std::string pngDefault_;  // the panel's PNG file to begin with
 
     ink::Camera camera_, home_;
-    std::optional<ink::Camera> autoHome_;  // the first picture of `--up auto`, for the panel's "auto" up entry
+    std::optional<ink::Camera> autoHome_;          // the first picture of `--up auto`, for the panel's "auto" up entry
     glm::vec3 tracedEye_{NAN}, previousEye_{NAN};  // where the contours were traced from; the last frame's eye
     DrawStyle appliedStyle_;
     ink::RefineOptions appliedRefine_;

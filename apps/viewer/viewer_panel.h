@@ -43,7 +43,7 @@ struct PanelActions {
     bool resetCamera = false;
     bool copyCamera = false, pasteCamera = false;  // the camera as text on the clipboard, or from it
     bool upChanged = false;                        // the up axis changed (the camera's and the home view's)
-    bool upAuto = false;  // back to the up axis and the first picture `--up auto` chose (PanelInfo::autoUp)
+    bool upAuto = false;   // back to the up axis and the first picture `--up auto` chose (PanelInfo::autoUp)
     bool savePng = false;  // pngPath (.png, .svg or .pdf) at pngSize, as `inkwell render` draws it
     bool saveScreenshot = false;
     bool savePreset = false, loadPreset = false;  // presetPath

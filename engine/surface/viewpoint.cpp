@@ -268,8 +268,7 @@ ViewChoice chooseView(const ViewSamples& samples, UpAxis up) {
             if (sided && (off < kThreeQuarterMinDeg || off > kThreeQuarterMaxDeg)) continue;
             const ViewScore& score = scores[e][k];
             if (!(score.entropy > 0)) continue;
-            const float merit =
-                score.entropy + (faced ? std::log2(std::max(score.detail, 1e-3f * mean) / mean) : 0.0f);
+            const float merit = score.entropy + (faced ? std::log2(std::max(score.detail, 1e-3f * mean) / mean) : 0.0f);
             if (merit > bestMerit + 1e-4f) {
                 bestMerit = merit;
                 best.azimuthDeg = azimuth;

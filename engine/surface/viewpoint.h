@@ -70,7 +70,8 @@ std::vector<float> sampleDetail(const ViewSamples& samples);
 struct ViewScore {
     float entropy = 0, hidden = 0, detail = 0;
 };
-ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye, const std::vector<float>* detail = nullptr);
+ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye,
+                    const std::vector<float>* detail = nullptr);
 
 // Sets camera.distance and camera.target so that the projected extent of `samples` (not a bounding sphere)
 // fills `fill` of the frame's width or height, whichever it reaches first, centred. The camera's angles, up
