@@ -1,6 +1,7 @@
 // The public API (include/inkwell/inkwell.h) over the engine: each public object owns the engine object it
 // names, and long calls install the caller's Reporter for their duration.
 #include "inkwell/inkwell.h"
+#include "inkwell/ranges.h"
 
 #include "base/common.h"
 #include "base/files.h"
@@ -39,28 +40,32 @@ ink::Camera toCamera(const Camera& c) {
     return camera;
 }
 
-// Every value of a Look against its range (the command line's, apps/cli/app.cpp): one Error naming the field.
+// A value against its range of the one table (include/inkwell/ranges.h): "tau must be in [0, 1)".
+template <class T>
+void checkRange(const Range& range, T value, const std::string& what) {
+    if (!range.contains(value)) throw Error(what + " must be in " + range.text());
+}
+
+// Every value of a Look against its range (the one table the command line checks too): one Error naming the
+// field.
 void checkLook(const Look& look) {
     for (const Color* c : {&look.ink, &look.paper})
         for (float v : *c)
             if (!(v >= 0 && v <= 1))
                 throw Error(std::string(c == &look.ink ? "ink" : "paper") + " colour components must be in [0, 1]");
-    if (!(look.dotSize > 0 && look.dotSize <= 64)) throw Error("dotSize must be in (0, 64] pixels");
-    if (!(look.silhouetteSize > 0 && look.silhouetteSize <= 64))
-        throw Error("silhouetteSize must be in (0, 64] pixels");
-    if (!(look.tau >= 0 && look.tau < 1)) throw Error("tau must be in [0, 1)");
-    if (!(look.toneGamma >= 0 && look.toneGamma <= 16)) throw Error("toneGamma must be in [0, 16]");
-    if (!(look.inkDensity >= 0 && look.inkDensity <= 100)) throw Error("inkDensity must be in [0, 100]");
-    if (!(look.hiddenOpacity >= 0 && look.hiddenOpacity <= 1)) throw Error("hiddenOpacity must be in [0, 1]");
-    if (!(look.hiddenDotSize > 0 && look.hiddenDotSize <= 64)) throw Error("hiddenDotSize must be in (0, 64] pixels");
-    if (!(look.penWidth > 0 && look.penWidth <= 32 && look.hatchWidth > 0 && look.hatchWidth <= 32 &&
-          look.hiddenPenWidth > 0 && look.hiddenPenWidth <= 32 && look.creaseWidth > 0 && look.creaseWidth <= 32 &&
-          look.boundaryWidth > 0 && look.boundaryWidth <= 32))
-        throw Error("pen widths must be in (0, 32] pixels");
-    if (!(look.halo >= 0 && look.halo <= 32)) throw Error("halo must be in [0, 32] pixels");
+    checkRange(ranges::dotSize, look.dotSize, "dotSize");
+    checkRange(ranges::dotSize, look.silhouetteSize, "silhouetteSize");
+    checkRange(ranges::tau, look.tau, "tau");
+    checkRange(ranges::toneGamma, look.toneGamma, "toneGamma");
+    checkRange(ranges::inkDensity, look.inkDensity, "inkDensity");
+    checkRange(ranges::hiddenOpacity, look.hiddenOpacity, "hiddenOpacity");
+    checkRange(ranges::dotSize, look.hiddenDotSize, "hiddenDotSize");
+    for (float width : {look.penWidth, look.hatchWidth, look.hiddenPenWidth, look.creaseWidth, look.boundaryWidth})
+        checkRange(ranges::penWidth, width, "pen widths");
+    checkRange(ranges::halo, look.halo, "halo");
     const float light = std::hypot(look.light[0], look.light[1], look.light[2]);
     if (!(light > 0) || !std::isfinite(light)) throw Error("light must be a finite, non-zero vector");
-    if (look.supersample < 1 || look.supersample > 4) throw Error("supersample must be 1 to 4");
+    if (!ranges::supersample.contains(look.supersample)) throw Error("supersample must be 1 to 4");
 }
 
 ink::RenderStyle toStyle(const Look& look) {
@@ -93,8 +98,7 @@ ink::RefineOptions toRefine(const DrawingOptions& o) {
     if (o.levels >= ink::kMaxLevels)
         throw Error("levels " + std::to_string(o.levels) + " is too many: at most " +
                     std::to_string(ink::kMaxLevels - 1));
-    if (!(o.candidatesPerStipple >= 2.0f && o.candidatesPerStipple <= 16.0f))
-        throw Error("candidatesPerStipple must be in [2, 16]");
+    checkRange(ranges::candidatesPerStipple, o.candidatesPerStipple, "candidatesPerStipple");
     ink::RefineOptions r;
     r.levels = o.levels;
     r.seed = o.seed;
@@ -230,10 +234,8 @@ uint32_t Device::validationErrors() const { return impl_->ctx.validationErrors.l
 // ---- Drawing
 
 ink::LineOptions toLines(const DrawingOptions& o) {
-    if (!(o.hatchSpacing >= 0.001f && o.hatchSpacing <= 0.1f))
-        throw Error("hatchSpacing must be in [0.001, 0.1] of the diagonal");
-    if (o.hatchFamilies < 1 || o.hatchFamilies > ink::kMaxHatchFamilies)
-        throw Error("hatchFamilies must be 1, 2 or 3");
+    checkRange(ranges::hatchSpacing, o.hatchSpacing, "hatchSpacing");
+    if (!ranges::hatchFamilies.contains(o.hatchFamilies)) throw Error("hatchFamilies must be 1, 2 or 3");
     ink::LineOptions l;
     l.contours = o.contours;
     l.hatching = o.hatching;

@@ -3,6 +3,7 @@
 // non-regular input files and OBJ blanks (docs/robustness.md). Each case failed before its fix.
 #include "base/common.h"
 #include "base/image.h"
+#include "inkwell/ranges.h"
 #include "io/hrbf_io.h"
 #include "io/points.h"
 #include "run_command.h"
@@ -253,6 +254,45 @@ TEST_CASE("inputs: --style parts, pen and hidden-line options are refused before
             {"pen widths must be in (0, 32] pixels"});
     refused(render + "--hidden-lines --hidden-opacity 1.5", {"--hidden-opacity must be in [0, 1]"});
     refused(render + "--hidden-lines --hidden-opacity nan", {"--hidden-opacity must be in [0, 1]"});
+    CHECK_FALSE(fs::exists(dir / "out.png"));
+}
+
+TEST_CASE("inputs: the command line and presets check one table of ranges, and quote it" * doctest::test_suite("cli")) {
+    // include/inkwell/ranges.h: each value just outside its range (or on an open end) is refused by the option
+    // and by the preset key alike, before any work, with the table's text of the range.
+    TempDir dir;
+    const std::string render = "render " + kBunny + " --style contours+hatching+stipple -o " + (dir / "out.png") + " ";
+    struct Case {
+        const char *option, *key;
+        inkwell::Range range;
+    };
+    namespace ranges = inkwell::ranges;
+    const Case cases[] = {{"--dot-size", "dot_size", ranges::dotSize},
+                          {"--tau", "tau", ranges::tau},
+                          {"--tone", "tone", ranges::toneGamma},
+                          {"--ink-density", "ink_density", ranges::inkDensity},
+                          {"--contour-width", "contour_width", ranges::penWidth},
+                          {"--halo", "halo", ranges::halo},
+                          {"--hatch-spacing", "hatch_spacing", ranges::hatchSpacing},
+                          {"--hidden-opacity", "hidden_opacity", ranges::hiddenOpacity}};
+    for (const Case& c : cases) {
+        const std::string text = c.range.text();
+        for (double v : {c.range.openLow ? c.range.lo : c.range.lo - 0.5 * c.range.lo - 0.01,
+                         c.range.openHigh ? c.range.hi : c.range.hi * 1.5 + 0.01}) {
+            CAPTURE(v);
+            CHECK_FALSE(c.range.contains(v));
+            std::ostringstream value;
+            value << v;
+            refused(render + c.option + " " + value.str(), {"must be in " + text});
+            const std::string preset = dir.write("p.json", "{\"" + std::string(c.key) + "\": " + value.str() + "}");
+            refused(render + "--preset " + preset, {"\"" + std::string(c.key) + "\" must be in " + text});
+        }
+    }
+    CHECK(ranges::penWidth.text() == "(0, 32] pixels");
+    CHECK(ranges::tau.text() == "[0, 1)");
+    CHECK(ranges::hatchSpacing.text() == "[0.001, 0.1] of the diagonal");
+    CHECK(ranges::hatchSpacing.contains(0.1f));  // a float's bounds are the floats nearest them
+    CHECK_FALSE(ranges::tau.contains(std::nan("")));
     CHECK_FALSE(fs::exists(dir / "out.png"));
 }
 

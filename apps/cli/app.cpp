@@ -2,6 +2,7 @@
 
 #include "base/files.h"
 #include "base/image.h"
+#include "inkwell/ranges.h"
 #include "preset.h"
 #include "refine/spacing.h"
 
@@ -15,6 +16,15 @@
 #include <tuple>
 
 namespace app {
+
+// A value outside its range of the one table (include/inkwell/ranges.h): "--tau must be in [0, 1)".
+template <class T>
+static void checkRange(const inkwell::Range& range, T value, const std::string& what) {
+    if (!range.contains(value)) throw ink::Error(what + " must be in " + range.text());
+}
+// The same for CLI11, as it checks an option's text (closed ranges): of counts, and of numbers.
+static CLI::Range countRange(const inkwell::Range& range) { return CLI::Range(uint32_t(range.lo), uint32_t(range.hi)); }
+static CLI::Range numberRange(const inkwell::Range& range) { return CLI::Range(float(range.lo), float(range.hi)); }
 
 ink::ModelOptions modelOptions(const Options& o) {
     return {o.controlPoints, o.fit == "global" ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity,
@@ -55,7 +65,7 @@ void addRefineOptions(CLI::App* cmd, Options& o) {
     cmd->add_option(
            "--passes", r.passes,
            "Independent sets of children of the seeds (default: 1 for blue-noise stipples, else the report's 2)")
-        ->check(CLI::Range(1u, 64u));
+        ->check(countRange(inkwell::ranges::passes));
     cmd->add_option("--direction", o.direction, "Direction field of direction sampling")
         ->check(CLI::IsMember({"axis", "curvature-min", "curvature-max"}))
         ->capture_default_str();
@@ -78,7 +88,7 @@ void addRefineOptions(CLI::App* cmd, Options& o) {
         ->capture_default_str();
     cmd->add_option("--candidates-per-stipple", r.candidatesPerStipple,
                     "Blue-noise selection: keep about one refined point in this many (2-16)")
-        ->check(CLI::Range(2.0f, 16.0f))
+        ->check(numberRange(inkwell::ranges::candidatesPerStipple))
         ->capture_default_str();
     cmd->add_option("--keep-levels", o.keepLevels, "Keep all levels or only the last")
         ->check(CLI::IsMember({"all", "last"}))
@@ -110,7 +120,7 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
         ->capture_default_str();
     cmd->add_option("--hatch-families", o.lines.hatch.families,
                     "Hatching families: 1; 2 to cross the first in dark tones; 3 to add a diagonal one in the darkest")
-        ->check(CLI::Range(1u, ink::kMaxHatchFamilies))
+        ->check(countRange(inkwell::ranges::hatchFamilies))
         ->capture_default_str();
     cmd->add_option("--size", o.size, "Image width and height in pixels")
         ->expected(2)
@@ -151,7 +161,7 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
         ->capture_default_str();
     cmd->add_flag("!--no-occlusion", s.occlusion, "Skip the splat depth pre-pass (dots behind the surface show)");
     cmd->add_option("--supersample", s.supersample, "Render this many times larger and filter down (1-4)")
-        ->check(CLI::Range(1u, 4u))
+        ->check(countRange(inkwell::ranges::supersample))
         ->capture_default_str();
     cmd->add_option("--preset", o.preset, "Style preset, a JSON file (docs/usage.md, Presets); options given win");
 }
@@ -339,20 +349,19 @@ void finishOptions(Options& o) {
             throw ink::Error("--light must be a non-zero vector");
         o.render.light = l;
     }
+    // The ranges' one table: include/inkwell/ranges.h.
+    namespace ranges = inkwell::ranges;
     for (float v : {o.render.frontSize, o.render.silhouetteSize, o.render.hiddenSize})
-        if (!(v > 0 && v <= 64)) throw ink::Error("dot sizes must be in (0, 64] pixels");
-    if (!(o.render.tau >= 0 && o.render.tau < 1)) throw ink::Error("--tau must be in [0, 1)");
+        checkRange(ranges::dotSize, v, "dot sizes");
+    checkRange(ranges::tau, o.render.tau, "--tau");
     for (float v : {o.render.penWidth, o.render.hatchWidth, o.render.hiddenPenWidth, o.render.creaseWidth,
                     o.render.boundaryWidth})
-        if (!(v > 0 && v <= 32)) throw ink::Error("pen widths must be in (0, 32] pixels");
-    if (!(o.render.hiddenInk.a >= 0 && o.render.hiddenInk.a <= 1))
-        throw ink::Error("--hidden-opacity must be in [0, 1]");
-    if (!(o.render.haloWidth >= 0 && o.render.haloWidth <= 32)) throw ink::Error("--halo must be in [0, 32] pixels");
-    if (!(o.lines.hatch.spacing >= 0.001 && o.lines.hatch.spacing <= 0.1))
-        throw ink::Error("--hatch-spacing must be in [0.001, 0.1] of the diagonal");
-    if (!(o.render.toneGamma >= 0 && o.render.toneGamma <= 16)) throw ink::Error("--tone must be in [0, 16]");
-    if (!(o.render.inkDensity >= 0 && o.render.inkDensity <= 100))
-        throw ink::Error("--ink-density must be in [0, 100]");
+        checkRange(ranges::penWidth, v, "pen widths");
+    checkRange(ranges::hiddenOpacity, o.render.hiddenInk.a, "--hidden-opacity");
+    checkRange(ranges::halo, o.render.haloWidth, "--halo");
+    checkRange(ranges::hatchSpacing, o.lines.hatch.spacing, "--hatch-spacing");
+    checkRange(ranges::toneGamma, o.render.toneGamma, "--tone");
+    checkRange(ranges::inkDensity, o.render.inkDensity, "--ink-density");
     // The device-independent limit here, before any work; what fits the device is checked once it is known.
     if (o.refine.levels >= ink::kMaxLevels)
         throw ink::Error("--levels " + std::to_string(o.refine.levels) + " is too many: at most " +
@@ -373,14 +382,12 @@ void finishOptions(Options& o) {
         o.page.orientation = !explicitSize     ? ink::Orientation::Auto
                              : page.x > page.y ? ink::Orientation::Landscape
                                                : ink::Orientation::Portrait;
-    if (!(o.page.simplify >= 0 && o.page.simplify <= 1)) throw ink::Error("--simplify must be in [0, 1] pen widths");
-    if (!(o.page.retrace >= 0 && o.page.retrace <= 1)) throw ink::Error("--retrace must be in [0, 1] pen widths");
-    if (!(o.page.merge >= 0 && o.page.merge <= 2)) throw ink::Error("--merge must be in [0, 2] pen widths");
-    if (!(o.page.drawSpeed > 0 && o.page.drawSpeed <= 10000))
-        throw ink::Error("--plot-speed must be in (0, 10000] mm/s");
-    if (!(o.page.travelSpeed > 0 && o.page.travelSpeed <= 10000))
-        throw ink::Error("--travel-speed must be in (0, 10000] mm/s");
-    if (!(o.page.liftSeconds >= 0 && o.page.liftSeconds <= 60)) throw ink::Error("--lift-time must be in [0, 60] s");
+    checkRange(ranges::simplify, o.page.simplify, "--simplify");
+    checkRange(ranges::retrace, o.page.retrace, "--retrace");
+    checkRange(ranges::merge, o.page.merge, "--merge");
+    checkRange(ranges::plotSpeed, o.page.drawSpeed, "--plot-speed");
+    checkRange(ranges::plotSpeed, o.page.travelSpeed, "--travel-speed");
+    checkRange(ranges::liftTime, o.page.liftSeconds, "--lift-time");
     if (!(o.page.penWidth >= ink::kMinPenWidth && o.page.penWidth <= ink::kMaxPenWidth))
         throw ink::Error("--pen-width must be in [0.001, 10] mm (kMinPenWidth: the files give a micrometre)");
     // The view fits within the margins; it must be wider and taller than the pen (layoutPlot checks the view

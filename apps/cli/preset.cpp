@@ -1,7 +1,7 @@
 #include "preset.h"
 
 #include "base/common.h"
-#include "lines/hatching.h"
+#include "inkwell/ranges.h"
 #include "refine/refine_plan.h"
 
 #include <cmath>
@@ -38,11 +38,10 @@ double number(const json& value, const std::string& name, const std::string& key
     return v;
 }
 
-float ranged(const json& value, const std::string& name, const std::string& key, double lo, double hi, bool openLow,
-             bool openHigh, const char* range) {
+// A number within its range of the one table (include/inkwell/ranges.h).
+float ranged(const json& value, const std::string& name, const std::string& key, const inkwell::Range& range) {
     double v = number(value, name, key);
-    if ((openLow ? !(v > lo) : !(v >= lo)) || (openHigh ? !(v < hi) : !(v <= hi)))
-        fail(name, key, std::string("must be in ") + range);
+    if (!range.contains(v)) fail(name, key, "must be in " + range.text());
     return float(v);
 }
 
@@ -52,6 +51,10 @@ uint32_t integer(const json& value, const std::string& name, const std::string& 
     double v = value.get<double>();  // 1e20 and 2.5 are numbers too: checked before any cast
     if (!(v >= lo && v <= hi) || v != std::floor(v)) fail(name, key, "must be " + range);
     return uint32_t(v);
+}
+
+uint32_t integer(const json& value, const std::string& name, const std::string& key, const inkwell::Range& range) {
+    return integer(value, name, key, uint32_t(range.lo), uint32_t(range.hi));
 }
 
 std::string colour(const json& value, const std::string& name, const std::string& key) {
@@ -88,23 +91,23 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
                              ", not parts of stipple, direction, both, contours, hatching joined by '+'");
             }
         } else if (key == "contour_width")
-            p.contourWidth = ranged(value, name, key, 0, 32, true, false, "(0, 32] pixels");
+            p.contourWidth = ranged(value, name, key, inkwell::ranges::penWidth);
         else if (key == "hatch_width")
-            p.hatchWidth = ranged(value, name, key, 0, 32, true, false, "(0, 32] pixels");
+            p.hatchWidth = ranged(value, name, key, inkwell::ranges::penWidth);
         else if (key == "crease_width")
-            p.creaseWidth = ranged(value, name, key, 0, 32, true, false, "(0, 32] pixels");
+            p.creaseWidth = ranged(value, name, key, inkwell::ranges::penWidth);
         else if (key == "boundary_width")
-            p.boundaryWidth = ranged(value, name, key, 0, 32, true, false, "(0, 32] pixels");
+            p.boundaryWidth = ranged(value, name, key, inkwell::ranges::penWidth);
         else if (key == "creases")
             p.creases = text(value, name, key, {"auto", "on", "off"});
         else if (key == "boundaries")
             p.boundaries = text(value, name, key, {"auto", "on", "off"});
         else if (key == "halo")
-            p.halo = ranged(value, name, key, 0, 32, false, false, "[0, 32] pixels");
+            p.halo = ranged(value, name, key, inkwell::ranges::halo);
         else if (key == "hatch_spacing")
-            p.hatchSpacing = ranged(value, name, key, 0.001, 0.1, false, false, "[0.001, 0.1] of the diagonal");
+            p.hatchSpacing = ranged(value, name, key, inkwell::ranges::hatchSpacing);
         else if (key == "hatch_families")
-            p.hatchFamilies = integer(value, name, key, 1, ink::kMaxHatchFamilies);
+            p.hatchFamilies = integer(value, name, key, inkwell::ranges::hatchFamilies);
         else if (key == "direction")
             p.direction = text(value, name, key, {"axis", "curvature-min", "curvature-max"});
         else if (key == "up")
@@ -114,15 +117,15 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
         else if (key == "paper")
             p.paper = colour(value, name, key);
         else if (key == "dot_size")
-            p.dotSize = ranged(value, name, key, 0, 64, true, false, "(0, 64] pixels");
+            p.dotSize = ranged(value, name, key, inkwell::ranges::dotSize);
         else if (key == "silhouette_size")
-            p.silhouetteSize = ranged(value, name, key, 0, 64, true, false, "(0, 64] pixels");
+            p.silhouetteSize = ranged(value, name, key, inkwell::ranges::dotSize);
         else if (key == "tau")
-            p.tau = ranged(value, name, key, 0, 1, false, true, "[0, 1)");
+            p.tau = ranged(value, name, key, inkwell::ranges::tau);
         else if (key == "tone")
-            p.tone = ranged(value, name, key, 0, 16, false, false, "[0, 16]");
+            p.tone = ranged(value, name, key, inkwell::ranges::toneGamma);
         else if (key == "ink_density")
-            p.inkDensity = ranged(value, name, key, 0, 100, false, false, "[0, 100]");
+            p.inkDensity = ranged(value, name, key, inkwell::ranges::inkDensity);
         else if (key == "light_fixed") {
             if (!value.is_boolean()) fail(name, key, "must be true or false");
             p.lightFixed = value.get<bool>();
@@ -130,11 +133,11 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
             if (!value.is_boolean()) fail(name, key, "must be true or false");
             p.hiddenLines = value.get<bool>();
         } else if (key == "hidden_dot_size")
-            p.hiddenDotSize = ranged(value, name, key, 0, 64, true, false, "(0, 64] pixels");
+            p.hiddenDotSize = ranged(value, name, key, inkwell::ranges::dotSize);
         else if (key == "hidden_contour_width")
-            p.hiddenContourWidth = ranged(value, name, key, 0, 32, true, false, "(0, 32] pixels");
+            p.hiddenContourWidth = ranged(value, name, key, inkwell::ranges::penWidth);
         else if (key == "hidden_opacity")
-            p.hiddenOpacity = ranged(value, name, key, 0, 1, false, false, "[0, 1]");
+            p.hiddenOpacity = ranged(value, name, key, inkwell::ranges::hiddenOpacity);
         else if (key == "light") {
             if (!value.is_array() || value.size() != 3) fail(name, key, "must be an array of 3 numbers [x, y, z]");
             std::vector<float> l;
@@ -150,7 +153,7 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
         } else if (key == "levels")
             p.levels = integer(value, name, key, 0, ink::kMaxLevels - 1);
         else if (key == "passes")
-            p.passes = integer(value, name, key, 1, 64);
+            p.passes = integer(value, name, key, inkwell::ranges::passes);
         else
             throw ink::Error("preset '" + name + "': unknown key " + ink::quoted(key));
     }

@@ -3,6 +3,8 @@
 // loaded (the drawing is in it), ending in PRESENT_SRC_KHR.
 #include "viewer_panel.h"
 
+#include "inkwell/ranges.h"
+
 #include "../cli/preset.h"
 
 #include <backends/imgui_impl_glfw.h>
@@ -53,6 +55,35 @@ constexpr const char* kHelp[][2] = {
 constexpr ink::UpAxis kUpOrder[] = {ink::UpAxis::PosY, ink::UpAxis::PosZ, ink::UpAxis::PosX,
                                     ink::UpAxis::NegY, ink::UpAxis::NegZ, ink::UpAxis::NegX};
 constexpr char kUpNames[] = "y\0z\0x\0-y\0-z\0-x\0";
+
+// The sliders span the usual part of each setting's range; every span lies within the range of the one table
+// the command line, the presets and the API check against (include/inkwell/ranges.h), at compile time.
+struct Span {
+    float lo, hi;
+};
+constexpr bool within(const inkwell::Range& range, Span span) {
+    return range.contains(span.lo) && range.contains(span.hi);
+}
+constexpr Span kToneSpan{0.1f, 8.0f};
+static_assert(within(inkwell::ranges::toneGamma, kToneSpan));
+constexpr Span kInkDensitySpan{0.0f, 4.0f};
+static_assert(within(inkwell::ranges::inkDensity, kInkDensitySpan));
+constexpr Span kDotSpan{0.5f, 8.0f};
+static_assert(within(inkwell::ranges::dotSize, kDotSpan));
+constexpr Span kTauSpan{0.0f, 0.9f};
+static_assert(within(inkwell::ranges::tau, kTauSpan));
+constexpr Span kContourPenSpan{0.25f, 12.0f};
+static_assert(within(inkwell::ranges::penWidth, kContourPenSpan));
+constexpr Span kHaloSpan{0.0f, 16.0f};
+static_assert(within(inkwell::ranges::halo, kHaloSpan));
+constexpr Span kFinePenSpan{0.25f, 8.0f};
+static_assert(within(inkwell::ranges::penWidth, kFinePenSpan));
+constexpr Span kHiddenDotSpan{0.25f, 8.0f};
+static_assert(within(inkwell::ranges::dotSize, kHiddenDotSpan));
+constexpr Span kHiddenInkSpan{0.05f, 1.0f};
+static_assert(within(inkwell::ranges::hiddenOpacity, kHiddenInkSpan));
+constexpr Span kHatchSpacingSpan{0.002f, 0.05f};
+static_assert(within(inkwell::ranges::hatchSpacing, kHatchSpacingSpan));
 
 // A slider for a setting that needs a new refinement: the value is taken when the slider is let go (or a typed
 // value entered), not at every step of a drag. `editing` holds the value while the slider is held.
@@ -328,7 +359,8 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
             }
         }
         if (o.lines.hatching) {
-            a.rerefine |= sliderOnRelease("hatch spacing", o.lines.hatch.spacing, 0.002f, 0.05f, "%.4f", spacingEdit_);
+            a.rerefine |= sliderOnRelease("hatch spacing", o.lines.hatch.spacing, kHatchSpacingSpan.lo,
+                                          kHatchSpacingSpan.hi, "%.4f", spacingEdit_);
             if (ImGui::IsItemHovered()) ImGui::SetTooltip("of the finest hatching, a fraction of the diagonal");
             int families = int(o.lines.hatch.families);
             ImGui::RadioButton("one family", &families, 1);
@@ -368,38 +400,40 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
             changed = true;
         }
         if (tone) {
-            changed |= ImGui::SliderFloat("tone curve (gamma)", &s.toneGamma, 0.1f, 8.0f, "%.2f",
+            changed |= ImGui::SliderFloat("tone curve (gamma)", &s.toneGamma, kToneSpan.lo, kToneSpan.hi, "%.2f",
                                           ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic);
-            changed |=
-                ImGui::SliderFloat("ink density", &s.inkDensity, 0.0f, 4.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+            changed |= ImGui::SliderFloat("ink density", &s.inkDensity, kInkDensitySpan.lo, kInkDensitySpan.hi, "%.2f",
+                                          ImGuiSliderFlags_AlwaysClamp);
         }
         if (s.drawDots) {  // the dots' own settings
-            changed |=
-                ImGui::SliderFloat("dot size (px)", &s.frontSize, 0.5f, 8.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
-            changed |= ImGui::SliderFloat("silhouette (px)", &s.silhouetteSize, 0.5f, 8.0f, "%.2f",
+            changed |= ImGui::SliderFloat("dot size (px)", &s.frontSize, kDotSpan.lo, kDotSpan.hi, "%.2f",
                                           ImGuiSliderFlags_AlwaysClamp);
-            changed |= ImGui::SliderFloat("tau (silhouette)", &s.tau, 0.0f, 0.9f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+            changed |= ImGui::SliderFloat("silhouette (px)", &s.silhouetteSize, kDotSpan.lo, kDotSpan.hi, "%.2f",
+                                          ImGuiSliderFlags_AlwaysClamp);
+            changed |= ImGui::SliderFloat("tau (silhouette)", &s.tau, kTauSpan.lo, kTauSpan.hi, "%.2f",
+                                          ImGuiSliderFlags_AlwaysClamp);
         }
         if (o.lines.contours) {
-            changed |=
-                ImGui::SliderFloat("contour pen (px)", &s.penWidth, 0.25f, 12.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
-            changed |= ImGui::SliderFloat("halo (px)", &s.haloWidth, 0.0f, 16.0f, "%.1f", ImGuiSliderFlags_AlwaysClamp);
+            changed |= ImGui::SliderFloat("contour pen (px)", &s.penWidth, kContourPenSpan.lo, kContourPenSpan.hi,
+                                          "%.2f", ImGuiSliderFlags_AlwaysClamp);
+            changed |= ImGui::SliderFloat("halo (px)", &s.haloWidth, kHaloSpan.lo, kHaloSpan.hi, "%.1f",
+                                          ImGuiSliderFlags_AlwaysClamp);
         }
         if (o.lines.hatching)
-            changed |=
-                ImGui::SliderFloat("hatch pen (px)", &s.hatchWidth, 0.25f, 8.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+            changed |= ImGui::SliderFloat("hatch pen (px)", &s.hatchWidth, kFinePenSpan.lo, kFinePenSpan.hi, "%.2f",
+                                          ImGuiSliderFlags_AlwaysClamp);
         changed |= ImGui::Checkbox("hidden lines", &s.hiddenLines);
         ImGui::SameLine();
         changed |= ImGui::Checkbox("occlusion", &s.occlusion);
         if (s.hiddenLines) {
             if (s.drawDots)
-                changed |= ImGui::SliderFloat("hidden dots (px)", &s.hiddenSize, 0.25f, 8.0f, "%.2f",
-                                              ImGuiSliderFlags_AlwaysClamp);
+                changed |= ImGui::SliderFloat("hidden dots (px)", &s.hiddenSize, kHiddenDotSpan.lo, kHiddenDotSpan.hi,
+                                              "%.2f", ImGuiSliderFlags_AlwaysClamp);
             if (o.lines.contours)
-                changed |= ImGui::SliderFloat("hidden pen (px)", &s.hiddenPenWidth, 0.25f, 8.0f, "%.2f",
-                                              ImGuiSliderFlags_AlwaysClamp);
-            changed |=
-                ImGui::SliderFloat("hidden ink", &s.hiddenInk.a, 0.05f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+                changed |= ImGui::SliderFloat("hidden pen (px)", &s.hiddenPenWidth, kFinePenSpan.lo, kFinePenSpan.hi,
+                                              "%.2f", ImGuiSliderFlags_AlwaysClamp);
+            changed |= ImGui::SliderFloat("hidden ink", &s.hiddenInk.a, kHiddenInkSpan.lo, kHiddenInkSpan.hi, "%.2f",
+                                          ImGuiSliderFlags_AlwaysClamp);
             if (ImGui::IsItemHovered()) ImGui::SetTooltip("how much of the ink the hidden lines take (opacity)");
         }
         // The light as two angles: around the view axis from straight ahead, and up from the horizon.
@@ -441,8 +475,9 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
         }
         // With `--up auto` at the start, the first entry returns to what it found, and to its first picture.
         const int offset = info.autoUp ? 1 : 0;
-        const std::string names = (info.autoUp ? "auto (" + std::string(info.autoUp) + ")" + std::string(1, '\0') : "") +
-                                  std::string(kUpNames, sizeof(kUpNames) - 1);
+        const std::string names =
+            (info.autoUp ? "auto (" + std::string(info.autoUp) + ")" + std::string(1, '\0') : "") +
+            std::string(kUpNames, sizeof(kUpNames) - 1);
         int up = o.autoUp && info.autoUp
                      ? 0
                      : offset + int(std::find(std::begin(kUpOrder), std::end(kUpOrder), s.up) - std::begin(kUpOrder));
@@ -524,10 +559,10 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
             o.creases = creases ? "on" : "off";
             o.boundaries = boundaries ? "on" : "off";
         }
-        a.restyle |=
-            ImGui::SliderFloat("crease pen (px)", &s.creaseWidth, 0.25f, 12.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
-        a.restyle |= ImGui::SliderFloat("boundary pen (px)", &s.boundaryWidth, 0.25f, 12.0f, "%.2f",
-                                        ImGuiSliderFlags_AlwaysClamp);
+        a.restyle |= ImGui::SliderFloat("crease pen (px)", &s.creaseWidth, kContourPenSpan.lo, kContourPenSpan.hi,
+                                        "%.2f", ImGuiSliderFlags_AlwaysClamp);
+        a.restyle |= ImGui::SliderFloat("boundary pen (px)", &s.boundaryWidth, kContourPenSpan.lo, kContourPenSpan.hi,
+                                        "%.2f", ImGuiSliderFlags_AlwaysClamp);
     }
     if (!info.message.empty()) {
         ImGui::Separator();

@@ -3,6 +3,7 @@
 // which strokes show, by tone and visibility (lines.comp). No Vulkan here.
 #pragma once
 
+#include "inkwell/ranges.h"
 #include "lines/cross_field.h"
 #include "lines/lines.h"
 
@@ -10,7 +11,8 @@
 
 namespace ink {
 
-constexpr uint32_t kMaxHatchFamilies = 3;  // along the field, across it, diagonal to both
+// Along the field, across it, diagonal to both (the ranges' table, include/inkwell/ranges.h).
+constexpr uint32_t kMaxHatchFamilies = uint32_t(inkwell::ranges::hatchFamilies.hi);
 
 struct HatchOptions {
     double spacing = 0.007;  // separation of the finest level, normalized units: about 6 pixels at the default view
@@ -34,10 +36,10 @@ struct HatchStats {
 
 // Streamlines of the cross field on f = 0, seeded à la Jobard & Lefer (1997): beside every accepted stroke at the
 // separation d_sep, then from the samples for what those do not reach. Family 0 starts along the larger principal
-// curvature (strokes wrap round the form), family 1 across it, family 2 at 45° to both; along a stroke the field's four directions are
-// matched to the stroke's own. Each step (spacing / 2) is projected back onto the surface by Newton steps along
-// ∇f. A stroke ends where it comes closer than d_test to another of its family (tested against a spatial hash),
-// where the field has a singularity or turns sharply, or where it closes. Families are traced in parallel.
+// curvature (strokes wrap round the form), family 1 across it, family 2 at 45° to both; along a stroke the field's four
+// directions are matched to the stroke's own. Each step (spacing / 2) is projected back onto the surface by Newton
+// steps along ∇f. A stroke ends where it comes closer than d_test to another of its family (tested against a spatial
+// hash), where the field has a singularity or turns sharply, or where it closes. Families are traced in parallel.
 std::vector<PenStroke> traceHatching(const Surface& hrbf, const std::vector<SurfaceSample>& samples,
                                      const HatchOptions& options = {}, HatchStats* stats = nullptr);
 
