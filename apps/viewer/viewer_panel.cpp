@@ -57,33 +57,25 @@ constexpr ink::UpAxis kUpOrder[] = {ink::UpAxis::PosY, ink::UpAxis::PosZ, ink::U
 constexpr char kUpNames[] = "y\0z\0x\0-y\0-z\0-x\0";
 
 // The sliders span the usual part of each setting's range; every span lies within the range of the one table
-// the command line, the presets and the API check against (include/inkwell/ranges.h), at compile time.
+// the command line, the presets and the API check against (include/inkwell/ranges.h): a span outside does not
+// compile (the consteval constructor throws).
 struct Span {
     float lo, hi;
+    consteval Span(const inkwell::Range& range, float low, float high) : lo(low), hi(high) {
+        if (!range.contains(low) || !range.contains(high)) throw "a slider's span lies outside its range";
+    }
 };
-constexpr bool within(const inkwell::Range& range, Span span) {
-    return range.contains(span.lo) && range.contains(span.hi);
-}
-constexpr Span kToneSpan{0.1f, 8.0f};
-static_assert(within(inkwell::ranges::toneGamma, kToneSpan));
-constexpr Span kInkDensitySpan{0.0f, 4.0f};
-static_assert(within(inkwell::ranges::inkDensity, kInkDensitySpan));
-constexpr Span kDotSpan{0.5f, 8.0f};
-static_assert(within(inkwell::ranges::dotSize, kDotSpan));
-constexpr Span kTauSpan{0.0f, 0.9f};
-static_assert(within(inkwell::ranges::tau, kTauSpan));
-constexpr Span kContourPenSpan{0.25f, 12.0f};
-static_assert(within(inkwell::ranges::penWidth, kContourPenSpan));
-constexpr Span kHaloSpan{0.0f, 16.0f};
-static_assert(within(inkwell::ranges::halo, kHaloSpan));
-constexpr Span kFinePenSpan{0.25f, 8.0f};
-static_assert(within(inkwell::ranges::penWidth, kFinePenSpan));
-constexpr Span kHiddenDotSpan{0.25f, 8.0f};
-static_assert(within(inkwell::ranges::dotSize, kHiddenDotSpan));
-constexpr Span kHiddenInkSpan{0.05f, 1.0f};
-static_assert(within(inkwell::ranges::hiddenOpacity, kHiddenInkSpan));
-constexpr Span kHatchSpacingSpan{0.002f, 0.05f};
-static_assert(within(inkwell::ranges::hatchSpacing, kHatchSpacingSpan));
+namespace ranges = inkwell::ranges;
+constexpr Span kToneSpan{ranges::toneGamma, 0.1f, 8.0f};
+constexpr Span kInkDensitySpan{ranges::inkDensity, 0.0f, 4.0f};
+constexpr Span kDotSpan{ranges::dotSize, 0.5f, 8.0f};
+constexpr Span kTauSpan{ranges::tau, 0.0f, 0.9f};
+constexpr Span kContourPenSpan{ranges::penWidth, 0.25f, 12.0f};
+constexpr Span kHaloSpan{ranges::halo, 0.0f, 16.0f};
+constexpr Span kFinePenSpan{ranges::penWidth, 0.25f, 8.0f};
+constexpr Span kHiddenDotSpan{ranges::dotSize, 0.25f, 8.0f};
+constexpr Span kHiddenInkSpan{ranges::hiddenOpacity, 0.05f, 1.0f};
+constexpr Span kHatchSpacingSpan{ranges::hatchSpacing, 0.002f, 0.05f};
 
 // A slider for a setting that needs a new refinement: the value is taken when the slider is let go (or a typed
 // value entered), not at every step of a drag. `editing` holds the value while the slider is held.
