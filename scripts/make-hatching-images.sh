@@ -16,7 +16,7 @@ draw() {  # draw MODEL NAME [options...]
   rsvg-convert -w 480 -b white -o "$out/$name.png" "$work/$name.svg"
 }
 draw assets/bunny.obj hatching-bunny
-draw assets/bunny.obj hatching-bunny-diagonal --hatch-families 3  # a third, diagonal family in the darkest tones
+draw assets/bunny.obj hatching-bunny-two --hatch-families 2  # without the third, diagonal family of the darkest tones
 data=/usr/share/doc/libcgal-dev/data.tar.gz
 if [ -f "$data" ]; then
   tar -xzf "$data" -C "$work" data/meshes/fandisk.off data/meshes/elephant.off data/meshes/knot1.off

@@ -321,6 +321,16 @@ TEST_CASE("vector: pen lines are simplified, their retraced stretches dropped an
     CHECK(weave[1].length() < 3.3);
     CHECK(ink::kSliverTolerances * tol > 0.75);  // the sliver is at most 0.75 mm long
 
+    // Strokes crossing at a shallow angle (two hatching families 45° apart on a surface the view foreshortens:
+    // 20° on the page) are no retrace: both stay whole (with 30° "near parallel" the crossing was cut out).
+    // Only below 15° do they count as parallel, and a crossing's covered run, 2·tol / sin 15° = 7.7·tol, is still
+    // under the 8·tol a cut needs.
+    const double slope = std::tan(20.0 * M_PI / 180.0);
+    std::vector<ink::PlotPath> crossing = {path({{0, 0}, {10, 0}}), path({{0, -5 * slope}, {10, 5 * slope}})};
+    CHECK(ink::dropRetraced(crossing, tol) == 0);
+    REQUIRE(crossing.size() == 2);
+    CHECK(crossing[1].points.size() == 2);
+
     // Merged end to end within the tolerance, reversing where needed: three strokes on a line (gaps 0.05 and
     // 0.1 mm, the middle one given backwards) become one; a stroke 10 mm away stays, and so does the dot.
     paths = {path({{0, 20}, {10, 20}}), path({{20, 20}, {10.05, 20}}), path({{-10, 20}, {-0.1, 20}}),

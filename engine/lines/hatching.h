@@ -17,7 +17,7 @@ constexpr uint32_t kMaxHatchFamilies = uint32_t(inkwell::ranges::hatchFamilies.h
 struct HatchOptions {
     double spacing = 0.007;  // separation of the finest level, normalized units: about 6 pixels at the default view
     double testRatio = 0.6;  // a stroke stops closer than this × its separation to another (d_test / d_sep)
-    uint32_t families = 2;   // 1: no crossing strokes; 3: diagonal ones too, in the darkest tones
+    uint32_t families = 3;   // 1: no crossing strokes; 2: no diagonal ones in the darkest tones
     uint32_t levels = 2;     // level k is traced at spacing · 2^(levels − 1 − k)
     double minLengthRatio = 3.0;  // strokes shorter than this × their separation are dropped
     // A stroke ends where the field's neighbours disagree (coherence below this: a singularity of the cross field)

@@ -201,7 +201,7 @@ void LineRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pix
     b.paper = s.paper;
     b.widths = glm::vec4(s.penWidth, s.hiddenPenWidth, s.hatchWidth, s.haloWidth) * pixelScale;
     b.thresholds = s.hatchThresholds;
-    b.diagonal = glm::vec4(s.diagonalThresholds, 0.0f, 0.0f);
+    b.diagonal = glm::vec4(s.diagonalThresholds, s.diagonalMinFacing, 0.0f);
     b.light = glm::vec4(shaderLight(s), s.toneGamma);
     b.tone = glm::vec4(s.inkDensity, s.ambient, s.hatchMinFacing, s.hatchMinRun);
     b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.hiddenLines ? 1.0f : 0.0f, 0.0f, 0.0f);

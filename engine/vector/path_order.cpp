@@ -442,7 +442,11 @@ double dropRetraced(std::vector<PlotPath>& paths, double tolerance) {
             last = c;
         }
     };
-    const double cosParallel = std::cos(30.0 * M_PI / 180.0);
+    // Near parallel: within 15°. Strokes crossing at a shallow angle (hatching families where the view
+    // foreshortens the surface: 45° apart on it, 20° on the page) stay within the tolerance for a few tolerances
+    // at each crossing; with 30° those crossings were cut out, chopping the strokes into dashes. A crossing at
+    // 15° or more stays within it for at most 2·tol / sin 15° = 7.7·tol, under the 8·tol a cut needs (below).
+    const double cosParallel = std::cos(15.0 * M_PI / 180.0);
     // A path's own stretch within this many tolerances of arc length does not count as drawn before: at a cusp
     // of a contour the curve folds back along itself for a few tolerances (0.3 mm on the torus's inner contour
     // with a 0.3 mm pen), and cutting the fold there split one stroke into pieces with a gap at every cusp.
@@ -516,7 +520,8 @@ double dropRetraced(std::vector<PlotPath>& paths, double tolerance) {
                 k = e + 1;
             }
         }
-        // Covered runs shorter than 2·tolerance stay (a crossing, a closed curve's joint).
+        // Covered runs shorter than 8·tolerance (2 pen widths at the default --retrace) stay: a crossing, a
+        // closed curve's joint; a retrace runs along a kept line for longer.
         bool anyCut = false;
         for (size_t k = 0; k < subs.size();) {
             if (!subs[k].covered) {
@@ -527,7 +532,7 @@ double dropRetraced(std::vector<PlotPath>& paths, double tolerance) {
             double len = 0;
             for (; e < subs.size() && subs[e].covered; ++e)
                 len += (subs[e].t1 - subs[e].t0) * (arcs[subs[e].segment + 1] - arcs[subs[e].segment]);
-            if (len < 2 * tolerance)
+            if (len < 8 * tolerance)
                 for (size_t j = k; j < e; ++j) subs[j].covered = false;
             else
                 anyCut = true;

@@ -49,9 +49,10 @@ struct PlotPrep {
 // than `resolution` are dropped. Returns the points removed.
 size_t simplifyPaths(std::vector<PlotPath>& paths, double tolerance, double resolution);
 
-// Drops retraced pen lines: walking the polylines in order, a stretch (sampled every tolerance / 2) that lies
-// within `tolerance` of a stretch already kept and near parallel to it — of another polyline, or of the same one
-// more than 10·tolerance of arc length away (a stroke that doubles back) — is cut out; what is left of a cut
+// Drops retraced pen lines: walking the polylines in order, a stretch (sampled every tolerance / 2) at least
+// 8·tolerance long that lies within `tolerance` of a stretch already kept and within 15° of parallel to it — of
+// another polyline, or of the same one more than 10·tolerance of arc length away (a stroke that doubles back) —
+// is cut out (a crossing, even a shallow one, is not); what is left of a cut
 // polyline and shorter than kSliverTolerances·tolerance (a sliver) goes too. Returns the pen-down length
 // dropped.
 constexpr double kSliverTolerances = 12.0;  // 3 pen widths at the default --retrace 0.25

@@ -170,7 +170,7 @@ struct DrawingOptions {
     bool creases = false;
     bool boundaries = false;
     float hatchSpacing = 0.007f;  // of the bounding-box diagonal, the finest level (the coarse one is twice this)
-    uint32_t hatchFamilies = 2;   // 1; 2 to cross the first in dark tones; 3 with a diagonal one in the darkest
+    uint32_t hatchFamilies = 3;   // 1; 2 to cross the first in dark tones; 3 with a diagonal one in the darkest
     Distribution distribution = Distribution::BlueNoise;
     uint32_t levels = 4;                // refinement levels after the seeds (each about 4× the points)
     float candidatesPerStipple = 4.0f;  // blue noise: keep about one refined point in this many (2..16)

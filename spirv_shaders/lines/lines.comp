@@ -40,7 +40,9 @@ bool hatchWanted(uint index, out float pixels) {
     float lit = max(0.0, dot(lineStyle.options.x != 0.0 ? t2.xyz : n, lineStyle.light.xyz));
     float darkness = (lineStyle.tone.y + pow(1.0 - lit, max(lineStyle.light.w, 1e-3))) * lineStyle.tone.x;
     float threshold = family < 2u ? lineStyle.thresholds[family * 2u + level] : lineStyle.diagonal[level];
-    return nv > lineStyle.tone.z && darkness > threshold;
+    // The diagonal family needs the surface turned towards the eye more (diagonal.z): beside an outline the view
+    // crowds three families into one grey, and the diagonal's runs there come out short.
+    return nv > (family < 2u ? lineStyle.tone.z : lineStyle.diagonal.z) && darkness > threshold;
 }
 
 void main() {

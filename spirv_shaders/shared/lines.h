@@ -33,7 +33,8 @@ struct LineStyle {
     vec4 paper;       // halos
     vec4 widths;      // pen widths in pixels: contour, hidden contour, hatching; w: halo width beyond the pen
     vec4 thresholds;  // darkness from which each hatching (family, level) shows: (0,0), (0,1), (1,0), (1,1)
-    vec4 diagonal;    // x, y: the same for the third, diagonal family (2,0), (2,1); zw unused
+    vec4 diagonal;    // x, y: the same for the third, diagonal family (2,0), (2,1); z: its |n·v| below which it
+                      // is not drawn; w unused
     vec4 light;       // xyz: unit direction towards the light (model space, or view space when options.x = 0); w: γ
     vec4 tone;        // x: ink density, y: ambient darkness, z: |n·v| below which hatching is not drawn,
                       // w: hatching whose tone shows it over a shorter run of its stroke than this fraction of the
