@@ -50,7 +50,7 @@ struct RenderStyle {
     // The same for the third, diagonal family (coarse, fine): only the darkest tones.
     glm::vec2 diagonalThresholds{0.9f, 0.97f};
     float diagonalMinFacing = 0.3f;  // as hatchMinFacing, for the diagonal family
-    float hatchMinFacing = 0.1f;  // hatching where |n·v| is below this is not drawn (foreshortened strokes)
+    float hatchMinFacing = 0.1f;     // hatching where |n·v| is below this is not drawn (foreshortened strokes)
     // Where the tone and facing would show a hatching stroke over a shorter run than this (a fraction of the image's
     // shorter side: 40 pixels at 1024²), that run is not drawn: no dashes where a stroke grazes the edge of a tone.
     float hatchMinRun = 0.04f;
