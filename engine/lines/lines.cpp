@@ -9,7 +9,9 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <queue>
 #include <thread>
+#include <tuple>
 #include <unordered_map>
 
 namespace ink {
@@ -70,6 +72,57 @@ bool contourNewton(const Surface& hrbf, const Vector3d& eye, Vector3d& x, double
 
 bool projectToContour(const Surface& hrbf, const Vector3d& eye, Vector3d& x) {
     return contourNewton(hrbf, eye, x, 0.05);
+}
+
+// Swallowtails too small to see: a pair of cusps whose retrograde piece between them spans less than
+// `threshold` of view angle (a ripple of the normal field, not the shape) is no cusp at all. The pair goes,
+// smallest first, and the pieces either side join: their view angles add. A heap and a linked list keep it
+// O(c log c) in the cusps and O(m) in the vertices, however rough the surface. Returns the pairs removed.
+static size_t mergeSwallowtails(const std::vector<Vector3d>& curve, const Vector3d& eye, bool closed, double threshold,
+                                std::vector<size_t>& cusps) {
+    const size_t c = cusps.size(), m = curve.size();
+    if (c < 2) return 0;
+    constexpr size_t kNone = SIZE_MAX;
+    // Cusp k's piece runs to cusp next[k] (none past an open curve's last cusp); angle[k] is its view angle.
+    std::vector<size_t> prev(c), next(c);
+    std::vector<double> angle(c, 0.0);
+    std::vector<uint32_t> version(c, 0);
+    std::vector<bool> gone(c, false);
+    for (size_t k = 0; k < c; ++k) {
+        prev[k] = k > 0 ? k - 1 : (closed ? c - 1 : kNone);
+        next[k] = k + 1 < c ? k + 1 : (closed ? 0 : kNone);
+        if (next[k] == kNone) continue;
+        for (size_t i = cusps[k]; i != cusps[next[k]]; i = (i + 1) % m)
+            angle[k] += ((curve[(i + 1) % m] - eye).normalized() - (curve[i] - eye).normalized()).norm();
+    }
+    using Entry = std::tuple<double, size_t, uint32_t>;  // angle, cusp, version
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
+    for (size_t k = 0; k < c; ++k)
+        if (next[k] != kNone && angle[k] < threshold) heap.push({angle[k], k, 0});
+    size_t left = c, merged = 0;
+    while (!heap.empty() && left >= 2) {
+        const auto [a, k, v] = heap.top();
+        heap.pop();
+        if (gone[k] || v != version[k] || next[k] == kNone) continue;
+        const size_t j = next[k], p = prev[k], q = next[j];
+        gone[k] = gone[j] = true;
+        left -= 2;
+        ++merged;
+        if (left == 0) break;
+        // The piece from p (or the curve's start) now runs past k and j to q (or the curve's end).
+        if (p != kNone) {
+            next[p] = q;
+            if (q != kNone) angle[p] += angle[k] + angle[j];
+            ++version[p];
+            if (q != kNone && left >= 2 && angle[p] < threshold) heap.push({angle[p], p, version[p]});
+        }
+        if (q != kNone) prev[q] = p;
+    }
+    std::vector<size_t> kept;
+    for (size_t k = 0; k < c; ++k)
+        if (!gone[k]) kept.push_back(cusps[k]);
+    cusps = std::move(kept);
+    return merged;
 }
 
 std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, const std::vector<SurfaceSample>& seeds,
@@ -192,29 +245,7 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, c
             size_t j = (i + 1) % m;
             if ((across[i] < 0) != (across[j] < 0)) cusps.push_back(std::abs(across[i]) < std::abs(across[j]) ? i : j);
         }
-        // Swallowtails too small to see: a pair of cusps whose retrograde piece between them spans less than
-        // minSwallowtail of view angle (a ripple of the normal field, not the shape) is no cusp at all; the pair
-        // goes, smallest first, and the pieces either side join.
-        auto viewAngle = [&](size_t from, size_t to) {
-            double angle = 0;
-            for (size_t i = from; i != to; i = (i + 1) % m)
-                angle += ((curve[(i + 1) % m] - eye).normalized() - (curve[i] - eye).normalized()).norm();
-            return angle;
-        };
-        while (cusps.size() >= 2) {
-            size_t best = SIZE_MAX;
-            double smallest = options.minSwallowtail;
-            const size_t pairs = closed ? cusps.size() : cusps.size() - 1;
-            for (size_t k = 0; k < pairs; ++k) {
-                const double angle = viewAngle(cusps[k], cusps[(k + 1) % cusps.size()]);
-                if (angle < smallest) smallest = angle, best = k;
-            }
-            if (best == SIZE_MAX) break;
-            const size_t next = (best + 1) % cusps.size();
-            cusps.erase(cusps.begin() + std::max(best, next));
-            cusps.erase(cusps.begin() + std::min(best, next));
-            ++s.swallowtails;
-        }
+        s.swallowtails += mergeSwallowtails(curve, eye, closed, options.minSwallowtail, cusps);
         s.cusps += cusps.size();
         auto piece = [&](size_t from, size_t count, bool isClosed) {
             PenStroke p;
