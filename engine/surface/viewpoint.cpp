@@ -239,7 +239,7 @@ ViewChoice chooseView(const ViewSamples& samples, UpAxis up) {
     // of the hidden fractions around the circle. Where the side that shows the most detail (a face, hands; the
     // resultant of the visible detail, against its mean) is clearly on the same half of the circle, the front
     // turns halfway towards it: self-occlusion finds the front's half, detail where in it the face is (the
-    // bunny's hidden-side front is 45° off its face, its detail side 10°).
+    // bunny's hidden-side front is about 40° off its face, its detail side about 20°).
     const float mean = float(detailSum / (E * kViewAzimuths));  // a candidate's visible detail, on average
     const float contrast = mean > 0 ? glm::length(detailed) / mean : 0.0f;
     const float clear = 0.02f * kViewAzimuths;
