@@ -281,11 +281,13 @@ TEST_CASE("inputs: the command line and presets check one table of ranges, and q
                          c.range.openHigh ? c.range.hi : c.range.hi * 1.5 + 0.01}) {
             CAPTURE(v);
             CHECK_FALSE(c.range.contains(v));
-            std::ostringstream value;
+            std::ostringstream value, json, message;
             value << v;
+            json << "{\"" << c.key << "\": " << v << "}";
+            message << "\"" << c.key << "\" must be in " << text;
             refused(render + c.option + " " + value.str(), {"must be in " + text});
-            const std::string preset = dir.write("p.json", "{\"" + std::string(c.key) + "\": " + value.str() + "}");
-            refused(render + "--preset " + preset, {"\"" + std::string(c.key) + "\" must be in " + text});
+            const std::string preset = dir.write("p.json", json.str());
+            refused(render + "--preset " + preset, {message.str()});
         }
     }
     CHECK(ranges::penWidth.text() == "(0, 32] pixels");
