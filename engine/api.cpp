@@ -40,12 +40,6 @@ ink::Camera toCamera(const Camera& c) {
     return camera;
 }
 
-// A value against its range of the one table (include/inkwell/ranges.h): "tau must be in [0, 1)".
-template <class T>
-void checkRange(const Range& range, T value, const std::string& what) {
-    if (!range.contains(value)) throw Error(what + " must be in " + range.text());
-}
-
 // Every value of a Look against its range (the one table the command line checks too): one Error naming the
 // field.
 void checkLook(const Look& look) {
@@ -53,16 +47,16 @@ void checkLook(const Look& look) {
         for (float v : *c)
             if (!(v >= 0 && v <= 1))
                 throw Error(std::string(c == &look.ink ? "ink" : "paper") + " colour components must be in [0, 1]");
-    checkRange(ranges::dotSize, look.dotSize, "dotSize");
-    checkRange(ranges::dotSize, look.silhouetteSize, "silhouetteSize");
-    checkRange(ranges::tau, look.tau, "tau");
-    checkRange(ranges::toneGamma, look.toneGamma, "toneGamma");
-    checkRange(ranges::inkDensity, look.inkDensity, "inkDensity");
-    checkRange(ranges::hiddenOpacity, look.hiddenOpacity, "hiddenOpacity");
-    checkRange(ranges::dotSize, look.hiddenDotSize, "hiddenDotSize");
+    ranges::dotSize.check(look.dotSize, "dotSize");
+    ranges::dotSize.check(look.silhouetteSize, "silhouetteSize");
+    ranges::tau.check(look.tau, "tau");
+    ranges::toneGamma.check(look.toneGamma, "toneGamma");
+    ranges::inkDensity.check(look.inkDensity, "inkDensity");
+    ranges::hiddenOpacity.check(look.hiddenOpacity, "hiddenOpacity");
+    ranges::dotSize.check(look.hiddenDotSize, "hiddenDotSize");
     for (float width : {look.penWidth, look.hatchWidth, look.hiddenPenWidth, look.creaseWidth, look.boundaryWidth})
-        checkRange(ranges::penWidth, width, "pen widths");
-    checkRange(ranges::halo, look.halo, "halo");
+        ranges::penWidth.check(width, "pen widths");
+    ranges::halo.check(look.halo, "halo");
     const float light = std::hypot(look.light[0], look.light[1], look.light[2]);
     if (!(light > 0) || !std::isfinite(light)) throw Error("light must be a finite, non-zero vector");
     if (!ranges::supersample.contains(look.supersample)) throw Error("supersample must be 1 to 4");
@@ -98,7 +92,7 @@ ink::RefineOptions toRefine(const DrawingOptions& o) {
     if (o.levels >= ink::kMaxLevels)
         throw Error("levels " + std::to_string(o.levels) + " is too many: at most " +
                     std::to_string(ink::kMaxLevels - 1));
-    checkRange(ranges::candidatesPerStipple, o.candidatesPerStipple, "candidatesPerStipple");
+    ranges::candidatesPerStipple.check(o.candidatesPerStipple, "candidatesPerStipple");
     ink::RefineOptions r;
     r.levels = o.levels;
     r.seed = o.seed;
@@ -234,7 +228,7 @@ uint32_t Device::validationErrors() const { return impl_->ctx.validationErrors.l
 // ---- Drawing
 
 ink::LineOptions toLines(const DrawingOptions& o) {
-    checkRange(ranges::hatchSpacing, o.hatchSpacing, "hatchSpacing");
+    ranges::hatchSpacing.check(o.hatchSpacing, "hatchSpacing");
     if (!ranges::hatchFamilies.contains(o.hatchFamilies)) throw Error("hatchFamilies must be 1, 2 or 3");
     ink::LineOptions l;
     l.contours = o.contours;

@@ -17,12 +17,8 @@
 
 namespace app {
 
-// A value outside its range of the one table (include/inkwell/ranges.h): "--tau must be in [0, 1)".
-template <class T>
-static void checkRange(const inkwell::Range& range, T value, const std::string& what) {
-    if (!range.contains(value)) throw ink::Error(what + " must be in " + range.text());
-}
-// The same for CLI11, as it checks an option's text (closed ranges): of counts, and of numbers.
+// A range of the one table (include/inkwell/ranges.h) for CLI11, as it checks an option's text (closed
+// ranges only): of counts, and of numbers.
 static CLI::Range countRange(const inkwell::Range& range) { return CLI::Range(uint32_t(range.lo), uint32_t(range.hi)); }
 static CLI::Range numberRange(const inkwell::Range& range) { return CLI::Range(float(range.lo), float(range.hi)); }
 
@@ -352,16 +348,16 @@ void finishOptions(Options& o) {
     // The ranges' one table: include/inkwell/ranges.h.
     namespace ranges = inkwell::ranges;
     for (float v : {o.render.frontSize, o.render.silhouetteSize, o.render.hiddenSize})
-        checkRange(ranges::dotSize, v, "dot sizes");
-    checkRange(ranges::tau, o.render.tau, "--tau");
+        ranges::dotSize.check(v, "dot sizes");
+    ranges::tau.check(o.render.tau, "--tau");
     for (float v : {o.render.penWidth, o.render.hatchWidth, o.render.hiddenPenWidth, o.render.creaseWidth,
                     o.render.boundaryWidth})
-        checkRange(ranges::penWidth, v, "pen widths");
-    checkRange(ranges::hiddenOpacity, o.render.hiddenInk.a, "--hidden-opacity");
-    checkRange(ranges::halo, o.render.haloWidth, "--halo");
-    checkRange(ranges::hatchSpacing, o.lines.hatch.spacing, "--hatch-spacing");
-    checkRange(ranges::toneGamma, o.render.toneGamma, "--tone");
-    checkRange(ranges::inkDensity, o.render.inkDensity, "--ink-density");
+        ranges::penWidth.check(v, "pen widths");
+    ranges::hiddenOpacity.check(o.render.hiddenInk.a, "--hidden-opacity");
+    ranges::halo.check(o.render.haloWidth, "--halo");
+    ranges::hatchSpacing.check(o.lines.hatch.spacing, "--hatch-spacing");
+    ranges::toneGamma.check(o.render.toneGamma, "--tone");
+    ranges::inkDensity.check(o.render.inkDensity, "--ink-density");
     // The device-independent limit here, before any work; what fits the device is checked once it is known.
     if (o.refine.levels >= ink::kMaxLevels)
         throw ink::Error("--levels " + std::to_string(o.refine.levels) + " is too many: at most " +
@@ -382,12 +378,12 @@ void finishOptions(Options& o) {
         o.page.orientation = !explicitSize     ? ink::Orientation::Auto
                              : page.x > page.y ? ink::Orientation::Landscape
                                                : ink::Orientation::Portrait;
-    checkRange(ranges::simplify, o.page.simplify, "--simplify");
-    checkRange(ranges::retrace, o.page.retrace, "--retrace");
-    checkRange(ranges::merge, o.page.merge, "--merge");
-    checkRange(ranges::plotSpeed, o.page.drawSpeed, "--plot-speed");
-    checkRange(ranges::plotSpeed, o.page.travelSpeed, "--travel-speed");
-    checkRange(ranges::liftTime, o.page.liftSeconds, "--lift-time");
+    ranges::simplify.check(o.page.simplify, "--simplify");
+    ranges::retrace.check(o.page.retrace, "--retrace");
+    ranges::merge.check(o.page.merge, "--merge");
+    ranges::plotSpeed.check(o.page.drawSpeed, "--plot-speed");
+    ranges::plotSpeed.check(o.page.travelSpeed, "--travel-speed");
+    ranges::liftTime.check(o.page.liftSeconds, "--lift-time");
     if (!(o.page.penWidth >= ink::kMinPenWidth && o.page.penWidth <= ink::kMaxPenWidth))
         throw ink::Error("--pen-width must be in [0.001, 10] mm (kMinPenWidth: the files give a micrometre)");
     // The view fits within the margins; it must be wider and taller than the pen (layoutPlot checks the view

@@ -3,6 +3,8 @@
 // (scripts/check-docs.py compares its option table with this file). No Vulkan here.
 #pragma once
 
+#include "inkwell/error.h"
+
 #include <cmath>
 #include <string>
 
@@ -18,6 +20,11 @@ struct Range {
     template <class T>
     constexpr bool contains(T v) const {
         return (openLow ? v > T(lo) : v >= T(lo)) && (openHigh ? v < T(hi) : v <= T(hi));  // NaN: neither
+    }
+    // Throws an Error "WHAT must be in RANGE" ("--tau must be in [0, 1)") when `v` is outside.
+    template <class T>
+    void check(T v, const std::string& what) const {
+        if (!contains(v)) throw Error(what + " must be in " + text());
     }
     // "(0, 64] pixels", "[0, 1)"
     std::string text() const {
