@@ -11,8 +11,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 using Eigen::Vector3d;
@@ -552,6 +554,50 @@ TEST_CASE("points: farthestPointSample" * doctest::test_suite("unit")) {
     // All points equal: still distinct indices, lowest first.
     std::vector<size_t> same = ink::farthestPointSample(std::vector<Vector3d>(5, Vector3d(1, 1, 1)), 3);
     CHECK(same == std::vector<size_t>{0, 1, 2});
+}
+
+// The definition, every distance updated at every pick, against the pruned tree the function uses: the same
+// picks in the same order, on spread points, on a grid (many exact ties) and on clusters of duplicates.
+TEST_CASE("points: farthestPointSample picks what the definition picks" * doctest::test_suite("unit")) {
+    auto definition = [](const std::vector<Vector3d>& v, size_t count) {
+        size_t first = 0;
+        for (size_t i = 1; i < v.size(); ++i)
+            if (std::tie(v[i].x(), v[i].y(), v[i].z()) < std::tie(v[first].x(), v[first].y(), v[first].z()))
+                first = i;
+        std::vector<double> d(v.size(), std::numeric_limits<double>::infinity());
+        std::vector<size_t> picked{first};
+        d[first] = -1;
+        while (picked.size() < count) {
+            size_t best = 0;
+            double far = -1;
+            for (size_t i = 0; i < v.size(); ++i) {
+                if (d[i] < 0) continue;
+                d[i] = std::min(d[i], (v[i] - v[picked.back()]).squaredNorm());
+                if (d[i] > far) far = d[i], best = i;
+            }
+            picked.push_back(best);
+            d[best] = -1;
+        }
+        return picked;
+    };
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::vector<Vector3d> spread, grid, clusters;
+    for (int i = 0; i < 3000; ++i) spread.emplace_back(u(rng), 0.2 * u(rng), u(rng));
+    for (int x = 0; x < 12; ++x)
+        for (int y = 0; y < 12; ++y)
+            for (int z = 0; z < 12; ++z) grid.emplace_back(x, y, 0.5 * z);
+    std::shuffle(grid.begin(), grid.end(), rng);
+    for (int c = 0; c < 40; ++c) {
+        Vector3d centre(u(rng), u(rng), u(rng));
+        for (int k = 0; k < 60; ++k) clusters.push_back(k % 3 ? centre : centre + 1e-3 * Vector3d(u(rng), u(rng), u(rng)));
+    }
+    for (const auto* v : {&spread, &grid, &clusters})
+        for (size_t count : {size_t(2), size_t(97), size_t(700), v->size() - 1}) {
+            CAPTURE(v->size());
+            CAPTURE(count);
+            CHECK(ink::farthestPointSample(*v, count) == definition(*v, count));
+        }
 }
 
 // --- Files -----------------------------------------------------------------------------------------------

@@ -584,6 +584,11 @@ json fitJson(const ink::Model& m) {
               {"input_max_distance", m.inputMaxDistance},
               {"input_mean_distance", m.inputMeanDistance},
               {"input_max_normal_angle_deg", m.inputMaxAngleDeg}};
+    if (!m.fit.phases.ms.empty()) {  // a fitted model: where its fit's time went
+        json phases = json::object();
+        for (const auto& [step, ms] : m.fit.phases.ms) phases[step] = ms;
+        j["phases_ms"] = phases;
+    }
     if (m.surface.method == ink::FitMethod::PartitionOfUnity)
         j["patches"] = {{"count", m.patches.patches},
                         {"min_points", m.patches.minPatch},

@@ -71,9 +71,11 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
     options.distribution = distribution;  // the passes follow it: 1 for blue-noise stipples, the report's 2 else
     ink::LineOptions lines;
     lines.contours = lines.hatching = w.lines;
+    const double loadSeconds = secondsSince(start);
     json out;
     {
         ink::Scene scene(session.ctx, std::move(model), ink::DrawStyle::Stipple, options, lines);
+        const double sceneSeconds = secondsSince(start) - loadSeconds;
         const ink::Model& fitted = scene.model;
         ink::GpuRefinement& r = scene.sets.front()->gpu();
         double refineSeconds = scene.refineSeconds;
@@ -87,8 +89,20 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
         first.azimuthDeg = 30.0f;
         scene.traceContours(first);  // the first view's contour: part of the preprocessing
         double contourSeconds = scene.contourStats.seconds;
+        const double beforeRenderer = secondsSince(start);
         ink::OffscreenRenderer renderer(session.ctx, 1024, 1024, style, scene.pointers(), scene.strokes.get());
         double preprocess = secondsSince(start);
+        // Where the preprocessing goes, in milliseconds: loading and fitting, the scene (the refinement, its
+        // selection and the lines), the first view's contour, the renderer (its images and pipelines); and of the
+        // refinement, the host's part (GpuRefinement::HostMs).
+        json preprocessMs = {{"load_fit", 1e3 * loadSeconds},
+                             {"scene", 1e3 * sceneSeconds},
+                             {"first_contour", 1e3 * (beforeRenderer - loadSeconds - sceneSeconds)},
+                             {"renderer", 1e3 * (preprocess - beforeRenderer)}};
+        json refineHostMs = {{"plan", r.hostMs.plan},
+                             {"buffers", r.hostMs.buffers},
+                             {"pipelines", r.hostMs.pipelines},
+                             {"run", r.hostMs.run}};
 
         // Frames with the camera moving every frame; the first few warm caches and pipelines up.
         std::vector<double> frameMs, splatMs, spaceMs, stampMs, inkMs, traceMs;
@@ -141,6 +155,8 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
                {"fit", fitJson(fitted)},
                {"refine_seconds", refineSeconds},
                {"preprocess_seconds", preprocess},
+               {"preprocess_ms", preprocessMs},
+               {"refine_host_ms", refineHostMs},
                {"frame_ms_median", median(frameMs)},
                {"frame_passes_ms_median",
                 {{"splat", median(splatMs)},

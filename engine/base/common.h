@@ -3,11 +3,14 @@
 
 #include "inkwell/error.h"
 
+#include <chrono>
 #include <cstddef>
 #include <functional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace ink {
 
@@ -61,6 +64,27 @@ private:
     const char* what_;
     size_t total_;
     int lastPercent_ = -1;
+};
+
+// Wall-clock milliseconds of the named steps of a long piece of work, in the order they first ran (a step run
+// again, as the fit's rounds do, adds up): `lap(name)` charges the time since the last lap to `name`.
+struct PhaseTimes {
+    std::vector<std::pair<const char*, double>> ms;
+    std::chrono::steady_clock::time_point mark = std::chrono::steady_clock::now();
+
+    void lap(const char* name) {
+        const auto now = std::chrono::steady_clock::now();
+        const double elapsed = std::chrono::duration<double, std::milli>(now - mark).count();
+        mark = now;
+        for (auto& [step, total] : ms)
+            if (std::string_view(step) == name) {
+                total += elapsed;
+                return;
+            }
+        ms.emplace_back(name, elapsed);
+    }
+    // A step that ran beside the others, on a thread of its own: its time, not charged to the sequence.
+    void add(const char* name, double elapsedMs) { ms.emplace_back(name, elapsedMs); }
 };
 
 }  // namespace ink

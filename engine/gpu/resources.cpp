@@ -81,6 +81,34 @@ void uploadBufferAt(Context& ctx, Buffer& dst, VkDeviceSize offset, const void* 
     destroyBuffer(ctx, staging);
 }
 
+void UploadBatch::add(Buffer& dst, const void* data, VkDeviceSize size, VkDeviceSize offset) {
+    if (size == 0) return;
+    const VkDeviceSize from = (bytes_.size() + 15) / 16 * 16;
+    bytes_.resize(from + size);
+    std::memcpy(bytes_.data() + from, data, size);
+    copies_.push_back({dst.buffer, offset, size, from});
+}
+
+void UploadBatch::submit() {
+    if (copies_.empty()) return;
+    Buffer staging = createBuffer(ctx_, bytes_.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload);
+    std::memcpy(staging.mapped, bytes_.data(), bytes_.size());
+    submitAndWait(ctx_, [&](VkCommandBuffer cmd) {
+        stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                     VK_ACCESS_2_MEMORY_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                     VK_ACCESS_2_TRANSFER_WRITE_BIT);
+        for (const Copy& c : copies_) {
+            VkBufferCopy region{c.from, c.offset, c.size};
+            vkCmdCopyBuffer(cmd, staging.buffer, c.dst, 1, &region);
+        }
+        stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    });
+    destroyBuffer(ctx_, staging);
+    bytes_.clear();
+    copies_.clear();
+}
+
 void downloadBuffer(Context& ctx, const Buffer& src, VkDeviceSize offset, void* data, VkDeviceSize size) {
     if (size == 0) return;
     Buffer staging = createBuffer(ctx, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback);

@@ -3,6 +3,8 @@
 
 #include "gpu/context.h"
 
+#include <vector>
+
 namespace ink {
 
 struct Buffer {
@@ -21,6 +23,24 @@ void uploadBuffer(Context& ctx, Buffer& dst, const void* data, VkDeviceSize size
 // Copies `size` bytes into a device buffer at `offset`, after whatever the device wrote there last and before
 // whatever reads it next (a host edit of a buffer the device made).
 void uploadBufferAt(Context& ctx, Buffer& dst, VkDeviceSize offset, const void* data, VkDeviceSize size);
+// Uploads gathered for one submission: `add` copies the bytes at once, `submit` sends them all through one
+// staging buffer and one wait (setting up a refinement made seven round trips, a staging allocation, a submission
+// and a wait each), with the barriers of uploadBufferAt around the copies. What is not submitted is dropped.
+class UploadBatch {
+public:
+    explicit UploadBatch(Context& ctx) : ctx_(ctx) {}
+    void add(Buffer& dst, const void* data, VkDeviceSize size, VkDeviceSize offset = 0);
+    void submit();
+
+private:
+    struct Copy {
+        VkBuffer dst;
+        VkDeviceSize offset, size, from;
+    };
+    Context& ctx_;
+    std::vector<unsigned char> bytes_;
+    std::vector<Copy> copies_;
+};
 // Copies a device buffer range back to the host (readback for tests, exports and stats).
 void downloadBuffer(Context& ctx, const Buffer& src, VkDeviceSize offset, void* data, VkDeviceSize size);
 

@@ -5,6 +5,7 @@
 #include "select/select.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 
@@ -76,16 +77,18 @@ static PuBuffers packPu(const PuHrbf& pu) {
     return b;
 }
 
-// A device buffer holding `data` (at least 16 bytes: empty arrays still need a buffer to bind).
+// A device buffer to hold `data` (at least 16 bytes: empty arrays still need a buffer to bind), its upload added
+// to `uploads`.
 template <class T>
-static Buffer deviceArray(Context& ctx, const std::vector<T>& data, VkBufferUsageFlags usage, const char* what) {
+static Buffer deviceArray(Context& ctx, UploadBatch& uploads, const std::vector<T>& data, VkBufferUsageFlags usage,
+                          const char* what) {
     VkDeviceSize bytes = std::max<VkDeviceSize>(16, data.size() * sizeof(T));
     if (bytes > ctx.properties.limits.maxStorageBufferRange)
         throw Error(std::string("the model's ") + what + " take " + std::to_string(bytes >> 20) + " MiB, more than " +
                     ctx.properties.deviceName + " allows in one buffer (" +
                     std::to_string(ctx.properties.limits.maxStorageBufferRange >> 20) + " MiB): fit fewer points");
     Buffer b = createBuffer(ctx, bytes, usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
-    if (!data.empty()) uploadBuffer(ctx, b, data.data(), data.size() * sizeof(T));
+    if (!data.empty()) uploads.add(b, data.data(), data.size() * sizeof(T));
     return b;
 }
 
@@ -94,7 +97,14 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
     const uint64_t groups = ctx.properties.limits.maxComputeWorkGroupCount[0];
     uint64_t maxPoints = std::min(range / sizeof(PointRecord), groups * kGroupSize);
     r.options = options;
+    auto mark = std::chrono::steady_clock::now();
+    auto lap = [&mark](double& ms) {
+        auto now = std::chrono::steady_clock::now();
+        ms += std::chrono::duration<double, std::milli>(now - mark).count();
+        mark = now;
+    };
     r.plan = planRefinement(hrbf, options, maxPoints);
+    lap(r.hostMs.plan);
     const RefinePlan& plan = r.plan;
     uint64_t maxCandidates = *std::max_element(plan.maxCandidates.begin(), plan.maxCandidates.end());
 
@@ -102,6 +112,7 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     const bool global = hrbf.method == FitMethod::Global;
     uint32_t realBlocks = 0;
+    UploadBatch uploads(ctx);
     if (global) {
         if (!ctx.float64)
             throw Error(std::string(ctx.properties.deviceName) +
@@ -117,20 +128,20 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
         gpu::HrbfHeader header = packHrbfHeader(h);
         std::vector<gpu::HrbfCenter> centers = packHrbfCenters(h);
         r.hrbfHeader = createBuffer(ctx, sizeof(header), uniform, MemoryUse::Device);
-        uploadBuffer(ctx, r.hrbfHeader, &header, sizeof(header));
+        uploads.add(r.hrbfHeader, &header, sizeof(header));
         r.hrbf = createBuffer(ctx, centers.size() * sizeof(gpu::HrbfCenter), uniform, MemoryUse::Device);
-        uploadBuffer(ctx, r.hrbf, centers.data(), centers.size() * sizeof(gpu::HrbfCenter));
+        uploads.add(r.hrbf, centers.data(), centers.size() * sizeof(gpu::HrbfCenter));
         // Blocks past the last real one point at block 0: they are declared by the shader but never read.
         realBlocks = uint32_t(centers.size() / kHrbfBlockSize);
     } else {
         PuBuffers b = packPu(hrbf.pu);
         const VkBufferUsageFlags sbo = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-        r.hrbfHeader =
-            deviceArray(ctx, std::vector<gpu::PuHeader>{b.header}, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "header");
-        r.puPatches = deviceArray(ctx, b.patches, sbo, "patches");
-        r.puNodes = deviceArray(ctx, b.nodes, sbo, "patch nodes");
-        r.puCells = deviceArray(ctx, b.cells, sbo, "patch grid");
-        r.puCoarse = deviceArray(ctx, b.coarse, sbo, "far field");
+        r.hrbfHeader = deviceArray(ctx, uploads, std::vector<gpu::PuHeader>{b.header},
+                                   VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "header");
+        r.puPatches = deviceArray(ctx, uploads, b.patches, sbo, "patches");
+        r.puNodes = deviceArray(ctx, uploads, b.nodes, sbo, "patch nodes");
+        r.puCells = deviceArray(ctx, uploads, b.cells, sbo, "patch grid");
+        r.puCoarse = deviceArray(ctx, uploads, b.coarse, sbo, "far field");
     }
     r.points = createBuffer(ctx, plan.maxPoints * sizeof(PointRecord),
                             storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, MemoryUse::Device);
@@ -143,7 +154,8 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
     std::vector<Eigen::Vector4f> seeds(plan.seeds.size());
     for (size_t i = 0; i < seeds.size(); ++i) seeds[i] << plan.seeds[i], float(i);
     r.seeds = createBuffer(ctx, seeds.size() * 16, storage, MemoryUse::Device);
-    uploadBuffer(ctx, r.seeds, seeds.data(), seeds.size() * 16);
+    uploads.add(r.seeds, seeds.data(), seeds.size() * 16);
+    uploads.submit();
 
     const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, ub = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     std::vector<DescriptorBinding> bindings = {{gpu::REFINE_SURFACE_HEADER, ub, r.hrbfHeader.buffer},
@@ -162,6 +174,7 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
                                          {gpu::REFINE_PU_CELLS, sb, r.puCells.buffer},
                                          {gpu::REFINE_PU_COARSE, sb, r.puCoarse.buffer}});
     r.descriptors = createDescriptorSet(ctx, bindings, VK_SHADER_STAGE_COMPUTE_BIT);
+    lap(r.hostMs.buffers);
     r.layout = createPipelineLayout(ctx, r.descriptors.layout, sizeof(LevelParams), VK_SHADER_STAGE_COMPUTE_BIT);
     r.refine = global ? createComputePipeline(ctx, r.layout, spv_refine_global_comp)
                       : createComputePipeline(ctx, r.layout, spv_refine_comp);
@@ -172,10 +185,12 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
     query.queryType = VK_QUERY_TYPE_TIMESTAMP;
     query.queryCount = plan.levelCount + 2;  // the start, each level's end, the selection's end
     VK_CHECK(vkCreateQueryPool(ctx.device, &query, nullptr, &r.timestamps));
+    lap(r.hostMs.pipelines);
 
     if (options.selects()) {
         r.selection = new GpuSelection;
-        createSelection(ctx, *r.selection, hrbf, plan, selectOptions(options), r.points, r.indirect);
+        createSelection(ctx, *r.selection, hrbf, plan, selectOptions(options), r.points, r.indirect, &r.hostMs.plan,
+                        &r.hostMs.buffers, &r.hostMs.pipelines);
     }
 }
 
@@ -261,6 +276,7 @@ void recordRefinement(Context&, VkCommandBuffer cmd, GpuRefinement& r) {
 // One submission for all levels. While it runs, the CPU only polls the per-level timestamps (never waits
 // between levels) to show progress on a terminal.
 void runRefinement(Context& ctx, GpuRefinement& r) {
+    const auto start = std::chrono::steady_clock::now();
     VkCommandBuffer cmd = beginOneTime(ctx);
     recordRefinement(ctx, cmd, r);
     Progress progress("refine", r.plan.levelCount + 1);  // the levels, then the selection
@@ -275,6 +291,7 @@ void runRefinement(Context& ctx, GpuRefinement& r) {
         progress.update(done);
     });
     progress.update(r.plan.levelCount + 1);
+    r.hostMs.run = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 double selectionMs(Context& ctx, GpuRefinement& r) {

@@ -3,6 +3,7 @@
 
 #include "base/parallel.h"
 
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -166,23 +167,37 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance) {
         cells.emplace(keys[byCell[k]], std::make_pair(k, end));
         k = end;
     }
-    for (size_t i = 0; i < n; ++i) {
-        // The cells the ball meets: along each axis the point's and the one on the nearer side.
-        Key k = keys[i], step;
-        for (int a = 0; a < 3; ++a) step[size_t(a)] = (pos[i][a] - lo[a]) / cell - double(k[size_t(a)]) < 0.5 ? -1 : 1;
-        size_t best = i;
-        for (int c = 0; c < 8; ++c) {
-            auto it = cells.find(
-                {k[0] + ((c & 1) ? step[0] : 0), k[1] + ((c & 2) ? step[1] : 0), k[2] + ((c & 4) ? step[2] : 0)});
-            if (it == cells.end()) continue;
-            for (uint32_t m = it->second.first; m < it->second.second; ++m) {
-                const size_t j = byCell[m];
-                if (j >= best) break;  // sorted by index within a cell
-                if (cluster[j] == j && (pos[i] - pos[j]).squaredNorm() <= t2) best = j;
+    // The earlier points within the tolerance of each point, on all threads (most points have none), as (i, j)
+    // pairs in the order of i then j; then, in order, each point joins the first of them that heads a cluster.
+    std::array<std::vector<std::pair<uint32_t, uint32_t>>, 64> near;
+    const size_t chunks = parallelChunks(n, 1 << 14, [&](size_t begin, size_t end, size_t chunk) {
+        std::vector<uint32_t> found;
+        for (size_t i = begin; i < end; ++i) {
+            // The cells the ball meets: along each axis the point's and the one on the nearer side.
+            Key k = keys[i], step;
+            for (int a = 0; a < 3; ++a)
+                step[size_t(a)] = (pos[i][a] - lo[a]) / cell - double(k[size_t(a)]) < 0.5 ? -1 : 1;
+            found.clear();
+            for (int c = 0; c < 8; ++c) {
+                auto it = cells.find(
+                    {k[0] + ((c & 1) ? step[0] : 0), k[1] + ((c & 2) ? step[1] : 0), k[2] + ((c & 4) ? step[2] : 0)});
+                if (it == cells.end()) continue;
+                for (uint32_t m = it->second.first; m < it->second.second; ++m) {
+                    const uint32_t j = byCell[m];
+                    if (j >= i) break;  // sorted by index within a cell
+                    if ((pos[i] - pos[j]).squaredNorm() <= t2) found.push_back(j);
+                }
             }
+            std::sort(found.begin(), found.end());
+            for (uint32_t j : found) near[chunk].emplace_back(uint32_t(i), j);
         }
-        cluster[i] = best;
-    }
+    });
+    for (size_t c = 0; c < chunks; ++c)
+        for (size_t k = 0; k < near[c].size();) {
+            const uint32_t i = near[c][k].first;
+            for (; k < near[c].size() && near[c][k].first == i; ++k)
+                if (cluster[i] == i && cluster[near[c][k].second] == near[c][k].second) cluster[i] = near[c][k].second;
+        }
     std::vector<Vector3d> sum(n, Vector3d::Zero());
     std::vector<size_t> size(n, 0);
     for (size_t i = 0; i < n; ++i) {
@@ -216,6 +231,135 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance) {
     return result;
 }
 
+namespace {
+
+// The serial definition of farthest-point sampling, every point's distance updated at every pick; kept for
+// positions that are not all finite (a box of NaN cannot prune), where it is what the tree would give.
+std::vector<size_t> farthestPointSampleFlat(const std::vector<Vector3d>& positions, size_t first, size_t count) {
+    const size_t n = positions.size();
+    std::vector<double> distance(n, std::numeric_limits<double>::infinity());
+    std::vector<size_t> picked;
+    picked.reserve(count);
+    for (size_t current = first;;) {
+        picked.push_back(current);
+        distance[current] = -1;
+        if (picked.size() == count) break;
+        size_t best = n;
+        double bestDistance = -1;
+        for (size_t i = 0; i < n; ++i) {
+            if (distance[i] < 0) continue;
+            double d = (positions[i] - positions[current]).squaredNorm();
+            if (d < distance[i]) distance[i] = d;
+            if (distance[i] > bestDistance) best = i, bestDistance = distance[i];  // ties keep the lowest index
+        }
+        // Only with NaN coordinates: take the lowest index not yet picked.
+        if (best == n)
+            best = size_t(std::find_if(distance.begin(), distance.end(), [](double d) { return !(d < 0); }) -
+                          distance.begin());
+        current = best;
+    }
+    return picked;
+}
+
+// Farthest-point sampling over a k-d tree whose nodes keep their box and the largest distance of their points
+// to the picked set (with its point): a pick visits only the nodes whose box comes closer to it than their
+// largest distance, the pruning of QuickFPS (Han et al. 2023), since no other point's distance can shrink. The
+// squared distances are the flat loop's, computed the same way, and ties go to the lowest index as there, so
+// the picks are the flat loop's, in the same order (test: points, farthestPointSample).
+class FpsTree {
+public:
+    explicit FpsTree(const std::vector<Vector3d>& positions)
+        : p_(positions), distance_(positions.size(), std::numeric_limits<double>::infinity()) {
+        order_.resize(p_.size());
+        for (size_t i = 0; i < order_.size(); ++i) order_[i] = uint32_t(i);
+        nodes_.reserve(2 * (p_.size() / kLeaf + 1));
+        build(0, uint32_t(p_.size()));
+    }
+
+    // Picks `i` and brings every distance up to date; returns the next pick (the farthest point).
+    size_t pick(size_t i) {
+        distance_[i] = -1;
+        update(0, p_[i]);
+        return nodes_[0].farthest;
+    }
+
+private:
+    static constexpr uint32_t kLeaf = 32;
+    struct Node {
+        Vector3d lo, hi;
+        uint32_t begin, end, left = 0, right = 0;  // the children's indices; 0 for a leaf
+        uint32_t farthest = 0;
+        double distance = std::numeric_limits<double>::infinity();
+    };
+
+    uint32_t build(uint32_t begin, uint32_t end) {
+        const uint32_t index = uint32_t(nodes_.size());
+        nodes_.push_back({Vector3d::Zero(), Vector3d::Zero(), begin, end});
+        Vector3d lo = p_[order_[begin]], hi = lo;
+        for (uint32_t k = begin + 1; k < end; ++k) {
+            lo = lo.cwiseMin(p_[order_[k]]);
+            hi = hi.cwiseMax(p_[order_[k]]);
+        }
+        uint32_t farthest = order_[begin];
+        for (uint32_t k = begin + 1; k < end; ++k) farthest = std::min(farthest, order_[k]);
+        nodes_[index].lo = lo;
+        nodes_[index].hi = hi;
+        nodes_[index].begin = begin;
+        nodes_[index].end = end;
+        nodes_[index].farthest = farthest;  // every distance is infinite: the lowest index
+        if (end - begin > kLeaf) {
+            int axis;
+            (hi - lo).maxCoeff(&axis);
+            const uint32_t mid = begin + (end - begin) / 2;
+            std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                             [&](uint32_t a, uint32_t b) { return p_[a][axis] < p_[b][axis]; });
+            const uint32_t left = build(begin, mid), right = build(mid, end);
+            nodes_[index].left = left;
+            nodes_[index].right = right;
+        }
+        return index;
+    }
+
+    // Is (d, i) farther than the node's farthest, ties to the lower index?
+    static bool farther(double d, uint32_t i, double best, uint32_t bestIndex) {
+        return d > best || (d == best && i < bestIndex);
+    }
+
+    void update(uint32_t index, const Vector3d& at) {
+        Node& node = nodes_[index];
+        // The box's squared distance from `at`, a lower bound of its points' (less a margin for rounding).
+        const Vector3d gap = (node.lo - at).cwiseMax(at - node.hi).cwiseMax(0.0);
+        if (gap.squaredNorm() * (1 - 1e-12) > node.distance) return;
+        double best = -1;
+        uint32_t bestIndex = uint32_t(-1);
+        if (node.left == 0) {
+            for (uint32_t k = node.begin; k < node.end; ++k) {
+                const uint32_t i = order_[k];
+                double& d = distance_[i];
+                if (d < 0) continue;
+                d = std::min(d, (p_[i] - at).squaredNorm());
+                if (farther(d, i, best, bestIndex)) best = d, bestIndex = i;
+            }
+        } else {
+            const uint32_t left = node.left, right = node.right;
+            update(left, at);
+            update(right, at);
+            const Node &a = nodes_[left], &b = nodes_[right];
+            best = a.distance, bestIndex = a.farthest;
+            if (farther(b.distance, b.farthest, best, bestIndex)) best = b.distance, bestIndex = b.farthest;
+        }
+        nodes_[index].distance = best;
+        nodes_[index].farthest = bestIndex;
+    }
+
+    const std::vector<Vector3d>& p_;
+    std::vector<double> distance_;  // squared distance to the nearest picked point; -1 once picked
+    std::vector<uint32_t> order_;
+    std::vector<Node> nodes_;
+};
+
+}  // namespace
+
 std::vector<size_t> farthestPointSample(const std::vector<Vector3d>& positions, size_t count) {
     size_t n = positions.size();
     std::vector<size_t> picked;
@@ -230,42 +374,16 @@ std::vector<size_t> farthestPointSample(const std::vector<Vector3d>& positions, 
     size_t first = 0;
     for (size_t i = 1; i < n; ++i)
         if (less(positions[i], positions[first])) first = i;
+    if (n >= size_t(UINT32_MAX) ||
+        !std::all_of(positions.begin(), positions.end(), [](const Vector3d& p) { return p.allFinite(); }))
+        return farthestPointSampleFlat(positions, first, count);
 
-    // distance[i]: squared distance from i to the nearest picked point; -1 once i is picked.
-    std::vector<double> distance(n, std::numeric_limits<double>::infinity());
+    FpsTree tree(positions);
     picked.reserve(count);
-    size_t current = first;
-    for (;;) {
+    for (size_t current = first;;) {
         picked.push_back(current);
-        distance[current] = -1;
         if (picked.size() == count) break;
-        // Over all threads for a large set (a scan's 10⁶ points: 1000 seeds are 10⁹ distances); each chunk's best,
-        // combined in chunk order, is the serial loop's.
-        std::array<std::pair<size_t, double>, 64> chunkBest;
-        const Vector3d at = positions[current];
-        const size_t chunks = parallelChunks(n, 1 << 15, [&](size_t begin, size_t end, size_t k) {
-            size_t best = n;
-            double bestDistance = -1;
-            for (size_t i = begin; i < end; ++i) {
-                if (distance[i] < 0) continue;
-                double d = (positions[i] - at).squaredNorm();
-                if (d < distance[i]) distance[i] = d;
-                if (distance[i] > bestDistance) {  // strict: ties keep the lowest index
-                    bestDistance = distance[i];
-                    best = i;
-                }
-            }
-            chunkBest[k] = {best, bestDistance};
-        });
-        size_t best = n;
-        double bestDistance = -1;
-        for (size_t k = 0; k < chunks; ++k)
-            if (chunkBest[k].second > bestDistance) best = chunkBest[k].first, bestDistance = chunkBest[k].second;
-        // Only reachable with NaN coordinates: take the lowest index not yet picked.
-        if (best == n)
-            best = size_t(std::find_if(distance.begin(), distance.end(), [](double d) { return !(d < 0); }) -
-                          distance.begin());
-        current = best;
+        current = tree.pick(current);
     }
     return picked;
 }

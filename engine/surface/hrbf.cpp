@@ -161,7 +161,9 @@ Hrbf fitHrbf(const std::vector<Vector3d>& points, const std::vector<Vector3d>& n
     model.a = x.segment<3>(Eigen::Index(4 * m + 1));
 
     if (stats) {
+        PhaseTimes phases = std::move(stats->phases);
         *stats = measureFit(model);
+        stats->phases = std::move(phases);
         stats->relativeResidual = residual;
         stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }

@@ -8,6 +8,8 @@
 // spirv_shaders/refine/hrbf.glsl.
 #pragma once
 
+#include "base/common.h"
+
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -48,6 +50,7 @@ struct FitStats {
     double maxDistance = 0;        // max_i |f(p_i)| / ‖∇f(p_i)‖, normalized units (= fraction of the diagonal)
     double maxNormalAngleDeg = 0;  // max_i ∠(∇f(p_i), n_i)
     double meanDistance = 0;       // mean_i |f(p_i)| / ‖∇f(p_i)‖ (filled by the .hrbf reader)
+    PhaseTimes phases;             // fitModel's steps (fit --stats's `phases_ms`)
 };
 
 // Solves eq. 5 with the linear term (eq. 7–10) for points and unit normals given in normalized

@@ -77,11 +77,10 @@ void checkModelOptions(const ModelOptions& options) {
 namespace {
 
 // The error of the fitted surface at the given points (normalized), as the device evaluates it.
+// `values`: the partition of unity's (∇f, f) at the points, in float.
 void measureInputs(Model& model, const std::vector<Eigen::Vector3d>& points,
-                   const std::vector<Eigen::Vector3d>& normals) {
+                   const std::vector<Eigen::Vector3d>& normals, const std::vector<Eigen::Vector4f>& values) {
     const Surface& s = model.surface;
-    std::vector<Eigen::Vector4f> values;
-    if (s.method == FitMethod::PartitionOfUnity) values = PuFloat(s.pu).evalMany(points);
     double sum = 0;
     for (size_t i = 0; i < points.size(); ++i) {
         Eigen::Vector3d g;
@@ -108,6 +107,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     auto start = std::chrono::steady_clock::now();
     const bool global = options.method == FitMethod::Global;
     Model model;
+    PhaseTimes& phases = model.fit.phases;
     model.inputPoints = points.positions.size();
     if (model.inputPoints > kMaxPuPoints && options.controlPoints == 0)
         throw Error("the input has " + std::to_string(model.inputPoints) + " points, more than the fit takes (" +
@@ -124,6 +124,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     OrientedPoints samples;
     std::vector<bool> onRim;  // the sample lies on a triangle with an open edge
     OrientedPoints mesh;      // welded, normalized: its feature lines
+    phases.lap("normalize");
     if (!points.triangles.empty()) {
         // Welded by position first: a file that repeats a vertex at a seam (for its texture or its normals) has
         // open edges there that are no rim, and corners whose neighbours the patches would not see (the Wuson's
@@ -162,6 +163,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         samples = {};
     }
 
+    phases.lap("mesh");
     // Duplicates make the system singular without a NaN to warn (ALGORITHM.md §2): merge them first.
     model.mergedDuplicates = mergeDuplicates(points, 1e-9 / frame.scale);
     if (model.mergedDuplicates)
@@ -197,6 +199,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         chosen = std::move(points);
     }
 
+    phases.lap("choose");
     Surface& surface = model.surface;
     surface.method = options.method;
     surface.frame = frame;
@@ -211,6 +214,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         // evaluation to miss the surface: on the bunny with face samples, 2.6e-5 of the diagonal merging within
         // 1%, 1.9e-6 within 10%, 3.7e-7 within 25%.
         near = mergeNearPoints(fitted, (global ? 0.01 : 0.25) * typicalSpacing(fitted.positions));
+        phases.lap("merge_near");
         if (fitted.positions.size() < 2)
             throw Error("too few distinct points to fit a surface: " + std::to_string(fitted.positions.size()) +
                         " (need at least 2)");
@@ -218,6 +222,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
             try {
                 Progress progress("fit", 1);
                 surface.global = fitHrbf(fitted.positions, fitted.normals, &model.fit);
+                phases.lap("solve");
             } catch (const Error& e) {
                 // The one change that helps: farthest-point sampling keeps fewer points farther apart.
                 const size_t fewer = std::max<size_t>(4, fitted.positions.size() / 2);
@@ -228,7 +233,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
                             std::to_string(fewer) + ")");
             }
         } else {
-            surface.pu = fitPuHrbf(fitted.positions, fitted.normals, {}, &model.patches);
+            surface.pu = fitPuHrbf(fitted.positions, fitted.normals, {}, &model.patches, &phases);
             model.fit.relativeResidual = model.patches.maxRelativeResidual;
         }
         return fitted;
@@ -264,6 +269,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
                 ++added;
             }
             model.faceSamples += added;
+            phases.lap("face_samples");
             if (added == 0) {
                 chosen = std::move(fitted);
                 break;
@@ -293,6 +299,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     surface.centers = std::move(chosen.positions);
     surface.normals = std::move(chosen.normals);
     if (!global) model.patches.seams = measureSeams(surface.pu);
+    phases.lap("seams");
     chooseSeeds(surface);
     if (adaptive) {
         // Seeds from the vertices and every face sample, projected onto F = 0: a big flat face with few vertices
@@ -314,12 +321,25 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         for (size_t i : farthestPointSample(candidates, std::min(candidates.size(), kMaxSeeds)))
             surface.seeds.push_back(candidates[i]);
     }
-    FitStats measured = measureFit(surface);
+    phases.lap("seeds");
+    // The partition of unity in float, as the device draws it, at the centres and at the inputs: the same points
+    // for a point cloud nothing was merged in (a scan), evaluated once then.
+    std::vector<Eigen::Vector4f> atCentres, atInputs;
+    if (!global) {
+        const PuFloat floatModel(surface.pu);
+        atCentres = floatModel.evalMany(surface.centers);
+        if (inputs.positions != surface.centers) atInputs = floatModel.evalMany(inputs.positions);
+    }
+    FitStats measured = global ? measureFit(surface) : measureFit(surface, atCentres);
     model.fit.controlPoints = measured.controlPoints;
     model.fit.maxDistance = measured.maxDistance;
     model.fit.maxNormalAngleDeg = measured.maxNormalAngleDeg;
-    measureInputs(model, inputs.positions, inputs.normals);
+    phases.lap("measure");
+    measureInputs(model, inputs.positions, inputs.normals,
+                  global || !atInputs.empty() ? atInputs : atCentres);
+    phases.lap("measure_inputs");
     model.features = meshFeatures(mesh, surface, {options.creaseAngleDeg});
+    phases.lap("features");
     // A mesh supports the surface near its triangles, by twice what the fit misses its vertices by where that is
     // more (a fit of fewer control points); points near themselves.
     if (options.trim && !mesh.triangles.empty() && 2 * model.inputMaxDistance > kMaxMeshSupport) {
@@ -331,6 +351,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         note(text);
     } else if (options.trim)
         model.support = mesh.triangles.empty() ? Support(inputs.positions) : Support(mesh, 2 * model.inputMaxDistance);
+    phases.lap("support");
     model.fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return model;
 }
@@ -362,7 +383,7 @@ Model loadModel(const std::string& path, const ModelOptions& options) {
             model.inputMaxAngleDeg = measured.maxNormalAngleDeg;
             model.inputMeanDistance = measured.meanDistance;
         } else {
-            measureInputs(model, model.surface.centers, model.surface.normals);
+            measureInputs(model, model.surface.centers, model.surface.normals, {});  // the global fit: in double
         }
         return model;
     }

@@ -103,7 +103,7 @@ PuGrid buildPuGrid(const std::vector<PuPatch>& patches);
 // the caller). Patches are fitted in parallel on all hardware threads. Throws ink::Error naming the first patch
 // whose system is singular or ill-conditioned.
 PuHrbf fitPuHrbf(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
-                 const PuOptions& options = {}, PuStats* stats = nullptr);
+                 const PuOptions& options = {}, PuStats* stats = nullptr, PhaseTimes* phases = nullptr);
 
 // The float evaluation the device makes (pu_hrbf.glsl), vectorized over 4 nodes at a time: the CPU reference
 // of the refinement and the measure of the fit as it will be drawn.

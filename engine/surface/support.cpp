@@ -1,5 +1,7 @@
 #include "surface/support.h"
 
+#include "base/parallel.h"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -33,25 +35,36 @@ Support::Support(const std::vector<Eigen::Vector3d>& points) {
         grid_[cellOf(points[i])].push_back(i);
     }
     reach2_.resize(points.size());
-    for (uint32_t i = 0; i < points.size(); ++i) {
-        // The kSupportNeighbours nearest others within the cells around (farther ones are past the cap anyway).
-        std::array<float, kSupportNeighbours> nearest;
-        nearest.fill(float(cap * cap));
-        const Cell c = cellOf(points[i]);
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    auto it = grid_.find({c.x + dx, c.y + dy, c.z + dz});
-                    if (it == grid_.end()) continue;
-                    for (uint32_t j : it->second) {
-                        const float d2 = (points_[j] - points_[i]).squaredNorm();
-                        if (j == i || d2 >= nearest.back()) continue;
-                        nearest.back() = d2;
-                        std::sort(nearest.begin(), nearest.end());
+    // Cell by cell on all threads (a scan of 10⁶ points took 6 s on one of 16 cores, 27 look-ups a point): the
+    // points of the 27 cells around are gathered once for every point of the cell; each point writes its reach.
+    std::vector<const std::pair<const Cell, std::vector<uint32_t>>*> cells;
+    cells.reserve(grid_.size());
+    for (const auto& cell : grid_) cells.push_back(&cell);
+    parallelChunks(cells.size(), 256, [&](size_t begin, size_t end, size_t) {
+        std::vector<uint32_t> around;
+        for (size_t k = begin; k < end; ++k) {
+            const Cell c = cells[k]->first;
+            around.clear();
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        auto it = grid_.find({c.x + dx, c.y + dy, c.z + dz});
+                        if (it != grid_.end()) around.insert(around.end(), it->second.begin(), it->second.end());
                     }
+            for (uint32_t i : cells[k]->second) {
+                // The kSupportNeighbours nearest others around (farther ones are past the cap anyway).
+                std::array<float, kSupportNeighbours> nearest;
+                nearest.fill(float(cap * cap));
+                for (uint32_t j : around) {
+                    const float d2 = (points_[j] - points_[i]).squaredNorm();
+                    if (j == i || d2 >= nearest.back()) continue;
+                    nearest.back() = d2;
+                    std::sort(nearest.begin(), nearest.end());
                 }
-        reach2_[i] = float(kSupportReach * kSupportReach) * nearest.back();
-    }
+                reach2_[i] = float(kSupportReach * kSupportReach) * nearest.back();
+            }
+        }
+    });
 }
 
 namespace {

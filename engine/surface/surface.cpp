@@ -17,9 +17,12 @@ void chooseSeeds(Surface& surface) {
 
 FitStats measureFit(const Surface& surface) {
     if (surface.method == FitMethod::Global) return measureFit(surface.global);
+    return measureFit(surface, PuFloat(surface.pu).evalMany(surface.centers));
+}
+
+FitStats measureFit(const Surface& surface, const std::vector<Eigen::Vector4f>& values) {
     FitStats stats;
     stats.controlPoints = surface.size();
-    const std::vector<Eigen::Vector4f> values = PuFloat(surface.pu).evalMany(surface.centers);
     for (size_t i = 0; i < surface.size(); ++i) {
         double f = values[i].w();
         Eigen::Vector3d g = values[i].head<3>().cast<double>();

@@ -42,5 +42,7 @@ void chooseSeeds(Surface& surface);
 // The stats of `surface` at its own centres against its normals, evaluated as the device evaluates it (float for
 // the partition of unity, double for the global fit): controlPoints, maxDistance, maxNormalAngleDeg.
 FitStats measureFit(const Surface& surface);
+// The same from the values (∇f, f) at every centre, in float as PuFloat::evalMany gives them.
+FitStats measureFit(const Surface& surface, const std::vector<Eigen::Vector4f>& values);
 
 }  // namespace ink
