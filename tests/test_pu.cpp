@@ -279,14 +279,18 @@ TEST_CASE("pu: the fit is the same on one thread and on several" * doctest::test
         ink::setWorkerThreads(threads);
         ink::Model m = ink::fitModel(bunny, {});
         ink::setWorkerThreads(0);
-        return std::make_pair(ink::encodeHrbf(m.surface, ink::HrbfFormat::Text), m.fit.maxDistance);
+        return std::make_tuple(ink::encodeHrbf(m.surface, ink::HrbfFormat::Text), m.fit.maxDistance,
+                               m.surface.pu.grid.cellStart, m.surface.pu.grid.cellPatches);
     };
     const auto one = fitOn(1), three = fitOn(3);
-    CHECK(one.first.size() > 1000000);  // the bunny with its face samples: thousands of patches
-    CHECK(one.first == three.first);
-    CHECK(one.second == three.second);
+    CHECK(std::get<0>(one).size() > 1000000);  // the bunny with its face samples: thousands of patches
+    CHECK(std::get<0>(one) == std::get<0>(three));
+    CHECK(std::get<1>(one) == std::get<1>(three));
+    // The grid (filled on all threads, each cell's patches then sorted): the same lists in the same order.
+    CHECK(std::get<2>(one) == std::get<2>(three));
+    CHECK(std::get<3>(one) == std::get<3>(three));
 
-    // Farthest-point sampling splits a large set over the threads: the same picks as a plain loop.
+    // Farthest-point sampling of a large set (over its pruned tree): the same picks as a plain loop.
     std::vector<Vector3d> points;
     uint64_t state = 7;
     auto next = [&] {

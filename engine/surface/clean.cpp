@@ -147,26 +147,46 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance) {
         for (int a = 0; a < 3; ++a) k[size_t(a)] = int64_t(std::min(std::floor((p[a] - lo[a]) / cell), 4.0e18));
         return k;
     };
-    struct KeyHash {
-        size_t operator()(const Key& k) const {
-            uint64_t h = uint64_t(k[0]) * 0x9E3779B97F4A7C15ull ^ uint64_t(k[1]) * 0xC2B2AE3D27D4EB4Full ^
-                         uint64_t(k[2]) * 0x165667B19E3779F9ull;
-            return size_t(h ^ (h >> 29));
-        }
+    auto hash = [](const Key& k) {
+        uint64_t h = uint64_t(k[0]) * 0x9E3779B97F4A7C15ull ^ uint64_t(k[1]) * 0xC2B2AE3D27D4EB4Full ^
+                     uint64_t(k[2]) * 0x165667B19E3779F9ull;
+        return size_t(h ^ (h >> 29));
     };
+    // The points sorted by cell (then index), keys beside them so that the sort reads memory in order.
+    struct Entry {
+        Key key;
+        uint32_t index;
+    };
+    std::vector<Entry> sorted(n);
+    for (size_t i = 0; i < n; ++i) sorted[i] = {keyOf(pos[i]), uint32_t(i)};
+    std::sort(sorted.begin(), sorted.end(),
+              [](const Entry& a, const Entry& b) { return std::tie(a.key, a.index) < std::tie(b.key, b.index); });
     std::vector<Key> keys(n);
     std::vector<uint32_t> byCell(n);
-    for (size_t i = 0; i < n; ++i) keys[i] = keyOf(pos[i]), byCell[i] = uint32_t(i);
-    std::sort(byCell.begin(), byCell.end(),
-              [&](uint32_t a, uint32_t b) { return std::tie(keys[a], a) < std::tie(keys[b], b); });
-    std::unordered_map<Key, std::pair<uint32_t, uint32_t>, KeyHash> cells;  // a cell's range in byCell
-    cells.reserve(n);
+    for (size_t k = 0; k < n; ++k) keys[sorted[k].index] = sorted[k].key, byCell[k] = sorted[k].index;
+    std::vector<Entry>().swap(sorted);
+    // Open addressing from a cell to its range [first, end) in byCell: a table of at least twice the cells,
+    // the empty slots' first = end = 0 (a real range is never empty).
+    struct Slot {
+        uint32_t first = 0, end = 0;
+    };
+    size_t capacity = 16;
+    while (capacity < 2 * n) capacity *= 2;
+    std::vector<Slot> table(capacity);
     for (uint32_t k = 0; k < n;) {
         uint32_t end = k + 1;
         while (end < n && keys[byCell[end]] == keys[byCell[k]]) ++end;
-        cells.emplace(keys[byCell[k]], std::make_pair(k, end));
+        size_t s = hash(keys[byCell[k]]) & (capacity - 1);
+        while (table[s].end != 0) s = (s + 1) & (capacity - 1);
+        table[s] = {k, end};
         k = end;
     }
+    auto rangeOf = [&](const Key& key) -> Slot {
+        for (size_t s = hash(key) & (capacity - 1);; s = (s + 1) & (capacity - 1)) {
+            if (table[s].end == 0) return {};
+            if (keys[byCell[table[s].first]] == key) return table[s];
+        }
+    };
     // The earlier points within the tolerance of each point, on all threads (most points have none), as (i, j)
     // pairs in the order of i then j; then, in order, each point joins the first of them that heads a cluster.
     std::array<std::vector<std::pair<uint32_t, uint32_t>>, 64> near;
@@ -179,10 +199,9 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance) {
                 step[size_t(a)] = (pos[i][a] - lo[a]) / cell - double(k[size_t(a)]) < 0.5 ? -1 : 1;
             found.clear();
             for (int c = 0; c < 8; ++c) {
-                auto it = cells.find(
+                const Slot range = rangeOf(
                     {k[0] + ((c & 1) ? step[0] : 0), k[1] + ((c & 2) ? step[1] : 0), k[2] + ((c & 4) ? step[2] : 0)});
-                if (it == cells.end()) continue;
-                for (uint32_t m = it->second.first; m < it->second.second; ++m) {
+                for (uint32_t m = range.first; m < range.end; ++m) {
                     const uint32_t j = byCell[m];
                     if (j >= i) break;  // sorted by index within a cell
                     if ((pos[i] - pos[j]).squaredNorm() <= t2) found.push_back(j);
@@ -268,23 +287,30 @@ std::vector<size_t> farthestPointSampleFlat(const std::vector<Vector3d>& positio
 // the picks are the flat loop's, in the same order (test: points, farthestPointSample).
 class FpsTree {
 public:
-    explicit FpsTree(const std::vector<Vector3d>& positions)
-        : p_(positions), distance_(positions.size(), std::numeric_limits<double>::infinity()) {
-        order_.resize(p_.size());
-        for (size_t i = 0; i < order_.size(); ++i) order_[i] = uint32_t(i);
-        nodes_.reserve(2 * (p_.size() / kLeaf + 1));
-        build(0, uint32_t(p_.size()));
+    explicit FpsTree(const std::vector<Vector3d>& positions) : items_(positions.size()), at_(positions.size()) {
+        for (size_t i = 0; i < items_.size(); ++i) items_[i] = {positions[i], std::numeric_limits<double>::infinity(),
+                                                                uint32_t(i)};
+        nodes_.reserve(2 * (items_.size() / kLeaf + 1));
+        build(0, uint32_t(items_.size()));
+        for (uint32_t k = 0; k < items_.size(); ++k) at_[items_[k].index] = k;
     }
 
     // Picks `i` and brings every distance up to date; returns the next pick (the farthest point).
     size_t pick(size_t i) {
-        distance_[i] = -1;
-        update(0, p_[i]);
+        items_[at_[i]].distance = -1;
+        const Vector3d p = items_[at_[i]].p;
+        update(0, p);
         return nodes_[0].farthest;
     }
 
 private:
     static constexpr uint32_t kLeaf = 32;
+    // The points in the tree's order, beside their distances: a leaf reads one stretch of memory.
+    struct Item {
+        Vector3d p;
+        double distance;  // squared distance to the nearest picked point; -1 once picked
+        uint32_t index;   // in the input
+    };
     struct Node {
         Vector3d lo, hi;
         uint32_t begin, end, left = 0, right = 0;  // the children's indices; 0 for a leaf
@@ -295,24 +321,22 @@ private:
     uint32_t build(uint32_t begin, uint32_t end) {
         const uint32_t index = uint32_t(nodes_.size());
         nodes_.push_back({Vector3d::Zero(), Vector3d::Zero(), begin, end});
-        Vector3d lo = p_[order_[begin]], hi = lo;
+        Vector3d lo = items_[begin].p, hi = lo;
+        uint32_t farthest = items_[begin].index;
         for (uint32_t k = begin + 1; k < end; ++k) {
-            lo = lo.cwiseMin(p_[order_[k]]);
-            hi = hi.cwiseMax(p_[order_[k]]);
+            lo = lo.cwiseMin(items_[k].p);
+            hi = hi.cwiseMax(items_[k].p);
+            farthest = std::min(farthest, items_[k].index);
         }
-        uint32_t farthest = order_[begin];
-        for (uint32_t k = begin + 1; k < end; ++k) farthest = std::min(farthest, order_[k]);
         nodes_[index].lo = lo;
         nodes_[index].hi = hi;
-        nodes_[index].begin = begin;
-        nodes_[index].end = end;
         nodes_[index].farthest = farthest;  // every distance is infinite: the lowest index
         if (end - begin > kLeaf) {
             int axis;
             (hi - lo).maxCoeff(&axis);
             const uint32_t mid = begin + (end - begin) / 2;
-            std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                             [&](uint32_t a, uint32_t b) { return p_[a][axis] < p_[b][axis]; });
+            std::nth_element(items_.begin() + begin, items_.begin() + mid, items_.begin() + end,
+                             [axis](const Item& a, const Item& b) { return a.p[axis] < b.p[axis]; });
             const uint32_t left = build(begin, mid), right = build(mid, end);
             nodes_[index].left = left;
             nodes_[index].right = right;
@@ -334,11 +358,10 @@ private:
         uint32_t bestIndex = uint32_t(-1);
         if (node.left == 0) {
             for (uint32_t k = node.begin; k < node.end; ++k) {
-                const uint32_t i = order_[k];
-                double& d = distance_[i];
-                if (d < 0) continue;
-                d = std::min(d, (p_[i] - at).squaredNorm());
-                if (farther(d, i, best, bestIndex)) best = d, bestIndex = i;
+                Item& item = items_[k];
+                if (item.distance < 0) continue;
+                item.distance = std::min(item.distance, (item.p - at).squaredNorm());
+                if (farther(item.distance, item.index, best, bestIndex)) best = item.distance, bestIndex = item.index;
             }
         } else {
             const uint32_t left = node.left, right = node.right;
@@ -352,9 +375,8 @@ private:
         nodes_[index].farthest = bestIndex;
     }
 
-    const std::vector<Vector3d>& p_;
-    std::vector<double> distance_;  // squared distance to the nearest picked point; -1 once picked
-    std::vector<uint32_t> order_;
+    std::vector<Item> items_;
+    std::vector<uint32_t> at_;  // each input point's place in items_
     std::vector<Node> nodes_;
 };
 
