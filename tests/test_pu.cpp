@@ -321,3 +321,20 @@ TEST_CASE("pu: the fit is the same on one thread and on several" * doctest::test
     CHECK(ink::farthestPointSample(points, 40) == expected);
     ink::setWorkerThreads(0);
 }
+
+// The far field follows a large fit's thin parts with more points (PuOptions::coarsePointsLarge): 256 up to 8192
+// points, 384 above (the Spider's legs: 98.4% → 99.4% of the refined points on its mesh, docs/fitting.md).
+TEST_CASE("pu: a large fit gets the finer far field" * doctest::test_suite("unit")) {
+    auto farField = [](uint32_t u, uint32_t v) {
+        ink::OrientedPoints torus = ink::torusPoints(u, v);
+        ink::PuStats stats;
+        ink::PuHrbf model = ink::fitPuHrbf(torus.positions, torus.normals, {}, &stats);
+        CHECK(model.coarse.size() == stats.coarsePoints);
+        return std::make_pair(torus.positions.size(), stats.coarsePoints);
+    };
+    const auto small = farField(80, 40), large = farField(160, 64);
+    CHECK(small.first <= 8192);
+    CHECK(small.second == 256);
+    CHECK(large.first > 8192);
+    CHECK(large.second == 384);
+}

@@ -300,65 +300,75 @@ PuSeams measureSeams(const PuHrbf& model, size_t maxSamples) {
     PuSeams out;
     std::vector<double> tilt, ratio, rough;
     const size_t stride = std::max<size_t>(1, model.patches.size() / std::max<size_t>(1, maxSamples));
-    for (size_t pi = 0; pi < model.patches.size(); pi += stride) {
-        const PuPatch& patch = model.patches[pi];
-        if (patch.count < 2) continue;
-        // Halfway from the patch's first node to its nearest neighbour in the patch, projected onto F = 0.
-        const Vector3d p0 = model.nodes[patch.first].p;
-        Vector3d nearest = model.nodes[patch.first + 1].p;
-        for (uint32_t j = patch.first + 1; j < patch.first + patch.count; ++j)
-            if ((model.nodes[j].p - p0).squaredNorm() < (nearest - p0).squaredNorm()) nearest = model.nodes[j].p;
-        Vector3d x = patch.center + patch.radius * 0.5 * (p0 + nearest), gradient;
-        bool onSurface = false;
-        for (int k = 0; k < 8 && !onSurface; ++k) {
-            const double f = model.eval(x, gradient), g2 = gradient.squaredNorm();
-            if (!(g2 > 0) || !std::isfinite(f)) break;
-            x -= (f / g2) * gradient;
-            onSurface = std::abs(f) < 1e-10 * std::sqrt(g2);
+    // Each sampled patch's three figures in its own slot (the fourth is 1 where it gave them), on all threads,
+    // then gathered in patch order.
+    const size_t sampled = (model.patches.size() + stride - 1) / stride;
+    std::vector<std::array<double, 4>> figures(sampled, {0, 0, 0, 0});
+    parallelChunks(sampled, 64, [&](size_t begin, size_t end, size_t) {
+        for (size_t si = begin; si < end; ++si) {
+            const size_t pi = si * stride;
+            const PuPatch& patch = model.patches[pi];
+            if (patch.count < 2) continue;
+            // Halfway from the patch's first node to its nearest neighbour in the patch, projected onto F = 0.
+            const Vector3d p0 = model.nodes[patch.first].p;
+            Vector3d nearest = model.nodes[patch.first + 1].p;
+            for (uint32_t j = patch.first + 1; j < patch.first + patch.count; ++j)
+                if ((model.nodes[j].p - p0).squaredNorm() < (nearest - p0).squaredNorm()) nearest = model.nodes[j].p;
+            Vector3d x = patch.center + patch.radius * 0.5 * (p0 + nearest), gradient;
+            bool onSurface = false;
+            for (int k = 0; k < 8 && !onSurface; ++k) {
+                const double f = model.eval(x, gradient), g2 = gradient.squaredNorm();
+                if (!(g2 > 0) || !std::isfinite(f)) break;
+                x -= (f / g2) * gradient;
+                onSurface = std::abs(f) < 1e-10 * std::sqrt(g2);
+            }
+            if (!onSurface) continue;
+            // The blend at x, whole, and the patches' own part of it.
+            Matrix3d hessian;
+            model.eval(x, gradient, &hessian);
+            double S = 0;
+            Vector3d ownGradient = Vector3d::Zero();
+            Matrix3d ownHessian = Matrix3d::Zero();
+            const int64_t cell = model.grid.cellOf(x);
+            if (cell < 0) continue;
+            for (uint32_t k = model.grid.cellStart[size_t(cell)]; k < model.grid.cellStart[size_t(cell) + 1]; ++k) {
+                const PuPatch& other = model.patches[model.grid.cellPatches[k]];
+                const Vector3d q = (x - other.center) / other.radius;
+                if (!(q.squaredNorm() < 1)) continue;
+                double f = other.a.dot(q) + other.b;
+                Vector3d g = other.a;
+                Matrix3d H = Matrix3d::Zero();
+                for (uint32_t j = other.first; j < other.first + other.count; ++j)
+                    addR3Node<double>(q, model.nodes[j].p, model.nodes[j].alpha, model.nodes[j].beta, f, g, &H);
+                const double w = wendland(q.norm());
+                S += w;
+                ownGradient += w * g;
+                ownHessian += (w / other.radius) * H;
+            }
+            if (!(S >= model.tau)) continue;  // the far field blends in here: not a seam between patches
+            ownGradient /= S;
+            ownHessian /= S;
+            const double gn = gradient.norm();
+            const Vector3d n = gradient / gn;
+            figures[si][0] = std::atan2(gradient.cross(ownGradient).norm(), gradient.dot(ownGradient)) * 180.0 / M_PI;
+            const double own = tangentNorm(ownHessian, n) / gn, seam = tangentNorm(hessian - ownHessian, n) / gn;
+            figures[si][1] = seam / std::max(own, 1e-3);
+            // The roughness: F's shape operator halfway against the mean of its two ends'.
+            auto shape = [&](const Vector3d& at) {
+                Vector3d g;
+                Matrix3d H;
+                model.eval(at, g, &H);
+                return Matrix3d(H / g.norm());
+            };
+            const Matrix3d ends =
+                0.5 * (shape(patch.center + patch.radius * p0) + shape(patch.center + patch.radius * nearest));
+            const Matrix3d mid = hessian / gn;
+            figures[si][2] = tangentNorm(mid - ends, n) / (0.5 * (tangentNorm(mid, n) + tangentNorm(ends, n)) + 1.0);
+            figures[si][3] = 1;
         }
-        if (!onSurface) continue;
-        // The blend at x, whole, and the patches' own part of it.
-        Matrix3d hessian;
-        model.eval(x, gradient, &hessian);
-        double S = 0;
-        Vector3d ownGradient = Vector3d::Zero();
-        Matrix3d ownHessian = Matrix3d::Zero();
-        const int64_t cell = model.grid.cellOf(x);
-        if (cell < 0) continue;
-        for (uint32_t k = model.grid.cellStart[size_t(cell)]; k < model.grid.cellStart[size_t(cell) + 1]; ++k) {
-            const PuPatch& other = model.patches[model.grid.cellPatches[k]];
-            const Vector3d q = (x - other.center) / other.radius;
-            if (!(q.squaredNorm() < 1)) continue;
-            double f = other.a.dot(q) + other.b;
-            Vector3d g = other.a;
-            Matrix3d H = Matrix3d::Zero();
-            for (uint32_t j = other.first; j < other.first + other.count; ++j)
-                addR3Node<double>(q, model.nodes[j].p, model.nodes[j].alpha, model.nodes[j].beta, f, g, &H);
-            const double w = wendland(q.norm());
-            S += w;
-            ownGradient += w * g;
-            ownHessian += (w / other.radius) * H;
-        }
-        if (!(S >= model.tau)) continue;  // the far field blends in here: not a seam between patches
-        ownGradient /= S;
-        ownHessian /= S;
-        const double gn = gradient.norm();
-        const Vector3d n = gradient / gn;
-        tilt.push_back(std::atan2(gradient.cross(ownGradient).norm(), gradient.dot(ownGradient)) * 180.0 / M_PI);
-        const double own = tangentNorm(ownHessian, n) / gn, seam = tangentNorm(hessian - ownHessian, n) / gn;
-        ratio.push_back(seam / std::max(own, 1e-3));
-        // The roughness: F's shape operator halfway against the mean of its two ends'.
-        auto shape = [&](const Vector3d& at) {
-            Vector3d g;
-            Matrix3d H;
-            model.eval(at, g, &H);
-            return Matrix3d(H / g.norm());
-        };
-        const Matrix3d ends =
-            0.5 * (shape(patch.center + patch.radius * p0) + shape(patch.center + patch.radius * nearest));
-        const Matrix3d mid = hessian / gn;
-        rough.push_back(tangentNorm(mid - ends, n) / (0.5 * (tangentNorm(mid, n) + tangentNorm(ends, n)) + 1.0));
-    }
+    });
+    for (const auto& [t, r, g, given] : figures)
+        if (given == 1) tilt.push_back(t), ratio.push_back(r), rough.push_back(g);
     out.samples = tilt.size();
     out.normalDegMedian = percentile(tilt, 0.5);
     out.normalDegP95 = percentile(tilt, 0.95);
@@ -393,7 +403,7 @@ PuHrbf fitPuHrbf(const std::vector<Vector3d>& points, const std::vector<Vector3d
 
     // The far field: a global HRBF on well-spread points, fewer if that system is too ill-conditioned; solved on
     // a thread of its own beside the patches (its one dense system of 4 × 256 + 4 unknowns took longer than all
-    // the bunny's patches on 16 cores).
+    // the bunny-684's patches on 16 cores).
     PuHrbf model;
     std::exception_ptr farError;
     double farMs = 0;
@@ -401,7 +411,8 @@ PuHrbf fitPuHrbf(const std::vector<Vector3d>& points, const std::vector<Vector3d
         const auto start = std::chrono::steady_clock::now();
         try {
             std::vector<Vector3d> cp, cn;
-            for (size_t count = std::min(options.coarsePoints, n);; count /= 2) {
+            const size_t wanted = n > options.largeFit ? options.coarsePointsLarge : options.coarsePoints;
+            for (size_t count = std::min(wanted, n);; count /= 2) {
                 cp.clear();
                 cn.clear();
                 for (size_t i : farthestPointSample(points, count)) {
