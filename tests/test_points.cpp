@@ -562,8 +562,7 @@ TEST_CASE("points: farthestPointSample picks what the definition picks" * doctes
     auto definition = [](const std::vector<Vector3d>& v, size_t count) {
         size_t first = 0;
         for (size_t i = 1; i < v.size(); ++i)
-            if (std::tie(v[i].x(), v[i].y(), v[i].z()) < std::tie(v[first].x(), v[first].y(), v[first].z()))
-                first = i;
+            if (std::tie(v[i].x(), v[i].y(), v[i].z()) < std::tie(v[first].x(), v[first].y(), v[first].z())) first = i;
         std::vector<double> d(v.size(), std::numeric_limits<double>::infinity());
         std::vector<size_t> picked{first};
         d[first] = -1;
@@ -590,7 +589,8 @@ TEST_CASE("points: farthestPointSample picks what the definition picks" * doctes
     std::shuffle(grid.begin(), grid.end(), rng);
     for (int c = 0; c < 40; ++c) {
         Vector3d centre(u(rng), u(rng), u(rng));
-        for (int k = 0; k < 60; ++k) clusters.push_back(k % 3 ? centre : centre + 1e-3 * Vector3d(u(rng), u(rng), u(rng)));
+        for (int k = 0; k < 60; ++k)
+            clusters.push_back(k % 3 ? centre : centre + 1e-3 * Vector3d(u(rng), u(rng), u(rng)));
     }
     for (const auto* v : {&spread, &grid, &clusters})
         for (size_t count : {size_t(2), size_t(97), size_t(700), v->size() - 1}) {

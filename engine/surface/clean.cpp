@@ -3,7 +3,6 @@
 
 #include "base/parallel.h"
 
-
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -288,8 +287,8 @@ std::vector<size_t> farthestPointSampleFlat(const std::vector<Vector3d>& positio
 class FpsTree {
 public:
     explicit FpsTree(const std::vector<Vector3d>& positions) : items_(positions.size()), at_(positions.size()) {
-        for (size_t i = 0; i < items_.size(); ++i) items_[i] = {positions[i], std::numeric_limits<double>::infinity(),
-                                                                uint32_t(i)};
+        for (size_t i = 0; i < items_.size(); ++i)
+            items_[i] = {positions[i], std::numeric_limits<double>::infinity(), uint32_t(i)};
         nodes_.reserve(2 * (items_.size() / kLeaf + 1));
         build(0, uint32_t(items_.size()));
         for (uint32_t k = 0; k < items_.size(); ++k) at_[items_[k].index] = k;

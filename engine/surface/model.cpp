@@ -335,8 +335,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     model.fit.maxDistance = measured.maxDistance;
     model.fit.maxNormalAngleDeg = measured.maxNormalAngleDeg;
     phases.lap("measure");
-    measureInputs(model, inputs.positions, inputs.normals,
-                  global || !atInputs.empty() ? atInputs : atCentres);
+    measureInputs(model, inputs.positions, inputs.normals, global || !atInputs.empty() ? atInputs : atCentres);
     phases.lap("measure_inputs");
     model.features = meshFeatures(mesh, surface, {options.creaseAngleDeg});
     phases.lap("features");

@@ -63,10 +63,10 @@ struct PuOptions {
     // Small patches keep the local coefficients small, and so the float evaluation accurate: on the bunny with its
     // face samples the worst distance at the points was 1.0e-6 of the diagonal with these at 6, 1.4, 12, 40 and
     // 2.1e-7 at 4, 1.3, 8, 24 (the angle 0.024° and 0.003°; docs/fitting.md).
-    size_t leafPoints = 4;      // an octree cell with more points is split
-    double overlap = 1.3;       // R_i = overlap · the cell's half diagonal
-    size_t minPatch = 8;        // a support with fewer points grows until it has this many
-    size_t maxPatch = 24;       // a cell whose support holds more is split (while it can be)
+    size_t leafPoints = 4;  // an octree cell with more points is split
+    double overlap = 1.3;   // R_i = overlap · the cell's half diagonal
+    size_t minPatch = 8;    // a support with fewer points grows until it has this many
+    size_t maxPatch = 24;   // a cell whose support holds more is split (while it can be)
     // Points of the far-field HRBF: more for a large fit, whose thin parts the far field must follow where the
     // patches' weights fade beside them (below τ): with 256, the fit of the Spider's 30,869 points left pieces of
     // surface beside its legs, 98.4% of the refined points within 1% of the diagonal of the mesh, 99.4% with 384,
