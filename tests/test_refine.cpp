@@ -262,6 +262,32 @@ TEST_CASE("refine: the partition of unity in float matches the CPU reference, th
     gpu.requireNoValidationErrors();
 }
 
+// Issue 27's size wall: patch nodes beyond a storage buffer's range (128 MiB on lavapipe, a scan of 10⁶ points
+// has 155 MiB) are read by device address, refine_large.comp. Both paths on one small model: the same points.
+TEST_CASE("refine: the partition of unity's nodes read by device address give the same points as from a buffer" *
+          doctest::test_suite("gpu")) {
+    GpuFixture gpu;
+    REQUIRE(gpu.ctx.bufferDeviceAddress);  // every Vulkan 1.3 device has it
+    ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {400});
+    for (auto style : {ink::SampleStyle::Stipple, ink::SampleStyle::Direction}) {
+        CAPTURE(int(style));
+        ink::RefineOptions options;
+        options.style = style;
+        options.direction = ink::DirectionField::CurvatureMax;  // the Hessian's nodes too
+        options.levels = 3;
+        Refinement buffer(gpu.ctx, model.surface, options);
+        options.nodesByAddress = true;
+        Refinement address(gpu.ctx, model.surface, options);
+        CHECK(!buffer.r.nodesByAddress);
+        CHECK(address.r.nodesByAddress);
+        const auto a = ink::readPoints(gpu.ctx, buffer.r), b = ink::readPoints(gpu.ctx, address.r);
+        REQUIRE(a.size() > 10000);
+        REQUIRE(a.size() == b.size());
+        CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(ink::PointRecord)) == 0);
+    }
+    gpu.requireNoValidationErrors();
+}
+
 TEST_CASE("refine: without shaderFloat64 the partition of unity refines and draws; the global fit says what it needs" *
           doctest::test_suite("gpu")) {
     GpuFixture gpu(false);

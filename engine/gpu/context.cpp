@@ -209,13 +209,16 @@ static VkPhysicalDevice pickDevice(VkInstance instance, const std::string& wante
 // Reads what the engine needs to know of ctx.physicalDevice, picks the queue family (unless one is set), and
 // refuses a device that lacks what the shaders use.
 static void describeDevice(Context& ctx, bool pickQueueFamily = true) {
-    VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceVulkan11Properties v11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES};
+    VkPhysicalDeviceVulkan13Properties v13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_PROPERTIES, &v11};
+    VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES, &v13};
     VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &subgroup};
     VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
     vkGetPhysicalDeviceProperties2(ctx.physicalDevice, &props2);
     ctx.properties = props2.properties;
     ctx.driverInfo = std::string(driver.driverName) + " " + driver.driverInfo;
     ctx.driverId = driver.driverID;
+    ctx.maxBufferSize = std::min(v13.maxBufferSize, v11.maxMemoryAllocationSize);
     vkGetPhysicalDeviceMemoryProperties(ctx.physicalDevice, &ctx.memoryProperties);
 
     uint32_t familyCount = 0;
@@ -278,8 +281,15 @@ void createContext(Context& ctx, const ContextOptions& options) {
     v13.synchronization2 = VK_TRUE;
     v13.maintenance4 = VK_TRUE;
     v13.dynamicRendering = VK_TRUE;
-    // Nothing of Vulkan 1.2's: query pools are reset on the device (vkCmdResetQueryPool), not with hostQueryReset.
-    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v13};
+    // Of Vulkan 1.2's, bufferDeviceAddress (required of 1.3 devices) for models larger than a storage buffer's
+    // range. Query pools are reset on the device (vkCmdResetQueryPool), not with hostQueryReset.
+    VkPhysicalDeviceVulkan12Features supported12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &supported12};
+    vkGetPhysicalDeviceFeatures2(ctx.physicalDevice, &query);
+    ctx.bufferDeviceAddress = supported12.bufferDeviceAddress == VK_TRUE;
+    VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &v13};
+    v12.bufferDeviceAddress = ctx.bufferDeviceAddress ? VK_TRUE : VK_FALSE;
+    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
     features.features.shaderFloat64 = ctx.float64 ? VK_TRUE : VK_FALSE;
     features.features.shaderUniformBufferArrayDynamicIndexing = ctx.float64 ? VK_TRUE : VK_FALSE;
 
@@ -319,6 +329,7 @@ void adoptContext(Context& ctx, const AdoptedDevice& adopted) {
     ctx.queue = adopted.queue;
     ctx.queueFamily = adopted.queueFamily;
     ctx.float64 = adopted.shaderFloat64;
+    ctx.bufferDeviceAddress = adopted.bufferDeviceAddress;
     describeDevice(ctx, false);
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;

@@ -53,6 +53,10 @@ struct Context {
     std::string driverInfo;  // "Mesa 22.3.6 (LLVM 15.0.6)"
     VkDriverId driverId{};   // picks device-specific code paths (lavapipe's stamped pen lines, strokes.cpp)
     bool float64 = false;    // shaderFloat64 enabled: the global fit's double evaluation can run
+    // bufferDeviceAddress enabled: a model whose patch nodes outgrow maxStorageBufferRange reads them by address
+    // (refine.cpp), up to maxBufferSize.
+    bool bufferDeviceAddress = false;
+    VkDeviceSize maxBufferSize = 0;  // the most one buffer (and one allocation) may hold
     bool validation = false;
     bool ownsDevice = true;  // false for an adopted device: destroyContext leaves it to its owner
     std::function<void(bool error, const std::string& message)> validationMessage;

@@ -16,8 +16,10 @@ static uint32_t findMemoryType(const Context& ctx, uint32_t typeBits, VkMemoryPr
 }
 
 static VkDeviceMemory allocate(Context& ctx, const VkMemoryRequirements& req, VkMemoryPropertyFlags wanted,
-                               VkMemoryPropertyFlags fallback) {
-    VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+                               VkMemoryPropertyFlags fallback, bool addressed = false) {
+    VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+    flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+    VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, addressed ? &flags : nullptr};
     info.allocationSize = req.size;
     info.memoryTypeIndex = findMemoryType(ctx, req.memoryTypeBits, wanted, fallback);
     VkDeviceMemory memory;
@@ -37,7 +39,8 @@ Buffer createBuffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, M
     vkGetBufferMemoryRequirements(ctx.device, b.buffer, &req);
     const VkMemoryPropertyFlags host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     if (use == MemoryUse::Device) {
-        b.memory = allocate(ctx, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0);
+        b.memory = allocate(ctx, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0,
+                            (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) != 0);
     } else {
         VkMemoryPropertyFlags cached = use == MemoryUse::Readback ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT : 0;
         b.memory = allocate(ctx, req, host | cached, host);
@@ -45,6 +48,12 @@ Buffer createBuffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, M
     VK_CHECK(vkBindBufferMemory(ctx.device, b.buffer, b.memory, 0));
     if (use != MemoryUse::Device) VK_CHECK(vkMapMemory(ctx.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
     return b;
+}
+
+VkDeviceAddress bufferAddress(Context& ctx, const Buffer& b) {
+    VkBufferDeviceAddressInfo info{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+    info.buffer = b.buffer;
+    return vkGetBufferDeviceAddress(ctx.device, &info);
 }
 
 void destroyBuffer(Context& ctx, Buffer& b) {
@@ -83,16 +92,15 @@ void uploadBufferAt(Context& ctx, Buffer& dst, VkDeviceSize offset, const void* 
 
 void UploadBatch::add(Buffer& dst, const void* data, VkDeviceSize size, VkDeviceSize offset) {
     if (size == 0) return;
-    const VkDeviceSize from = (bytes_.size() + 15) / 16 * 16;
-    bytes_.resize(from + size);
-    std::memcpy(bytes_.data() + from, data, size);
-    copies_.push_back({dst.buffer, offset, size, from});
+    const VkDeviceSize from = (bytes_ + 15) / 16 * 16;
+    bytes_ = from + size;
+    copies_.push_back({dst.buffer, data, offset, size, from});
 }
 
 void UploadBatch::submit() {
     if (copies_.empty()) return;
-    Buffer staging = createBuffer(ctx_, bytes_.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload);
-    std::memcpy(staging.mapped, bytes_.data(), bytes_.size());
+    Buffer staging = createBuffer(ctx_, bytes_, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload);
+    for (const Copy& c : copies_) std::memcpy(static_cast<unsigned char*>(staging.mapped) + c.from, c.data, c.size);
     submitAndWait(ctx_, [&](VkCommandBuffer cmd) {
         stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                      VK_ACCESS_2_MEMORY_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
@@ -105,7 +113,7 @@ void UploadBatch::submit() {
                      VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
     });
     destroyBuffer(ctx_, staging);
-    bytes_.clear();
+    bytes_ = 0;
     copies_.clear();
 }
 

@@ -18,14 +18,17 @@ enum class MemoryUse { Device, Upload, Readback };
 
 Buffer createBuffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUse use);
 void destroyBuffer(Context& ctx, Buffer& buffer);
+// The device address of a buffer made with VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT (device memory only).
+VkDeviceAddress bufferAddress(Context& ctx, const Buffer& buffer);
 // Copies `size` bytes into a device buffer through a temporary staging buffer (setup only).
 void uploadBuffer(Context& ctx, Buffer& dst, const void* data, VkDeviceSize size);
 // Copies `size` bytes into a device buffer at `offset`, after whatever the device wrote there last and before
 // whatever reads it next (a host edit of a buffer the device made).
 void uploadBufferAt(Context& ctx, Buffer& dst, VkDeviceSize offset, const void* data, VkDeviceSize size);
-// Uploads gathered for one submission: `add` copies the bytes at once, `submit` sends them all through one
-// staging buffer and one wait (setting up a refinement made seven round trips, a staging allocation, a submission
-// and a wait each), with the barriers of uploadBufferAt around the copies. What is not submitted is dropped.
+// Uploads gathered for one submission: `add` notes a copy, `submit` sends them all through one staging buffer
+// and one wait (setting up a refinement made seven round trips, a staging allocation, a submission and a wait
+// each), with the barriers of uploadBufferAt around the copies. The data must live until submit, which copies it
+// once, into the staging buffer. What is not submitted is dropped.
 class UploadBatch {
 public:
     explicit UploadBatch(Context& ctx) : ctx_(ctx) {}
@@ -35,10 +38,11 @@ public:
 private:
     struct Copy {
         VkBuffer dst;
+        const void* data;
         VkDeviceSize offset, size, from;
     };
     Context& ctx_;
-    std::vector<unsigned char> bytes_;
+    VkDeviceSize bytes_ = 0;
     std::vector<Copy> copies_;
 };
 // Copies a device buffer range back to the host (readback for tests, exports and stats).

@@ -12,6 +12,7 @@
 #include "compact.comp.h"
 #include "refine.comp.h"
 #include "refine_global.comp.h"
+#include "refine_large.comp.h"
 #include "scan.comp.h"
 
 namespace ink {
@@ -59,6 +60,7 @@ static PuBuffers packPu(const PuHrbf& pu) {
     b.header.coarseLinear =
         gpu::vec4(float(pu.coarse.a.x()), float(pu.coarse.a.y()), float(pu.coarse.a.z()), float(pu.coarse.b));
     b.header.params = gpu::vec4(float(pu.tau), 0.0f, 0.0f, 0.0f);
+    b.header.nodes = gpu::uvec4(0u);  // the nodes' address, where they are read by it (createRefinement)
     for (const PuPatch& p : pu.patches)
         b.patches.push_back({gpu::vec4(float(p.center.x()), float(p.center.y()), float(p.center.z()), float(p.radius)),
                              gpu::vec4(float(p.a.x()), float(p.a.y()), float(p.a.z()), float(p.b)),
@@ -112,7 +114,11 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     const bool global = hrbf.method == FitMethod::Global;
     uint32_t realBlocks = 0;
-    UploadBatch uploads(ctx);
+    UploadBatch uploads(ctx);  // submitted below, before what it copies from goes
+    gpu::HrbfHeader header{};
+    std::vector<gpu::HrbfCenter> centers;
+    PuBuffers b;
+    std::vector<gpu::PuHeader> puHeader;
     if (global) {
         if (!ctx.float64)
             throw Error(std::string(ctx.properties.deviceName) +
@@ -125,8 +131,8 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
             throw Error(std::string(ctx.properties.deviceName) +
                         " has uniform buffers under 64 KiB, which the global HRBF needs");
         const VkBufferUsageFlags uniform = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-        gpu::HrbfHeader header = packHrbfHeader(h);
-        std::vector<gpu::HrbfCenter> centers = packHrbfCenters(h);
+        header = packHrbfHeader(h);
+        centers = packHrbfCenters(h);
         r.hrbfHeader = createBuffer(ctx, sizeof(header), uniform, MemoryUse::Device);
         uploads.add(r.hrbfHeader, &header, sizeof(header));
         r.hrbf = createBuffer(ctx, centers.size() * sizeof(gpu::HrbfCenter), uniform, MemoryUse::Device);
@@ -134,12 +140,46 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
         // Blocks past the last real one point at block 0: they are declared by the shader but never read.
         realBlocks = uint32_t(centers.size() / kHrbfBlockSize);
     } else {
-        PuBuffers b = packPu(hrbf.pu);
+        b = packPu(hrbf.pu);
+        puHeader = {b.header};
+        // The memory the model and the points take, against the device's largest heap, before any is allocated.
+        const uint64_t need = b.patches.size() * sizeof(gpu::PuPatch) + (b.nodes.size() + b.coarse.size()) * 4 +
+                              b.cells.size() * 4 + (2 * plan.maxPoints + maxCandidates) * sizeof(PointRecord);
+        VkDeviceSize heap = 0;
+        for (uint32_t i = 0; i < ctx.memoryProperties.memoryHeapCount; ++i)
+            if (ctx.memoryProperties.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+                heap = std::max(heap, ctx.memoryProperties.memoryHeaps[i].size);
+        if (heap && need > heap)
+            throw Error("the model and its points need " + std::to_string(need >> 20) +
+                        " MiB of device memory, more than " + ctx.properties.deviceName + " has (" +
+                        std::to_string(heap >> 20) + " MiB): fit fewer points");
         const VkBufferUsageFlags sbo = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-        r.hrbfHeader = deviceArray(ctx, uploads, std::vector<gpu::PuHeader>{b.header},
-                                   VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "header");
+        r.hrbfHeader = deviceArray(ctx, uploads, puHeader, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "header");
         r.puPatches = deviceArray(ctx, uploads, b.patches, sbo, "patches");
-        r.puNodes = deviceArray(ctx, uploads, b.nodes, sbo, "patch nodes");
+        // The nodes, by far the largest array (a scan of 10⁶ points: 155 MiB), by device address when they outgrow
+        // a storage buffer's range: then only the device's largest buffer (and allocation) limits them.
+        const VkDeviceSize nodeBytes = std::max<VkDeviceSize>(16, b.nodes.size() * sizeof(float));
+        r.nodesByAddress = options.nodesByAddress || nodeBytes > ctx.properties.limits.maxStorageBufferRange;
+        if (!r.nodesByAddress) {
+            r.puNodes = deviceArray(ctx, uploads, b.nodes, sbo, "patch nodes");
+        } else {
+            if (!ctx.bufferDeviceAddress)
+                throw Error(
+                    "the model's patch nodes take " + std::to_string(nodeBytes >> 20) + " MiB, more than " +
+                    ctx.properties.deviceName + " allows in one storage buffer (" +
+                    std::to_string(ctx.properties.limits.maxStorageBufferRange >> 20) +
+                    " MiB), and bufferDeviceAddress, which reads larger ones, is not enabled: fit fewer points");
+            if (nodeBytes > ctx.maxBufferSize)
+                throw Error("the model's patch nodes take " + std::to_string(nodeBytes >> 20) + " MiB, more than " +
+                            ctx.properties.deviceName + " allows in one buffer (" +
+                            std::to_string(ctx.maxBufferSize >> 20) + " MiB): fit fewer points");
+            r.puNodes = createBuffer(ctx, nodeBytes,
+                                     VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     MemoryUse::Device);
+            uploads.add(r.puNodes, b.nodes.data(), b.nodes.size() * sizeof(float));
+            const VkDeviceAddress address = bufferAddress(ctx, r.puNodes);
+            puHeader[0].nodes = gpu::uvec4(uint32_t(address), uint32_t(address >> 32), 0, 0);  // copied at submit
+        }
         r.puCells = deviceArray(ctx, uploads, b.cells, sbo, "patch grid");
         r.puCoarse = deviceArray(ctx, uploads, b.coarse, sbo, "far field");
     }
@@ -170,14 +210,15 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
         bindings.push_back({gpu::REFINE_HRBF_CENTERS, ub, r.hrbf.buffer, kHrbfBlocks, kHrbfBlockBytes, realBlocks});
     else
         bindings.insert(bindings.end(), {{gpu::REFINE_PU_PATCHES, sb, r.puPatches.buffer},
-                                         {gpu::REFINE_PU_NODES, sb, r.puNodes.buffer},
                                          {gpu::REFINE_PU_CELLS, sb, r.puCells.buffer},
                                          {gpu::REFINE_PU_COARSE, sb, r.puCoarse.buffer}});
+    if (!global && !r.nodesByAddress) bindings.push_back({gpu::REFINE_PU_NODES, sb, r.puNodes.buffer});
     r.descriptors = createDescriptorSet(ctx, bindings, VK_SHADER_STAGE_COMPUTE_BIT);
     lap(r.hostMs.buffers);
     r.layout = createPipelineLayout(ctx, r.descriptors.layout, sizeof(LevelParams), VK_SHADER_STAGE_COMPUTE_BIT);
-    r.refine = global ? createComputePipeline(ctx, r.layout, spv_refine_global_comp)
-                      : createComputePipeline(ctx, r.layout, spv_refine_comp);
+    r.refine = global             ? createComputePipeline(ctx, r.layout, spv_refine_global_comp)
+               : r.nodesByAddress ? createComputePipeline(ctx, r.layout, spv_refine_large_comp)
+                                  : createComputePipeline(ctx, r.layout, spv_refine_comp);
     r.scan = createComputePipeline(ctx, r.layout, spv_scan_comp);
     r.compact = createComputePipeline(ctx, r.layout, spv_compact_comp);
 

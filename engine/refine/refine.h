@@ -28,6 +28,7 @@ struct GpuRefinement {
     DescriptorSet descriptors;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline refine = VK_NULL_HANDLE, scan = VK_NULL_HANDLE, compact = VK_NULL_HANDLE;
+    bool nodesByAddress = false;  // the partition of unity's nodes read by device address (refine_large.comp)
     VkQueryPool timestamps = VK_NULL_HANDLE;
     GpuSelection* selection = nullptr;  // owned; null when every refined point is drawn
     // Host time of making and running it, in milliseconds (bench's `refine_host_ms`): the plans (refinement

@@ -45,6 +45,9 @@ struct RefineOptions {
     bool keepAllLevels = true;
     Distribution distribution = Distribution::BlueNoise;  // stippling only; direction sampling draws its points
     float candidatesPerStipple = 4.0f;  // for BlueNoise: the selection keeps about one candidate in this many
+    // The device reads the partition of unity's nodes by address (refine_large.comp) when they outgrow a storage
+    // buffer's range, or always with this set: tests compare the two paths on small models.
+    bool nodesByAddress = false;
     bool selects() const { return style == SampleStyle::Stipple && distribution == Distribution::BlueNoise; }
 };
 

@@ -115,7 +115,8 @@ struct DeviceOptions {
 };
 
 // A device the application made and keeps. It must be Vulkan 1.3 with synchronization2, dynamicRendering and
-// maintenance4 enabled (and shaderFloat64 for FitMethod::Global models), and subgroup
+// maintenance4 enabled (and shaderFloat64 for FitMethod::Global models, bufferDeviceAddress for models whose patch
+// nodes outgrow a storage buffer), and subgroup
 // basic/vote/ballot/arithmetic/shuffle operations in compute; the queue's family must do graphics and compute. Inkwell
 // makes only its own command pool, buffers and pipelines on it, and waits for the queue when the Device goes.
 struct AdoptedDevice {
@@ -127,6 +128,9 @@ struct AdoptedDevice {
     // Whether the device was created with shaderFloat64 and shaderUniformBufferArrayDynamicIndexing: only
     // models fitted with FitMethod::Global need them.
     bool shaderFloat64 = false;
+    // Whether it was created with bufferDeviceAddress (Vulkan 1.2's feature, which every 1.3 device has): only
+    // models whose patch nodes outgrow one storage buffer's range (maxStorageBufferRange) need it.
+    bool bufferDeviceAddress = false;
 };
 
 class Device {

@@ -16,7 +16,15 @@
 
 layout(std140, binding = REFINE_SURFACE_HEADER) uniform PuHeaderBlock { PuHeader pu; };
 layout(std430, binding = REFINE_PU_PATCHES) readonly buffer PuPatches { PuPatch puPatches[]; };
-layout(std430, binding = REFINE_PU_NODES) readonly buffer PuNodes { vec4 puNodes[]; };  // per node: (p_j, α_j), (β_j, 0)
+// Per node: (p_j, α_j), (β_j, 0). A model whose nodes outgrow one storage buffer's range (maxStorageBufferRange:
+// 128 MiB on lavapipe, a scan of 10⁶ points has 155 MiB) reads them by device address (refine_large.comp).
+#ifdef PU_NODES_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PuNodeArray { vec4 v[]; };
+#define PU_NODE(k) PuNodeArray(pu.nodes.xy).v[k]
+#else
+layout(std430, binding = REFINE_PU_NODES) readonly buffer PuNodes { vec4 puNodes[]; };
+#define PU_NODE(k) puNodes[k]
+#endif
 layout(std430, binding = REFINE_PU_CELLS) readonly buffer PuCells { uint puCells[]; };  // cell starts (cells + 1), then patch ids
 layout(std430, binding = REFINE_PU_COARSE) readonly buffer PuCoarse { vec4 puCoarse[]; };  // per centre: (p, α), (β, 0)
 
@@ -77,7 +85,7 @@ float puEval(vec3 x, out vec3 grad) {
             float h = dot(P.linear.xyz, q) + P.linear.w;
             vec3 g = P.linear.xyz;
             uint j1 = P.range.x + P.range.y;
-            for (uint j = P.range.x; j < j1; ++j) hrbfNodeF(q, puNodes[2u * j], puNodes[2u * j + 1u].xyz, h, g);
+            for (uint j = P.range.x; j < j1; ++j) hrbfNodeF(q, PU_NODE(2u * j), PU_NODE(2u * j + 1u).xyz, h, g);
             vec3 dw;
             float w = puWeight(q, R, dw), fi = R * h;
             S += w;
@@ -107,7 +115,7 @@ float puEvalHessian(vec3 x, out vec3 grad, out mat3 H) {
             mat3 Hh = mat3(0.0);
             uint j1 = P.range.x + P.range.y;
             for (uint j = P.range.x; j < j1; ++j)
-                hrbfNodeHessianF(q, puNodes[2u * j], puNodes[2u * j + 1u].xyz, h, g, Hh);
+                hrbfNodeHessianF(q, PU_NODE(2u * j), PU_NODE(2u * j + 1u).xyz, h, g, Hh);
             vec3 dw;
             float w = puWeight(q, R, dw), fi = R * h;
             float d = length(q), e = 1.0 - d, e2 = e * e;

@@ -93,11 +93,13 @@ struct PuHeader {
     uvec4 dims;         // xyz: cells along each axis; w: far-field centres
     vec4 coarseLinear;  // the far field's a, b
     vec4 params;        // x: τ
+    uvec4 nodes;        // xy: the nodes' device address, low and high words (refine_large.comp; else 0)
 };
-INK_ASSERT_SIZE(PuHeader, 64);
+INK_ASSERT_SIZE(PuHeader, 80);
 INK_ASSERT_OFFSET(PuHeader, dims, 16);
 INK_ASSERT_OFFSET(PuHeader, coarseLinear, 32);
 INK_ASSERT_OFFSET(PuHeader, params, 48);
+INK_ASSERT_OFFSET(PuHeader, nodes, 64);
 struct PuPatch {
     vec4 centerRadius;  // c_i, R_i
     vec4 linear;        // a_i, b_i (patch units)
@@ -118,7 +120,7 @@ INK_CONST uint REFINE_INDIRECT = 6u;        // IndirectArgs
 INK_CONST uint REFINE_SEEDS = 7u;           // vec4[]: xyz start, w parent index
 INK_CONST uint REFINE_HRBF_CENTERS = 8u;    // the global fit: HRBF_BLOCKS uniform blocks of HrbfCenter
 INK_CONST uint REFINE_PU_PATCHES = 8u;      // the partition of unity: PuPatch[]
-INK_CONST uint REFINE_PU_NODES = 9u;        // vec4[]
+INK_CONST uint REFINE_PU_NODES = 9u;        // vec4[] (not bound for refine_large.comp: it reads them by address)
 INK_CONST uint REFINE_PU_CELLS = 10u;       // uint[]: cell starts (cells + 1), then patch ids
 INK_CONST uint REFINE_PU_COARSE = 11u;      // vec4[]
 
