@@ -258,17 +258,19 @@ TEST_CASE("api: a drawing's contour is the sphere's circle seen from the eye, an
         const inkwell::Image a = inkwell::Renderer(crossed, 256, 256, look).render(camera);
         const inkwell::Image b = inkwell::Renderer(drawing, 256, 256, look).render(camera);
         REQUIRE(a.rgba.size() == b.rgba.size());
-        size_t lit = 0, dark = 0;
+        // The ink added, in pixels of full ink (summed, not thresholded: antialiasing differs between devices, and
+        // the thin diagonal strokes crossed mid-grey on 24 pixels here, 9 on an H200).
+        double lit = 0, dark = 0;
         for (uint32_t y = 0; y < 256; ++y)
             for (uint32_t x = 0; x < 256; ++x) {
                 const size_t i = 4 * (size_t(y) * 256 + x);
-                if (!(b.rgba[i] < 128 && a.rgba[i] >= 128)) continue;
-                lit += x < 128 && y < 128;     // the quarter towards the light
-                dark += x >= 128 && y >= 128;  // the quarter turned from it
+                const double added = std::max(0, int(a.rgba[i]) - int(b.rgba[i])) / 255.0;
+                if (x < 128 && y < 128) lit += added;     // the quarter towards the light
+                if (x >= 128 && y >= 128) dark += added;  // the quarter turned from it
             }
-        MESSAGE("diagonal family: " << dark << " pixels added turned from the light, " << lit << " towards it");
+        MESSAGE("diagonal family: " << dark << " pixels of ink added turned from the light, " << lit << " towards it");
         CHECK(dark > 10);
-        CHECK(lit == 0);
+        CHECK(lit < 0.5);
     }
     look.penWidth = 0;
     CHECK_THROWS_WITH_AS(inkwell::Renderer(drawing, 128, 128, look), "pen widths must be in (0, 32] pixels",
