@@ -155,7 +155,7 @@ TEST_CASE("robust: a patch of more than 1024 nodes is refused on load (issue 29)
     for (int i = 0; i < 1025; ++i) s += "0 0 0 0 0 0 0\n";
     s += "0 0 0 1 0 0\n0.5 0 0 1 0 0\nend\n";
     CHECK_THROWS_WITH_AS(ink::parseHrbf(s, "big.hrbf"),
-                         "big.hrbf: line 10: '1025' is not a patch's node count (1 to 1024; a fit makes 8 to 24)",
+                         "big.hrbf: line 10: '1025' is not a patch's node count (1 to 1024; a fit makes 12 to 24)",
                          Error);
 }
 
