@@ -183,14 +183,22 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
 }
 
 // The median of each number over the repeats; strings and lists from the first run.
+// Each number of the runs' results, the objects' in them too (preprocess_ms, refine_host_ms, ...), as its median
+// over the runs; the rest as the first run had it.
 json medianOf(const std::vector<json>& runs) {
     json m = runs.front();
-    for (auto& [key, value] : m.items())
+    for (auto& [key, value] : m.items()) {
         if (value.is_number_float()) {
             std::vector<double> v;
             for (const auto& r : runs) v.push_back(r[key].get<double>());
             value = median(v);
+        } else if (value.is_object()) {
+            std::vector<json> inner;
+            for (const auto& r : runs) inner.push_back(r[key]);
+            value = medianOf(inner);
+            value.erase("repeats");
         }
+    }
     m["repeats"] = runs.size();
     return m;
 }
