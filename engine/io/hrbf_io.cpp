@@ -562,7 +562,7 @@ Surface decode3(const std::string& bytes, const std::string& name, bool evaluate
             const uint16_t count = fetch<uint16_t>(bytes, layout.counts + i * kCountBytes);
             if (count < 1 || count > kMaxPatchNodes)
                 bad(where + ": " + std::to_string(count) + " is not a patch's node count (1 to " +
-                    std::to_string(kMaxPatchNodes) + "; a fit makes 12 to 24)");
+                    std::to_string(kMaxPatchNodes) + "; a fit makes 12 to a few dozen)");
             if (!(p.radius > 0 && p.radius <= 4)) bad(where + ": a patch's radius must be in (0, 4]");
             if (!(p.center.cwiseAbs().maxCoeff() <= 4)) bad(where + ": the patch's centre lies far outside the model");
             p.first = uint32_t(std::min<uint64_t>(total, UINT32_MAX));
@@ -816,7 +816,7 @@ Surface parseHrbf(const std::string& bytes, const std::string& name, FitStats* m
             auto [end, ec] = std::from_chars(c.data(), c.data() + c.size(), count);
             if (ec != std::errc() || end != c.data() + c.size() || count < 1 || count > kMaxPatchNodes)
                 lines.fail(quoted(c) + " is not a patch's node count (1 to " + std::to_string(kMaxPatchNodes) +
-                           "; a fit makes 12 to 24)");
+                           "; a fit makes 12 to a few dozen)");
             if (!(p.radius > 0 && p.radius <= 4)) lines.fail("a patch's radius must be in (0, 4]");
             if (!(p.center.cwiseAbs().maxCoeff() <= 4)) lines.fail("the patch's centre lies far outside the model");
             p.first = uint32_t(total);
