@@ -592,6 +592,10 @@ TEST_CASE("points: farthestPointSample picks what the definition picks" * doctes
         for (int k = 0; k < 60; ++k)
             clusters.push_back(k % 3 ? centre : centre + 1e-3 * Vector3d(u(rng), u(rng), u(rng)));
     }
+    std::vector<Vector3d> large;  // a deep tree, its first picks
+    for (int i = 0; i < 70000; ++i) large.emplace_back(u(rng), u(rng), u(rng));
+    large.push_back(large[123]);  // a tie
+    CHECK(ink::farthestPointSample(large, 40) == definition(large, 40));
     for (const auto* v : {&spread, &grid, &clusters})
         for (size_t count : {size_t(2), size_t(97), size_t(700), v->size() - 1}) {
             CAPTURE(v->size());

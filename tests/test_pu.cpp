@@ -13,6 +13,7 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -283,43 +284,35 @@ TEST_CASE("pu: the fit is the same on one thread and on several" * doctest::test
                                m.surface.pu.grid.cellStart, m.surface.pu.grid.cellPatches);
     };
     const auto one = fitOn(1), three = fitOn(3);
-    CHECK(std::get<0>(one).size() > 1000000);  // the bunny with its face samples: thousands of patches
+    CHECK(std::get<0>(one).size() > 1000000);  // the bunny with its face samples: 1,120 patches
     CHECK(std::get<0>(one) == std::get<0>(three));
     CHECK(std::get<1>(one) == std::get<1>(three));
-    // The grid (filled on all threads, each cell's patches then sorted): the same lists in the same order.
     CHECK(std::get<2>(one) == std::get<2>(three));
     CHECK(std::get<3>(one) == std::get<3>(three));
 
-    // Farthest-point sampling of a large set (over its pruned tree): the same picks as a plain loop.
-    std::vector<Vector3d> points;
+    // The grid of more patches than one chunk of its work (4096): filled on several threads, each cell's patches
+    // then sorted, it lists the same patches in the same order as on one thread, in patch order.
+    std::vector<ink::PuPatch> patches(20000);
     uint64_t state = 7;
     auto next = [&] {
         state = state * 6364136223846793005ull + 1442695040888963407ull;
         return double(state >> 11) * 0x1.0p-53;
     };
-    for (int i = 0; i < 70000; ++i) points.emplace_back(next(), next(), next());
-    points.push_back(points[123]);  // a tie
-    std::vector<size_t> expected{0};
-    for (size_t i = 1; i < points.size(); ++i)
-        if (std::tie(points[i].x(), points[i].y(), points[i].z()) <
-            std::tie(points[expected[0]].x(), points[expected[0]].y(), points[expected[0]].z()))
-            expected[0] = i;
-    std::vector<double> distance(points.size(), INFINITY);
-    while (expected.size() < 40) {
-        const Vector3d at = points[expected.back()];
-        distance[expected.back()] = -1;
-        size_t best = 0;
-        double bestDistance = -1;
-        for (size_t i = 0; i < points.size(); ++i) {
-            if (distance[i] < 0) continue;
-            distance[i] = std::min(distance[i], (points[i] - at).squaredNorm());
-            if (distance[i] > bestDistance) bestDistance = distance[i], best = i;
-        }
-        expected.push_back(best);
+    for (ink::PuPatch& p : patches) {
+        p.center = Vector3d(next(), next(), next());
+        p.radius = 0.03 + 0.03 * next();
     }
+    ink::setWorkerThreads(1);
+    const ink::PuGrid serial = ink::buildPuGrid(patches);
     ink::setWorkerThreads(3);
-    CHECK(ink::farthestPointSample(points, 40) == expected);
+    const ink::PuGrid parallel = ink::buildPuGrid(patches);
     ink::setWorkerThreads(0);
+    CHECK(serial.cellStart == parallel.cellStart);
+    CHECK(serial.cellPatches == parallel.cellPatches);
+    REQUIRE(serial.cellPatches.size() > 100000);
+    for (size_t c = 0; c + 1 < serial.cellStart.size(); ++c)
+        CHECK(std::is_sorted(serial.cellPatches.begin() + serial.cellStart[c],
+                             serial.cellPatches.begin() + serial.cellStart[c + 1]));
 }
 
 // The far field follows a large fit's thin parts with more points (PuOptions::coarsePointsLarge): 256 up to 8192
@@ -328,9 +321,8 @@ TEST_CASE("pu: a large fit gets the finer far field" * doctest::test_suite("unit
     auto farField = [](uint32_t u, uint32_t v) {
         ink::OrientedPoints torus = ink::torusPoints(u, v);
         ink::PuStats stats;
-        ink::PuHrbf model = ink::fitPuHrbf(torus.positions, torus.normals, {}, &stats);
-        CHECK(model.coarse.size() == stats.coarsePoints);
-        return std::make_pair(torus.positions.size(), stats.coarsePoints);
+        const ink::PuHrbf model = ink::fitPuHrbf(torus.positions, torus.normals, {}, &stats);
+        return std::make_pair(torus.positions.size(), model.coarse.size());
     };
     const auto small = farField(80, 40), large = farField(160, 64);
     CHECK(small.first <= 8192);

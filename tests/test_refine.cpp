@@ -263,7 +263,7 @@ TEST_CASE("refine: the partition of unity in float matches the CPU reference, th
 }
 
 // Issue 27's size wall: patch nodes beyond a storage buffer's range (128 MiB on lavapipe, a scan of 10⁶ points
-// has 155 MiB) are read by device address, refine_large.comp. Both paths on one small model: the same points.
+// has 222 MiB) are read by device address, refine_large.comp. Both paths on one small model: the same points.
 TEST_CASE("refine: the partition of unity's nodes read by device address give the same points as from a buffer" *
           doctest::test_suite("gpu")) {
     GpuFixture gpu;

@@ -575,6 +575,10 @@ void Session::checkValidation() const {
 Scene::Scene(ink::Context& ctx, const Options& o)
     : ink::Scene(ctx, ink::loadModel(o.model, modelOptions(o)), o.style, o.refine, o.lines) {}
 
+json hostMsJson(const ink::HostMs& h) {
+    return {{"plan", h.plan}, {"buffers", h.buffers}, {"pipelines", h.pipelines}, {"run", h.run}};
+}
+
 json fitJson(const ink::Model& m) {
     json j = {{"method", m.surface.method == ink::FitMethod::Global ? "global" : "pu"},
               {"seconds", m.fit.seconds},

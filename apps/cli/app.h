@@ -125,6 +125,8 @@ struct Scene : ink::Scene {
 };
 
 json fitJson(const ink::Model& m);
+// The refinements' host milliseconds (bench's refine_host_ms, render's refine.host_ms).
+json hostMsJson(const ink::HostMs& h);
 json levelsJson(const std::vector<ink::LevelStats>& levels);
 json deviceJson(const ink::Context& ctx);
 // The marks of `renderer`'s frame `frame` (drawn and submitted) laid out on `page` and written as SVG or PDF by

@@ -99,10 +99,6 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
                              {"scene", 1e3 * sceneSeconds},
                              {"first_contour", 1e3 * (beforeRenderer - loadSeconds - sceneSeconds)},
                              {"renderer", 1e3 * (preprocess - beforeRenderer)}};
-        json refineHostMs = {{"plan", r.hostMs.plan},
-                             {"buffers", r.hostMs.buffers},
-                             {"pipelines", r.hostMs.pipelines},
-                             {"run", r.hostMs.run}};
 
         // Frames with the camera moving every frame; the first few warm caches and pipelines up.
         std::vector<double> frameMs, splatMs, spaceMs, stampMs, inkMs, traceMs;
@@ -156,7 +152,7 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
                {"refine_seconds", refineSeconds},
                {"preprocess_seconds", preprocess},
                {"preprocess_ms", preprocessMs},
-               {"refine_host_ms", refineHostMs},
+               {"refine_host_ms", hostMsJson(r.hostMs)},
                {"frame_ms_median", median(frameMs)},
                {"frame_passes_ms_median",
                 {{"splat", median(splatMs)},
@@ -182,7 +178,6 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
     return out;
 }
 
-// The median of each number over the repeats; strings and lists from the first run.
 // Each number of the runs' results, the objects' in them too (preprocess_ms, refine_host_ms, ...), as its median
 // over the runs; the rest as the first run had it.
 json medianOf(const std::vector<json>& runs) {

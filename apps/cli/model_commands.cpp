@@ -182,18 +182,16 @@ static int runRender(Options& o, const std::vector<std::string>& outputs) {
     }
     uint64_t points = scene.points();
     json levels = json::array();
-    json hostMs = {{"plan", 0.0}, {"buffers", 0.0}, {"pipelines", 0.0}, {"run", 0.0}};  // bench's refine_host_ms
+    ink::HostMs hostMs;
     for (auto& s : scene.sets) {
         levels.push_back(levelsJson(ink::readLevelStats(session.ctx, s->gpu())));
-        const ink::GpuRefinement::HostMs& h = s->gpu().hostMs;
-        for (auto [key, ms] :
-             {std::pair{"plan", h.plan}, {"buffers", h.buffers}, {"pipelines", h.pipelines}, {"run", h.run}})
-            hostMs[key] = hostMs[key].get<double>() + ms;
+        hostMs += s->gpu().hostMs;
     }
     json stats = {
         {"control_points", scene.model.fit.controlPoints},
         {"fit", fitJson(scene.model)},
-        {"refine", {{"seconds", scene.refineSeconds}, {"points", points}, {"sets", levels}, {"host_ms", hostMs}}},
+        {"refine",
+         {{"seconds", scene.refineSeconds}, {"points", points}, {"sets", levels}, {"host_ms", hostMsJson(hostMs)}}},
         {"lines", linesJson(scene)},
         {"view", viewJson(view)},
         {"seconds", secondsSince(start)}};

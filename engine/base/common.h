@@ -66,25 +66,33 @@ private:
     int lastPercent_ = -1;
 };
 
+// Wall-clock milliseconds since it was made or last asked.
+struct Stopwatch {
+    std::chrono::steady_clock::time_point mark = std::chrono::steady_clock::now();
+    double lap() {
+        const auto now = std::chrono::steady_clock::now();
+        const double ms = std::chrono::duration<double, std::milli>(now - mark).count();
+        mark = now;
+        return ms;
+    }
+};
+
 // Wall-clock milliseconds of the named steps of a long piece of work, in the order they first ran (a step run
 // again, as the fit's rounds do, adds up): `lap(name)` charges the time since the last lap to `name`.
 struct PhaseTimes {
     std::vector<std::pair<const char*, double>> ms;
-    std::chrono::steady_clock::time_point mark = std::chrono::steady_clock::now();
+    Stopwatch clock;
 
-    void lap(const char* name) {
-        const auto now = std::chrono::steady_clock::now();
-        const double elapsed = std::chrono::duration<double, std::milli>(now - mark).count();
-        mark = now;
+    void lap(const char* name) { add(name, clock.lap()); }
+    // Adds to `name` without a lap: a step that ran beside the others, on a thread of its own.
+    void add(const char* name, double elapsedMs) {
         for (auto& [step, total] : ms)
             if (std::string_view(step) == name) {
-                total += elapsed;
+                total += elapsedMs;
                 return;
             }
-        ms.emplace_back(name, elapsed);
+        ms.emplace_back(name, elapsedMs);
     }
-    // A step that ran beside the others, on a thread of its own: its time, not charged to the sequence.
-    void add(const char* name, double elapsedMs) { ms.emplace_back(name, elapsedMs); }
 };
 
 }  // namespace ink

@@ -100,6 +100,11 @@ void UploadBatch::add(Buffer& dst, const void* data, VkDeviceSize size, VkDevice
 void UploadBatch::submit() {
     if (copies_.empty()) return;
     Buffer staging = createBuffer(ctx_, bytes_, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload);
+    struct Release {  // on every way out: a scan's staging buffer holds hundreds of MB
+        Context& ctx;
+        Buffer& staging;
+        ~Release() { destroyBuffer(ctx, staging); }
+    } release{ctx_, staging};
     for (const Copy& c : copies_) std::memcpy(static_cast<unsigned char*>(staging.mapped) + c.from, c.data, c.size);
     submitAndWait(ctx_, [&](VkCommandBuffer cmd) {
         stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
@@ -112,7 +117,6 @@ void UploadBatch::submit() {
         stageBarrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                      VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
     });
-    destroyBuffer(ctx_, staging);
     bytes_ = 0;
     copies_.clear();
 }

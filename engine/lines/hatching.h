@@ -13,6 +13,9 @@ namespace ink {
 
 // Along the field, across it, diagonal to both (the ranges' table, include/inkwell/ranges.h).
 constexpr uint32_t kMaxHatchFamilies = uint32_t(inkwell::ranges::hatchFamilies.hi);
+// The kind bits hold a family in 2 bits (HATCH_FAMILY_SHIFT), and lines.comp draws every family past the second
+// as the diagonal: three at most.
+static_assert(kMaxHatchFamilies <= 3, "a fourth hatching family needs its own kind bits and shading");
 
 struct HatchOptions {
     double spacing = 0.007;  // separation of the finest level, normalized units: about 6 pixels at the default view

@@ -6,7 +6,6 @@
 #include "select/select.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 
@@ -112,14 +111,9 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
     const uint64_t groups = ctx.properties.limits.maxComputeWorkGroupCount[0];
     uint64_t maxPoints = std::min(range / sizeof(PointRecord), groups * kGroupSize);
     r.options = options;
-    auto mark = std::chrono::steady_clock::now();
-    auto lap = [&mark](double& ms) {
-        auto now = std::chrono::steady_clock::now();
-        ms += std::chrono::duration<double, std::milli>(now - mark).count();
-        mark = now;
-    };
+    Stopwatch clock;
     r.plan = planRefinement(hrbf, options, maxPoints);
-    lap(r.hostMs.plan);
+    r.hostMs.plan += clock.lap();
     const RefinePlan& plan = r.plan;
     uint64_t maxCandidates = *std::max_element(plan.maxCandidates.begin(), plan.maxCandidates.end());
 
@@ -155,9 +149,14 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
     } else {
         b = packPu(hrbf.pu);
         puHeader = {b.header};
-        // The memory the model and the points take, against the device's largest heap, before any is allocated.
-        const uint64_t need = b.patches.size() * sizeof(gpu::PuPatch) + (b.nodes.size() + b.coarse.size()) * 4 +
-                              b.cells.size() * 4 + (2 * plan.maxPoints + maxCandidates) * sizeof(PointRecord);
+        // The memory the model and the points take, against the device's largest heap, before any is allocated:
+        // the model's arrays, the refinement's points (32 bytes), candidates (32) and their flags (4), and the
+        // selection's per-point arrays (two of 32 bytes, four of 4; its buckets, a few per stage, are left out).
+        const uint64_t modelBytes =
+            b.patches.size() * sizeof(gpu::PuPatch) + (b.nodes.size() + b.coarse.size() + b.cells.size()) * 4;
+        const uint64_t need = modelBytes + plan.maxPoints * sizeof(PointRecord) +
+                              maxCandidates * (sizeof(PointRecord) + 4) +
+                              (options.selects() ? plan.maxPoints * (2 * sizeof(PointRecord) + 16) : 0);
         VkDeviceSize heap = 0;
         for (uint32_t i = 0; i < ctx.memoryProperties.memoryHeapCount; ++i)
             if (ctx.memoryProperties.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
@@ -167,9 +166,8 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
                         " MiB of device memory, more than " + ctx.properties.deviceName + " has (" +
                         std::to_string(heap >> 20) + " MiB): fit fewer points");
         const VkBufferUsageFlags sbo = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-        r.hrbfHeader = deviceArray(ctx, uploads, puHeader, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "header");
         r.puPatches = deviceArray(ctx, uploads, b.patches, sbo, "patches");
-        // The nodes, by far the largest array (a scan of 10⁶ points: 155 MiB), by device address when they outgrow
+        // The nodes, by far the largest array (a scan of 10⁶ points: 222 MiB), by device address when they outgrow
         // a storage buffer's range: then only the device's largest buffer (and allocation) limits them.
         const VkDeviceSize nodeBytes = std::max<VkDeviceSize>(16, b.nodes.size() * sizeof(float));
         r.nodesByAddress = options.nodesByAddress || nodeBytes > ctx.properties.limits.maxStorageBufferRange;
@@ -191,8 +189,9 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
                                      MemoryUse::Device);
             uploads.add(r.puNodes, b.nodes.data(), b.nodes.size() * sizeof(float));
             const VkDeviceAddress address = bufferAddress(ctx, r.puNodes);
-            puHeader[0].nodes = gpu::uvec4(uint32_t(address), uint32_t(address >> 32), 0, 0);  // copied at submit
+            puHeader[0].nodes = gpu::uvec4(uint32_t(address), uint32_t(address >> 32), 0, 0);
         }
+        r.hrbfHeader = deviceArray(ctx, uploads, puHeader, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, "header");
         r.puCells = deviceArray(ctx, uploads, b.cells, sbo, "patch grid");
         r.puCoarse = deviceArray(ctx, uploads, b.coarse, sbo, "far field");
     }
@@ -208,7 +207,6 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
     for (size_t i = 0; i < seeds.size(); ++i) seeds[i] << plan.seeds[i], float(i);
     r.seeds = createBuffer(ctx, seeds.size() * 16, storage, MemoryUse::Device);
     uploads.add(r.seeds, seeds.data(), seeds.size() * 16);
-    uploads.submit();
 
     const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, ub = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     std::vector<DescriptorBinding> bindings = {{gpu::REFINE_SURFACE_HEADER, ub, r.hrbfHeader.buffer},
@@ -227,7 +225,7 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
                                          {gpu::REFINE_PU_COARSE, sb, r.puCoarse.buffer}});
     if (!global && !r.nodesByAddress) bindings.push_back({gpu::REFINE_PU_NODES, sb, r.puNodes.buffer});
     r.descriptors = createDescriptorSet(ctx, bindings, VK_SHADER_STAGE_COMPUTE_BIT);
-    lap(r.hostMs.buffers);
+    r.hostMs.buffers += clock.lap();
     r.layout = createPipelineLayout(ctx, r.descriptors.layout, sizeof(LevelParams), VK_SHADER_STAGE_COMPUTE_BIT);
     r.refine = global             ? createComputePipeline(ctx, r.layout, spv_refine_global_comp)
                : r.nodesByAddress ? createComputePipeline(ctx, r.layout, spv_refine_large_comp)
@@ -239,13 +237,15 @@ void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const
     query.queryType = VK_QUERY_TYPE_TIMESTAMP;
     query.queryCount = plan.levelCount + 2;  // the start, each level's end, the selection's end
     VK_CHECK(vkCreateQueryPool(ctx.device, &query, nullptr, &r.timestamps));
-    lap(r.hostMs.pipelines);
+    r.hostMs.pipelines += clock.lap();
 
     if (options.selects()) {
         r.selection = new GpuSelection;
-        createSelection(ctx, *r.selection, hrbf, plan, selectOptions(options), r.points, r.indirect, &r.hostMs.plan,
-                        &r.hostMs.buffers, &r.hostMs.pipelines);
+        createSelection(ctx, *r.selection, hrbf, plan, selectOptions(options), r.points, r.indirect, uploads, r.hostMs);
+        clock.lap();  // counted there
     }
+    uploads.submit();  // every upload of the refinement and its selection: one submission
+    r.hostMs.buffers += clock.lap();
 }
 
 Refinement::Refinement(Context& ctx, const Surface& hrbf, const RefineOptions& options) : ctx_(ctx) {
@@ -330,7 +330,7 @@ void recordRefinement(Context&, VkCommandBuffer cmd, GpuRefinement& r) {
 // One submission for all levels. While it runs, the CPU only polls the per-level timestamps (never waits
 // between levels) to show progress on a terminal.
 void runRefinement(Context& ctx, GpuRefinement& r) {
-    const auto start = std::chrono::steady_clock::now();
+    Stopwatch clock;
     VkCommandBuffer cmd = beginOneTime(ctx);
     recordRefinement(ctx, cmd, r);
     Progress progress("refine", r.plan.levelCount + 1);  // the levels, then the selection
@@ -345,7 +345,7 @@ void runRefinement(Context& ctx, GpuRefinement& r) {
         progress.update(done);
     });
     progress.update(r.plan.levelCount + 1);
-    r.hostMs.run = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    r.hostMs.run = clock.lap();
 }
 
 double selectionMs(Context& ctx, GpuRefinement& r) {

@@ -31,12 +31,7 @@ struct GpuRefinement {
     bool nodesByAddress = false;  // the partition of unity's nodes read by device address (refine_large.comp)
     VkQueryPool timestamps = VK_NULL_HANDLE;
     GpuSelection* selection = nullptr;  // owned; null when every refined point is drawn
-    // Host time of making and running it, in milliseconds (bench's `refine_host_ms`): the plans (refinement
-    // and selection), buffers with their uploads, pipelines (the driver's shader compiles), and the submission
-    // of all levels and the selection until its fence (the device's own time is in the timestamps).
-    struct HostMs {
-        double plan = 0, buffers = 0, pipelines = 0, run = 0;
-    } hostMs;
+    HostMs hostMs;                      // of making and running it (select.h)
     // In `indirect` (gpu::IndirectArgs): the refinement's VkDrawIndirectCommand, and the selection's.
     static constexpr VkDeviceSize kDrawOffset = offsetof(gpu::IndirectArgs, draw);
     static constexpr VkDeviceSize kSelectedDrawOffset = offsetof(gpu::IndirectArgs, selectedDraw);

@@ -51,6 +51,17 @@ struct RefineOptions {
     bool selects() const { return style == SampleStyle::Stipple && distribution == Distribution::BlueNoise; }
 };
 
+// Host time of making and running a refinement with its selection, in milliseconds (bench's `refine_host_ms`):
+// the plans, buffers with their uploads, pipelines (the driver's shader compiles), and the submission of all
+// levels and the selection until its fence (the device's own time is in the timestamps).
+struct HostMs {
+    double plan = 0, buffers = 0, pipelines = 0, run = 0;
+    HostMs& operator+=(const HostMs& o) {
+        plan += o.plan, buffers += o.buffers, pipelines += o.pipelines, run += o.run;
+        return *this;
+    }
+};
+
 constexpr uint32_t kMaxLevels = gpu::MAX_LEVELS;  // seeds + 15 refinement levels
 // ρ₀ is 0 (the default: half the seed spacing) or a fraction of the diagonal in (0, 1]; NaN, negative and
 // larger values are refused (above 1 every child would be dropped).

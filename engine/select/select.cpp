@@ -8,7 +8,6 @@
 #include "shared/select.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstddef>
 
 #include "select_bucket.comp.h"
@@ -40,16 +39,11 @@ uint32_t groups(uint64_t n, uint32_t size) { return uint32_t((n + size - 1) / si
 }  // namespace
 
 void createSelection(Context& ctx, GpuSelection& s, const Surface& hrbf, const RefinePlan& refine,
-                     const SelectOptions& options, const Buffer& points, const Buffer& indirect, double* planMs,
-                     double* buffersMs, double* pipelinesMs) {
-    auto mark = std::chrono::steady_clock::now();
-    auto lap = [&mark](double* ms) {
-        auto now = std::chrono::steady_clock::now();
-        if (ms) *ms += std::chrono::duration<double, std::milli>(now - mark).count();
-        mark = now;
-    };
+                     const SelectOptions& options, const Buffer& points, const Buffer& indirect, UploadBatch& uploads,
+                     HostMs& host) {
+    Stopwatch clock;
     s.plan = planSelection(hrbf, refine, options);
-    lap(planMs);
+    host.plan += clock.lap();
     const uint64_t candidates = std::max<uint64_t>(1, refine.maxPoints);
     uint64_t buckets = 0;
     for (const SelectStage& st : s.plan.stages) buckets = std::max<uint64_t>(buckets, 8ull * st.bucketsPerPhase);
@@ -57,7 +51,7 @@ void createSelection(Context& ctx, GpuSelection& s, const Surface& hrbf, const R
 
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     s.stages = createBuffer(ctx, s.plan.stages.size() * sizeof(SelectStage), storage, MemoryUse::Device);
-    uploadBuffer(ctx, s.stages, s.plan.stages.data(), s.plan.stages.size() * sizeof(SelectStage));
+    uploads.add(s.stages, s.plan.stages.data(), s.plan.stages.size() * sizeof(SelectStage));
     for (Buffer* b : {&s.stageOf, &s.order, &s.pool, &s.entryStage})
         *b = createBuffer(ctx, candidates * 4, storage, MemoryUse::Device);
     s.entryPoints = createBuffer(ctx, candidates * sizeof(PointRecord), storage, MemoryUse::Device);
@@ -89,7 +83,7 @@ void createSelection(Context& ctx, GpuSelection& s, const Surface& hrbf, const R
                                          {gpu::SELECT_STIPPLES, sb, s.stipples.buffer},
                                          {gpu::SELECT_BACK_FILL, sb, s.backFill.buffer}},
                                         VK_SHADER_STAGE_COMPUTE_BIT);
-    lap(buffersMs);
+    host.buffers += clock.lap();
     s.layout = createPipelineLayout(ctx, s.descriptors.layout, sizeof(Push), VK_SHADER_STAGE_COMPUTE_BIT);
     s.setup = createComputePipeline(ctx, s.layout, spv_select_setup_comp);
     s.poolSort = createComputePipeline(ctx, s.layout, spv_select_pool_comp);
@@ -99,7 +93,7 @@ void createSelection(Context& ctx, GpuSelection& s, const Surface& hrbf, const R
     s.cover = createComputePipeline(ctx, s.layout, spv_select_cover_comp);
     s.phase = createComputePipeline(ctx, s.layout, spv_select_phase_comp);
     s.output = createComputePipeline(ctx, s.layout, spv_select_output_comp);
-    lap(pipelinesMs);
+    host.pipelines += clock.lap();
 }
 
 void destroySelection(Context& ctx, GpuSelection& s) {

@@ -38,10 +38,10 @@ struct GpuSelection {
 
 // `points` and `indirect` are the refinement's (GpuRefinement), read on the device; `maxCandidates` bounds
 // its draw.
-// Adds its host milliseconds to *planMs, *buffersMs and *pipelinesMs where given (GpuRefinement::hostMs).
+// Its upload joins `uploads` (the caller submits it); its host milliseconds are added to `host`.
 void createSelection(Context& ctx, GpuSelection& s, const Surface& hrbf, const RefinePlan& refine,
-                     const SelectOptions& options, const Buffer& points, const Buffer& indirect,
-                     double* planMs = nullptr, double* buffersMs = nullptr, double* pipelinesMs = nullptr);
+                     const SelectOptions& options, const Buffer& points, const Buffer& indirect, UploadBatch& uploads,
+                     HostMs& host);
 void destroySelection(Context& ctx, GpuSelection& s);
 // Records every stage, synchronization2 barriers between passes, after the refinement's last pass.
 void recordSelection(VkCommandBuffer cmd, const GpuSelection& s);

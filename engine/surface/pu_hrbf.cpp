@@ -557,7 +557,7 @@ PuHrbf fitPuHrbf(const std::vector<Vector3d>& points, const std::vector<Vector3d
 
     farField.join();
     if (farError) std::rethrow_exception(farError);
-    if (phases) phases->add("far_field (beside the patches)", farMs);
+    if (phases) phases->add("far_field", farMs);
     // Below the weight each point gets from its own cell's patch, W(1/overlap): the far field is 0 at the data.
     model.tau = 0.9 * wendland(1.0 / options.overlap);
     lap("far_field_wait");

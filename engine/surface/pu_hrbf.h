@@ -62,14 +62,15 @@ struct PuHrbf {
 struct PuOptions {
     // Small patches keep the local coefficients small, and so the float evaluation accurate: on the bunny with its
     // face samples the worst distance at the points was 1.0e-6 of the diagonal with these at 6, 1.4, 12, 40 and
-    // 2.1e-7 at 4, 1.3, 8, 24 (the angle 0.024° and 0.003°; docs/fitting.md).
+    // 2.1e-7 at 4, 1.3, 8, 24 (the angle 0.024° and 0.003°; docs/fitting.md); `fit bunny.obj` gives 4.6e-7 and
+    // 0.0037° with minPatch 12.
     size_t leafPoints = 4;  // an octree cell with more points is split
     double overlap = 1.3;   // R_i = overlap · the cell's half diagonal
     // A support with fewer points grows until it has this many. Patches of few points extrapolate where a scan's
     // random spacing leaves them thin, and the blend then folds: on a bumpy torus of 10⁵ random points, 1077 of
     // 2.7 million refined points had normals over 10° off the true surface's with 8, 299 with 10, 17 with 12, 1
-    // with 14; the bunny's contour 100 cusps with 8, 56 with 12. The fit takes about 1.45 times as long with 12
-    // (docs/fitting.md).
+    // with 14; the bunny's contour 100 cusps with 8, 56 with 12. The fit takes 1.4-1.5 times as long with 12 on 2
+    // cores, 1.1-1.3 on 16 (docs/fitting.md).
     size_t minPatch = 12;
     size_t maxPatch = 24;  // a cell whose support holds more is split (while it can be)
     // Points of the far-field HRBF: more for a large fit, whose thin parts the far field must follow where the

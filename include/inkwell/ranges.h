@@ -1,6 +1,6 @@
 // The ranges of the drawing's values, in one table: the command line, the presets, the viewer's panel and the
-// public API (Look, DrawingOptions) all check against these, and docs/usage.md quotes them
-// (scripts/check-docs.py compares its option table with this file). No Vulkan here.
+// public API (Look, DrawingOptions) all check against these, and docs/usage.md quotes them (by hand: nothing
+// compares the two). No Vulkan here.
 #pragma once
 
 #include "inkwell/error.h"

@@ -17,7 +17,7 @@
 layout(std140, binding = REFINE_SURFACE_HEADER) uniform PuHeaderBlock { PuHeader pu; };
 layout(std430, binding = REFINE_PU_PATCHES) readonly buffer PuPatches { PuPatch puPatches[]; };
 // Per node: (p_j, α_j), (β_j, 0). A model whose nodes outgrow one storage buffer's range (maxStorageBufferRange:
-// 128 MiB on lavapipe, a scan of 10⁶ points has 155 MiB) reads them by device address (refine_large.comp).
+// 128 MiB on lavapipe, a scan of 10⁶ points has 222 MiB) reads them by device address (refine_large.comp).
 #ifdef PU_NODES_BY_ADDRESS
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PuNodeArray { vec4 v[]; };
 #define PU_NODE(k) PuNodeArray(pu.nodes.xy).v[k]
