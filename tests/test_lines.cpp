@@ -1,5 +1,9 @@
 // Pen lines (lines.h): the traced occluding contour of a fitted torus against the analytic one, and hatching.
+#include "base/image.h"
+#include "base/point_hash.h"
 #include "draw/camera.h"
+#include "gpu_fixture.h"
+#include "lines/contour_device.h"
 #include "lines/lines.h"
 #include "surface/model.h"
 #include "surface/shapes.h"
@@ -623,4 +627,187 @@ TEST_CASE("lines: render -o out.svg writes the pen lines as polylines in their o
     }
     CHECK(s.find("inkscape:label=\"4") == std::string::npos);
     CHECK(s.find("<circle") == std::string::npos);  // no dots without a dot style
+}
+
+// ---- The contour traced on the device (contour_device.h) ------------------------------------------------------
+
+namespace {
+
+// Marches for chainMarches: each from node `from`'s forward or backward port to a port of `to`, its vertices the
+// node's position then `extra` points along the way (points appended to `points`).
+struct MarchBuilder {
+    std::vector<ink::ContourNodeInfo> nodes;
+    std::vector<Vector3d> points, normals;
+    std::vector<ink::ContourMarch> marches;
+    uint32_t node(const Vector3d& p, const Vector3d& t) {
+        nodes.push_back({p, Vector3d::UnitZ(), t.normalized()});
+        return uint32_t(nodes.size() - 1);
+    }
+    void march(uint32_t from, bool fromForward, uint32_t to, bool toForward, int extra) {
+        ink::ContourMarch m;
+        m.from = from;
+        m.fromForward = fromForward;
+        m.to = to;
+        m.toForward = toForward;
+        m.first = uint32_t(points.size());
+        const Vector3d a = nodes[from].position, b = to == ink::ContourMarch::kNoNode ? a : nodes[to].position;
+        for (int k = 0; k <= extra; ++k) {
+            points.push_back(a + (b - a) * (double(k) / (extra + 1)));
+            normals.push_back(Vector3d::UnitZ());
+        }
+        m.count = uint32_t(extra + 1);
+        marches.push_back(m);
+    }
+};
+
+}  // namespace
+
+TEST_CASE("contours: the device's marches chain into curves through flipped tangents, each stretch once" *
+          doctest::test_suite("unit")) {
+    // A square of four nodes, A → B → C → D → A, but C's tangent points back (its orientation flipped): B's march
+    // arrives at C's forward port, C marches back to B (the same stretch again), and D, running against C, reaches
+    // C's backward port.
+    MarchBuilder b;
+    const uint32_t A = b.node({0, 0, 0}, {1, 0, 0}), B = b.node({1, 0, 0}, {0, 1, 0}), C = b.node({1, 1, 0}, {1, 0, 0}),
+                   D = b.node({0, 1, 0}, {0, -1, 0});
+    b.march(A, true, B, false, 3);
+    b.march(B, true, C, true, 3);  // against C's tangent: its forward port
+    b.march(C, true, B, true, 3);  // C's own forward march: back over B's (the same ports)
+    b.march(D, true, A, false, 3);
+    b.march(C, false, D, false, 3);  // C's backward march reaches D from behind
+    std::vector<ink::ChainedCurve> curves = ink::chainMarches(b.marches, b.nodes, b.points, b.normals, 1e-4);
+    REQUIRE(curves.size() == 1);
+    CHECK(curves[0].closed);
+    CHECK(curves[0].points.size() == 16);  // four stretches of four points each, none twice
+    std::set<std::tuple<double, double>> seen;
+    for (const Vector3d& p : curves[0].points) seen.insert({p.x(), p.y()});
+    CHECK(seen.size() == 16);
+
+    // A march that passed a node without meeting it (A's, to C past B) loses its ports to the shorter ones; a
+    // march ending in the open is an end; nodes at one place are one.
+    MarchBuilder o;
+    const uint32_t P = o.node({0, 0, 0}, {1, 0, 0}), Q = o.node({1, 0, 0}, {1, 0, 0}), R = o.node({2, 0, 0}, {1, 0, 0}),
+                   R2 = o.node({2, 0, 1e-6}, {-1, 0, 0});
+    o.march(P, true, R, false, 7);  // passed Q
+    o.march(P, true, Q, false, 3);
+    o.march(Q, true, R2, true, 3);                           // meets R's twin, running against it: R's backward port
+    o.march(R, true, ink::ContourMarch::kNoNode, false, 5);  // ends in the open
+    curves = ink::chainMarches(o.marches, o.nodes, o.points, o.normals, 1e-4);
+    REQUIRE(curves.size() == 1);
+    CHECK(!curves[0].closed);
+    CHECK(curves[0].points.size() == 4 + 4 + 6);  // from P's free backward port: P's march, Q's, R's open tail
+    CHECK((curves[0].points.front() - o.nodes[P].position).norm() < 1e-12);
+}
+
+TEST_CASE("contours: traced on the device, the torus's contour lies on both equations and on the CPU's curve" *
+          doctest::test_suite("gpu")) {
+    GpuFixture gpu;
+    const ink::Model& m = torus();
+    ink::RefineOptions options;
+    options.levels = 3;
+    Refinement refined(gpu.ctx, m.surface, options);
+    REQUIRE(ink::DeviceContours::supports(refined.r));
+    const std::vector<ink::PointRecord> drawn = ink::readDrawnPoints(gpu.ctx, refined.r);
+    std::vector<ink::SurfaceSample> samples;
+    for (const ink::PointRecord& p : drawn)
+        samples.push_back(
+            {Vector3d(p.position[0], p.position[1], p.position[2]), Vector3d(p.normal[0], p.normal[1], p.normal[2])});
+    ink::DeviceContours tracer(gpu.ctx, refined.r, uint32_t(drawn.size()), {});
+    for (float elevation : {15.0f, 50.0f}) {
+        CAPTURE(elevation);
+        ink::Camera camera;
+        camera.azimuthDeg = 30.0f;
+        camera.elevationDeg = elevation;
+        const glm::vec3 e = camera.eye();
+        const Vector3d eye(e.x, e.y, e.z);
+        ink::ContourStats stats, cpuStats;
+        const std::vector<ink::PenStroke> pieces = tracer.trace(m.surface, eye, &stats);
+        const std::vector<ink::PenStroke> cpu = ink::traceContours(m.surface, eye, samples, {}, &cpuStats);
+        CHECK(stats.onDevice);
+        CHECK(stats.deviceMs > 0.0);
+        CHECK(stats.evaluations > 0);
+        // A torus seen from outside its hole's axis: at most two closed contour curves, as the CPU finds.
+        CHECK(stats.curves == cpuStats.curves);
+        CHECK(stats.closedCurves == stats.curves);
+        REQUIRE(!pieces.empty());
+        // Every vertex is on both equations (float: within 1e-5 of the diagonal, and the view ray within 0.1° of
+        // the tangent plane), and each curve lies within a pixel (0.001) of the other's: every vertex of one near a
+        // point of the other's polylines (sampled every 0.0002).
+        auto sampled = [](const std::vector<ink::PenStroke>& strokes) {
+            ink::PointHash h(0.002);
+            for (const ink::PenStroke& s : strokes)
+                for (size_t i = 0; i + 1 < s.points.size() + (s.closed ? 1 : 0); ++i) {
+                    const Vector3d a = s.points[i].cast<double>(),
+                                   b = s.points[(i + 1) % s.points.size()].cast<double>();
+                    const int n = 1 + int((b - a).norm() / 0.0002);
+                    for (int k = 0; k <= n; ++k)
+                        h.add(a + (b - a) * (double(k) / n), s.normals[i].cast<double>(), 0, 0);
+                }
+            return h;
+        };
+        const ink::PointHash cpuCurve = sampled(cpu), deviceCurve = sampled(pieces);
+        size_t farFromCpu = 0, farFromDevice = 0, devicePoints = 0;
+        for (const ink::PenStroke& s : pieces)
+            for (size_t i = 0; i < s.points.size(); ++i) {
+                Vector3d x = s.points[i].cast<double>(), g;
+                double f = m.surface.eval(x, g);
+                CHECK(std::abs(f) / g.norm() < 1e-5);
+                CHECK(std::abs(g.normalized().dot((x - eye).normalized())) < 2e-3);
+                farFromCpu += !cpuCurve.near(x, s.normals[i].cast<double>(), 0.001);
+                ++devicePoints;
+            }
+        for (const ink::PenStroke& s : cpu)
+            for (size_t i = 0; i < s.points.size(); ++i)
+                farFromDevice += !deviceCurve.near(s.points[i].cast<double>(), s.normals[i].cast<double>(), 0.001);
+        CAPTURE(devicePoints);
+        CHECK(farFromCpu == 0);
+        CHECK(farFromDevice == 0);
+        // The same pieces again: nothing depends on the order the device's invocations ran in.
+        const std::vector<ink::PenStroke> again = tracer.trace(m.surface, eye);
+        REQUIRE(again.size() == pieces.size());
+        for (size_t k = 0; k < pieces.size(); ++k) CHECK(again[k].points == pieces[k].points);
+    }
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("lines: --contour-tracer device draws the contour the CPU draws, and says where it was traced" *
+          doctest::test_suite("cli")) {
+    TempDir dir;
+    auto render = [&](const std::string& name, const std::string& extra) {
+        Run r = runInkwell("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --style contours --size 256 256 -o " +
+                           (dir / (name + ".png")) + " --stats " + (dir / (name + ".json")) + " " + extra);
+        INFO(r.output);
+        REQUIRE(r.status == 0);
+        std::ifstream in(dir / (name + ".json"));
+        std::stringstream text;
+        text << in.rdbuf();
+        return text.str();
+    };
+    const std::string device = render("device", "--contour-tracer device"), cpu = render("cpu", "");
+    CHECK(device.find("\"traced_on\": \"device\"") != std::string::npos);
+    CHECK(cpu.find("\"traced_on\": \"cpu\"") != std::string::npos);
+    const ink::RgbaImage a = ink::readPng(dir / "device.png"), b = ink::readPng(dir / "cpu.png");
+    REQUIRE(a.width == b.width);
+    size_t inkA = 0, inkB = 0, differ = 0;
+    for (size_t i = 0; i < a.pixels.size(); i += 4) {
+        inkA += a.pixels[i] < 128;
+        inkB += b.pixels[i] < 128;
+        differ += (a.pixels[i] < 128) != (b.pixels[i] < 128);
+    }
+    CAPTURE(inkA);
+    CAPTURE(inkB);
+    CAPTURE(differ);
+    CHECK(inkA > 300);
+    CHECK(std::abs(double(inkA) - double(inkB)) < 0.15 * double(inkB));
+    // A global fit is traced on the CPU, and says so.
+    Run global = runInkwell("render " INKWELL_SOURCE_DIR
+                            "/assets/bunny.obj --fit global --control-points 300 "
+                            "--style contours --size 128 128 --contour-tracer device -o " +
+                            (dir / "g.png"));
+    INFO(global.output);
+    CHECK(global.status == 0);
+    CHECK(global.output.find("the contour is traced on the CPU") != std::string::npos);
+    Run bad = runInkwell("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --contour-tracer gpu -o " + (dir / "x.png"));
+    CHECK(bad.status != 0);
+    CHECK(bad.output.find("--contour-tracer") != std::string::npos);
 }

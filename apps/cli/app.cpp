@@ -98,6 +98,11 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
                     "and pen lines (contours, hatching), e.g. contours+hatching+stipple (docs/lines.md)")
         ->capture_default_str();
     cmd->add_option("--contour-width", s.penWidth, "Contour pen width in pixels")->capture_default_str();
+    cmd->add_option("--contour-tracer", o.contourTracer,
+                    "Where the contour is traced for each view: cpu (the default), or device (all seeds and marches "
+                    "at once on the GPU, in float; a partition-of-unity fit only; docs/lines.md)")
+        ->check(CLI::IsMember({"cpu", "device"}))
+        ->capture_default_str();
     cmd->add_option("--hatch-width", s.hatchWidth, "Hatching pen width in pixels")->capture_default_str();
     cmd->add_option("--halo", s.haloWidth, "Paper kept clear each side of an interior contour, in pixels")
         ->capture_default_str();
@@ -266,6 +271,7 @@ static void parseStyle(Options& o) {
                              "' is not stipple, direction, both, contours or hatching, or is given twice (parts are "
                              "joined by '+', at most one of stipple, direction and both)");
     }
+    o.lines.contoursOnDevice = o.contourTracer == "device";
     o.style = dots == "direction" ? DrawStyle::Direction : dots == "both" ? DrawStyle::Both : DrawStyle::Stipple;
     // A mesh's creases and boundaries go with the pen lines unless asked for or against.
     const bool pen = o.lines.contours || o.lines.hatching;
@@ -728,6 +734,12 @@ json linesJson(const ink::Scene& scene) {
               {"swallowtails_merged", c.swallowtails},
               {"seeds_tried", c.seedsTried},
               {"vertices", c.vertices},
+              {"traced_on", c.onDevice ? "device" : "cpu"},
+              {"device_ms", c.deviceMs},
+              {"open_marches", c.openMarches},
+              {"evaluations", c.evaluations},
+              {"ends_traced_on_cpu", c.extended},
+              {"vertices_traced_on_cpu", c.extendedVertices},
               {"seconds", c.seconds}}}};
 }
 

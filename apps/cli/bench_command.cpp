@@ -23,17 +23,22 @@ struct Workload {
     uint32_t levels;
     bool lines = false;  // pen lines: contours and hatching over the stipple set's depth, no dots (docs/lines.md)
     ink::FitMethod method = ink::FitMethod::PartitionOfUnity;
+    bool contoursOnDevice = false;  // the contour traced on the device (--contour-tracer device)
 };
 
 // The report's workloads (with the default fit), the bunny-684 one with the report's global fit for comparison,
 // and 10⁵ oriented points (issue 15's fit budget). The default run leaves out torus-100k (ask for it by name).
 const std::vector<Workload>& builtinWorkloads() {
-    static const std::vector<Workload> w = {{"sphere", "", 6, 6},
-                                            {"bunny-312", "bunny", 312, 4},
-                                            {"bunny-684", "bunny", 684, 4},
-                                            {"bunny-684-lines", "bunny", 684, 4, true},
-                                            {"bunny-684-global", "bunny", 684, 4, false, ink::FitMethod::Global},
-                                            {"torus-100k", "torus-100k", 0, 3}};
+    static const std::vector<Workload> w = {
+        {"sphere", "", 6, 6},
+        {"bunny-312", "bunny", 312, 4},
+        {"bunny-684", "bunny", 684, 4},
+        {"bunny-684-lines", "bunny", 684, 4, true},
+        {"bunny-684-lines-device", "bunny", 684, 4, true, ink::FitMethod::PartitionOfUnity, true},
+        {"bunny-lines", "bunny", 0, 4, true},
+        {"bunny-lines-device", "bunny", 0, 4, true, ink::FitMethod::PartitionOfUnity, true},
+        {"bunny-684-global", "bunny", 684, 4, false, ink::FitMethod::Global},
+        {"torus-100k", "torus-100k", 0, 3}};
     return w;
 }
 
@@ -71,6 +76,7 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
     options.distribution = distribution;  // the passes follow it: 1 for blue-noise stipples, the report's 2 else
     ink::LineOptions lines;
     lines.contours = lines.hatching = w.lines;
+    lines.contoursOnDevice = w.contoursOnDevice;
     const double loadSeconds = secondsSince(start);
     json out;
     {
@@ -101,7 +107,7 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
                              {"renderer", 1e3 * (preprocess - beforeRenderer)}};
 
         // Frames with the camera moving every frame; the first few warm caches and pipelines up.
-        std::vector<double> frameMs, splatMs, spaceMs, stampMs, inkMs, traceMs;
+        std::vector<double> frameMs, splatMs, spaceMs, stampMs, inkMs, traceMs, traceDeviceMs;
         uint32_t dots = 0;  // drawn in the first timed frame
         ink::Camera camera;
         for (uint32_t i = 0; i < frames + 3; ++i) {
@@ -112,6 +118,7 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
                 auto traceStart = Clock::now();
                 scene.traceContours(camera);
                 if (i >= 3) traceMs.push_back(1000.0 * secondsSince(traceStart));
+                if (i >= 3) traceDeviceMs.push_back(scene.contourStats.deviceMs);
             }
             auto t = Clock::now();
             renderer.draw(camera);
@@ -171,6 +178,9 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
                         {"hatch_vertices", scene.hatchStats.vertices},
                         {"contour_seconds_first_view", contourSeconds},
                         {"contour_trace_ms_median", median(traceMs)},
+                        {"contour_traced_on", scene.contourStats.onDevice ? "device" : "cpu"},
+                        {"contour_device_ms_median", median(traceDeviceMs)},
+                        {"contour_cusps", scene.contourStats.cusps},
                         {"contour_vertices", scene.contourStats.vertices},
                         {"frame_with_trace_ms_median", median(frameMs) + median(traceMs)}});
         out.update(deviceJson(session.ctx));
@@ -260,8 +270,9 @@ void addBenchCommand(CLI::App& cli, Options& o, Commands& commands) {
     auto screenSpacing = std::make_shared<bool>(false);
     CLI::App* bench = cli.add_subcommand("bench", "Time the report's workloads (preprocessing, frames, CPU reference)");
     bench->add_option("--workload", *names,
-                      "sphere, bunny-312, bunny-684, bunny-684-lines, bunny-684-global, torus-100k (default: all but "
-                      "torus-100k)");
+                      "sphere, bunny-312, bunny-684, bunny-684-lines, bunny-684-lines-device, bunny-lines, "
+                      "bunny-lines-device, bunny-684-global, torus-100k (default: all but torus-100k; -device: the "
+                      "contour traced on the device)");
     bench->add_option("--model", o.model, "Also time this model (with --control-points and --levels)");
     bench->add_option("--control-points", o.controlPoints, "Control points for --model (default: as fit)")
         ->check(nonNegativeInteger());

@@ -1,6 +1,7 @@
 // validate: built-in scenes through the whole pipeline with validation and synchronization validation on,
 // checking the invariants a user relies on.
 #include "commands.h"
+#include "lines/contour_device.h"
 #include "surface/shapes.h"
 
 #include <cstdio>
@@ -59,6 +60,26 @@ void checkScene(ink::Context& ctx, const std::string& name, const ink::Model& mo
                                   std::to_string(points.size()) + " points");
                 check.require(badRanks == 0,
                               label + ": " + std::to_string(badRanks) + " stipples ranked outside [0, 1)");
+            }
+
+            // The contour traced on the device from the default view: every vertex on both of its equations.
+            if (style == ink::SampleStyle::Stipple && ink::DeviceContours::supports(r)) {
+                const glm::vec3 e = ink::Camera{}.eye();
+                const Eigen::Vector3d eye(e.x, e.y, e.z);
+                ink::DeviceContours tracer(ctx, r, uint32_t(ink::readDrawnPoints(ctx, r).size()), {});
+                ink::ContourStats stats;
+                const auto pieces = tracer.trace(model.surface, eye, &stats);
+                size_t offContour = 0;
+                for (const ink::PenStroke& s : pieces)
+                    for (const Eigen::Vector3f& p : s.points) {
+                        Eigen::Vector3d x = p.cast<double>(), g;
+                        const double f = model.surface.eval(x, g);
+                        offContour += !(std::abs(f) / g.norm() < 1e-4 &&
+                                        std::abs(g.normalized().dot((x - eye).normalized())) < 1e-2);
+                    }
+                check.require(!pieces.empty(), label + ": the device traced no contour");
+                check.require(offContour == 0,
+                              label + ": " + std::to_string(offContour) + " vertices of the device's contour off it");
             }
 
             ink::RgbaImage image;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <unordered_map>
@@ -48,6 +49,24 @@ public:
                     }
                 }
         return false;
+    }
+    // Calls f(stroke) for each point within r of p, in the order they were added (r at most the cell side).
+    template <typename F>
+    void forEachNear(const Vector3d& p, double r, F&& f) const {
+        const Eigen::Array3i c = cellOf(p);
+        const Vector3f pf = p.cast<float>();
+        const float r2 = float(r * r);
+        std::vector<uint32_t> hits;
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    auto it = cells_.find(key(c + Eigen::Array3i(dx, dy, dz)));
+                    if (it == cells_.end()) continue;
+                    for (uint32_t i : it->second)
+                        if ((entries_[i].p - pf).squaredNorm() < r2) hits.push_back(i);
+                }
+        std::sort(hits.begin(), hits.end());
+        for (uint32_t i : hits) f(entries_[i].stroke);
     }
     // Removes the entries from `first` on (a stroke just traced and dropped: always the last ones added).
     void truncate(size_t first) {

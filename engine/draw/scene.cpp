@@ -54,6 +54,7 @@ Scene::Scene(Context& c, Model m, DrawStyle style, const RefineOptions& options,
 
 void Scene::refine(DrawStyle style, const RefineOptions& options, const LineOptions& l) {
     vkDeviceWaitIdle(ctx.device);
+    deviceContours_.reset();
     sets.clear();  // before the new ones are made: the device holds one scene's points at a time
     auto start = std::chrono::steady_clock::now();
     Sets made = build(style, options);
@@ -81,6 +82,7 @@ Scene::Sets Scene::build(DrawStyle style, const RefineOptions& options) const {
 
 void Scene::replace(Sets newSets, double seconds, const LineOptions& l) {
     vkDeviceWaitIdle(ctx.device);  // a frame in flight may still read the old sets
+    deviceContours_.reset();
     sets = std::move(newSets);
     refineSeconds = seconds;
     setLines(traceLines(sets, l));
@@ -88,6 +90,7 @@ void Scene::replace(Sets newSets, double seconds, const LineOptions& l) {
 
 void Scene::replace(Sets newSets, double seconds, TracedLines traced) {
     vkDeviceWaitIdle(ctx.device);
+    deviceContours_.reset();
     sets = std::move(newSets);
     refineSeconds = seconds;
     setLines(std::move(traced));
@@ -109,6 +112,7 @@ Scene::TracedLines Scene::traceLines(const Sets& from, const LineOptions& l) con
 
 void Scene::setLines(TracedLines traced) {
     vkDeviceWaitIdle(ctx.device);  // a frame in flight may still read the old strokes
+    deviceContours_.reset();
     lines = traced.options;
     samples = std::move(traced.samples);
     hatching = std::move(traced.hatching);
@@ -130,10 +134,22 @@ void Scene::setLines(TracedLines traced) {
 
 void Scene::traceContours(const Camera& camera) {
     if (!strokes || !lines.contours) return;
-    glm::vec3 eye = camera.eye();
-    contours = trimStrokes(
-        ink::traceContours(model.surface, Eigen::Vector3d(eye.x, eye.y, eye.z), samples, lines.contour, &contourStats),
-        model.support);
+    const glm::vec3 e = camera.eye();
+    const Eigen::Vector3d eye(e.x, e.y, e.z);
+    const GpuRefinement* first = sets.empty() ? nullptr : &sets.front()->gpu();
+    if (lines.contoursOnDevice && first && DeviceContours::supports(*first) && !samples.empty()) {
+        if (!deviceContours_)
+            deviceContours_ = std::make_unique<DeviceContours>(ctx, *first, uint32_t(samples.size()), lines.contour);
+        contours = trimStrokes(deviceContours_->trace(model.surface, eye, &contourStats), model.support);
+    } else {
+        if (lines.contoursOnDevice && first && !DeviceContours::supports(*first) && !notedCpuContours_) {
+            note(
+                "the contour is traced on the CPU: the device traces a partition-of-unity fit only (not --fit global)");
+            notedCpuContours_ = true;
+        }
+        contours =
+            trimStrokes(ink::traceContours(model.surface, eye, samples, lines.contour, &contourStats), model.support);
+    }
     strokes->set(StrokeBuffers::Contours, contours);
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "draw/camera.h"
+#include "lines/contour_device.h"
 #include "lines/hatching.h"
 #include "lines/lines.h"
 #include "lines/strokes.h"
@@ -24,6 +25,10 @@ struct LineOptions {
     bool hatching = false;  // hatching strokes, traced once for the model
     // A mesh's crease and boundary lines (Model::features, docs/lines.md), where it has them.
     bool creases = false, boundaries = false;
+    // The contour traced on the device (DeviceContours) where it can be (a partition-of-unity fit), rather than on
+    // the CPU (traceContours). Off by default: in float the device's corrector leaves gaps where ∇g's tangential
+    // part nearly vanishes, which the CPU closes only in part (docs/lines.md).
+    bool contoursOnDevice = false;
     ContourOptions contour;
     HatchOptions hatch;
     bool any() const { return contours || hatching || creases || boundaries; }
@@ -63,8 +68,9 @@ public:
     TracedLines traceLines(const Sets& from, const LineOptions& lines) const;
     void replace(Sets newSets, double seconds, TracedLines traced);
     void setLines(TracedLines traced);
-    // Traces the occluding contour seen from `camera` (nothing without LineOptions::contours) and replaces the
-    // contour strokes on the device (waits for it to be idle).
+    // Traces the occluding contour seen from `camera` (nothing without LineOptions::contours), on the device
+    // where it can (LineOptions::contoursOnDevice), and replaces the contour strokes on the device (waits for it
+    // to be idle).
     void traceContours(const Camera& camera);
     // The sets as the renderer takes them.
     std::vector<const GpuRefinement*> pointers() const;
@@ -82,6 +88,10 @@ public:
     HatchStats hatchStats;
     ContourStats contourStats;
     double hatchSeconds = 0;  // tracing and upload
+
+private:
+    std::unique_ptr<DeviceContours> deviceContours_;  // for the first set; dropped whenever the sets change
+    bool notedCpuContours_ = false;
 };
 
 }  // namespace ink

@@ -125,6 +125,94 @@ static size_t mergeSwallowtails(const std::vector<Vector3d>& curve, const Vector
     return merged;
 }
 
+void splitAtCusps(const std::vector<Vector3d>& curve, const std::vector<Vector3d>& normals, bool closed,
+                  const Vector3d& eye, const ContourOptions& options, uint32_t curveId, std::vector<PenStroke>& pieces,
+                  ContourStats& s) {
+    // The cusps: where the image of the curve reverses, i.e. the tangent's component along w = n × v (the tangent
+    // plane's direction across the view ray) changes sign.
+    const size_t m = curve.size();
+    std::vector<double> across(m);
+    for (size_t i = 0; i < m; ++i) {
+        size_t prev = i > 0 ? i - 1 : (closed ? m - 1 : i), next = i + 1 < m ? i + 1 : (closed ? 0 : i);
+        Vector3d t = curve[next] - curve[prev];
+        across[i] = t.dot(normals[i].cross((curve[i] - eye).normalized()));
+    }
+    std::vector<size_t> cusps;
+    for (size_t i = 0; i + (closed ? 0 : 1) < m; ++i) {
+        size_t j = (i + 1) % m;
+        if ((across[i] < 0) != (across[j] < 0)) cusps.push_back(std::abs(across[i]) < std::abs(across[j]) ? i : j);
+    }
+    s.swallowtails += mergeSwallowtails(curve, eye, closed, options.minSwallowtail, cusps);
+    s.cusps += cusps.size();
+    auto piece = [&](size_t from, size_t count, bool isClosed) {
+        PenStroke p;
+        p.closed = isClosed;
+        p.curve = curveId;
+        for (size_t k = 0; k < count; ++k) {
+            size_t i = (from + k) % m;
+            p.points.push_back(curve[i].cast<float>());
+            p.normals.push_back(normals[i].cast<float>());
+        }
+        if (p.points.size() >= 2) pieces.push_back(std::move(p));
+    };
+    if (cusps.empty()) {
+        piece(0, m, closed);
+    } else if (closed) {
+        for (size_t k = 0; k < cusps.size(); ++k) {
+            size_t a = cusps[k], b = cusps[(k + 1) % cusps.size()];
+            piece(a, (b + m - a) % m + 1 + (cusps.size() == 1 ? m : 0), false);
+        }
+    } else {
+        size_t a = 0;
+        for (size_t c : cusps) {
+            piece(a, c - a + 1, false);
+            a = c;
+        }
+        piece(a, m - a, false);
+    }
+}
+
+// An extension closes a gap the device left: a stretch of a few nodes' spacing, not a whole curve.
+constexpr uint32_t kMaxExtension = 4096;
+
+std::vector<Vector3d> extendContour(const Surface& hrbf, const Vector3d& eye, const Vector3d& start,
+                                    const Vector3d& direction, PointHash& traced, uint32_t curve, double arcAtStart,
+                                    double arcSign, const ContourOptions& options) {
+    std::vector<Vector3d> out;
+    const double step = options.step;
+    Vector3d x = start;
+    ContourEval e = evalContour(hrbf, eye, x), next;
+    Vector3d previous = direction.normalized();
+    double h = step, arc = 0;
+    for (uint32_t k = 0; k < kMaxExtension; ++k) {
+        Vector3d t = e.gradF.cross(e.gradG);
+        if (!(t.norm() > 1e-12 * e.gradF.norm() * e.gradG.norm())) break;
+        t.normalize();
+        if (t.dot(previous) < 0) t = -t;
+        Vector3d y = x + h * t;
+        if (!contourNewton(hrbf, eye, y, 2 * h, 10, &next)) {
+            if (h <= step / 16) break;
+            h *= 0.5;
+            continue;
+        }
+        double turn = std::acos(std::clamp(t.dot(previous), -1.0, 1.0));
+        if (turn > 0.15)
+            h = std::max(step / 16, h * 0.5);
+        else if (turn < 0.05)
+            h = std::min(2 * step, h * 1.5);
+        arc += (y - x).norm();
+        out.push_back(y);
+        // Reached a traced curve: another one, or its own beyond the stretch it leaves from.
+        const Vector3d n = e.gradF.normalized();
+        if (traced.near(y, n, 0.5 * step, curve, arcAtStart + arcSign * arc, 6 * step)) break;
+        traced.add(y, n, curve, arcAtStart + arcSign * arc);
+        previous = t;
+        x = y;
+        e = next;
+    }
+    return out;
+}
+
 std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, const std::vector<SurfaceSample>& seeds,
                                      const ContourOptions& options, ContourStats* stats) {
     auto start = std::chrono::steady_clock::now();
@@ -227,52 +315,14 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, c
         s.closedCurves += closed;
         s.vertices += curve.size();
 
-        // Normals, and the cusps: where the image of the curve reverses, i.e. the tangent's component along
-        // w = n × v (the tangent plane's direction across the view ray) changes sign.
         const size_t m = curve.size();
         std::vector<Vector3d> normals(m);
-        std::vector<double> across(m);
         for (size_t i = 0; i < m; ++i) {
             Vector3d gradient;
             hrbf.eval(curve[i], gradient);
             normals[i] = gradient.normalized();
-            size_t prev = i > 0 ? i - 1 : (closed ? m - 1 : i), next = i + 1 < m ? i + 1 : (closed ? 0 : i);
-            Vector3d t = curve[next] - curve[prev];
-            across[i] = t.dot(normals[i].cross((curve[i] - eye).normalized()));
         }
-        std::vector<size_t> cusps;
-        for (size_t i = 0; i + (closed ? 0 : 1) < m; ++i) {
-            size_t j = (i + 1) % m;
-            if ((across[i] < 0) != (across[j] < 0)) cusps.push_back(std::abs(across[i]) < std::abs(across[j]) ? i : j);
-        }
-        s.swallowtails += mergeSwallowtails(curve, eye, closed, options.minSwallowtail, cusps);
-        s.cusps += cusps.size();
-        auto piece = [&](size_t from, size_t count, bool isClosed) {
-            PenStroke p;
-            p.closed = isClosed;
-            p.curve = curveId;
-            for (size_t k = 0; k < count; ++k) {
-                size_t i = (from + k) % m;
-                p.points.push_back(curve[i].cast<float>());
-                p.normals.push_back(normals[i].cast<float>());
-            }
-            if (p.points.size() >= 2) pieces.push_back(std::move(p));
-        };
-        if (cusps.empty()) {
-            piece(0, m, closed);
-        } else if (closed) {
-            for (size_t k = 0; k < cusps.size(); ++k) {
-                size_t a = cusps[k], b = cusps[(k + 1) % cusps.size()];
-                piece(a, (b + m - a) % m + 1 + (cusps.size() == 1 ? m : 0), false);
-            }
-        } else {
-            size_t a = 0;
-            for (size_t c : cusps) {
-                piece(a, c - a + 1, false);
-                a = c;
-            }
-            piece(a, m - a, false);
-        }
+        splitAtCusps(curve, normals, closed, eye, options, curveId, pieces, s);
         ++curveId;
     }
     s.pieces = pieces.size();

@@ -3,6 +3,7 @@
 // decides each frame which pieces show (lines.comp). No Vulkan here.
 #pragma once
 
+#include "base/point_hash.h"
 #include "surface/surface.h"
 
 #include <Eigen/Core>
@@ -56,6 +57,13 @@ struct ContourStats {
     size_t smallLoops = 0;    // closed curves under minLoopLength, dropped
     size_t swallowtails = 0;  // cusp pairs under minSwallowtail, merged away (not in `cusps`)
     double seconds = 0;
+    // Traced on the device (contour_device.h): the kernels' time (timestamps; 0 on the CPU), and the marches that
+    // ended without meeting the next node (stuck at a singular point, or too long) and so end a curve.
+    double deviceMs = 0;
+    size_t openMarches = 0;
+    size_t evaluations = 0;                     // of the surface with its Hessian, on the device
+    size_t extended = 0, extendedVertices = 0;  // open ends traced on on the CPU, and the vertices that added
+    bool onDevice = false;
 };
 
 // `eye` in normalized coordinates. Pieces come out in tracing order; a closed curve without cusps is one
@@ -63,6 +71,24 @@ struct ContourStats {
 std::vector<PenStroke> traceContours(const Surface& hrbf, const Eigen::Vector3d& eye,
                                      const std::vector<SurfaceSample>& seeds, const ContourOptions& options = {},
                                      ContourStats* stats = nullptr);
+
+// What both tracers do with a traced curve (its points in order and their unit normals): find its cusps, merge the
+// swallowtails too small to see (ContourOptions::minSwallowtail), and append its pieces between cusps to `pieces`
+// as curve `curveId`; counts into `stats`.
+void splitAtCusps(const std::vector<Eigen::Vector3d>& curve, const std::vector<Eigen::Vector3d>& normals, bool closed,
+                  const Eigen::Vector3d& eye, const ContourOptions& options, uint32_t curveId,
+                  std::vector<PenStroke>& pieces, ContourStats& stats);
+
+// Goes on tracing the contour from `start` (on it) in `direction` (double, on the CPU), until it comes within half
+// a step of a point of `traced` (normals within ~70°) other than those of `curve` within six steps of where it is
+// along it (arcAtStart + arcSign × the arc gone: the stretch it leaves from), or cannot go on, or has made 4,096
+// points. Its points join `traced` as it goes (so that it stops where it runs into itself). The new points, in order.
+// The device tracer (contour_device.h) closes with it the gaps float left: where ∇g's tangential part nearly vanishes
+// its corrector cannot converge in float.
+std::vector<Eigen::Vector3d> extendContour(const Surface& hrbf, const Eigen::Vector3d& eye,
+                                           const Eigen::Vector3d& start, const Eigen::Vector3d& direction,
+                                           PointHash& traced, uint32_t curve, double arcAtStart, double arcSign,
+                                           const ContourOptions& options);
 
 // Corrects x onto the contour (f = 0, g = 0) by Newton steps; false when it does not converge.
 bool projectToContour(const Surface& hrbf, const Eigen::Vector3d& eye, Eigen::Vector3d& x);

@@ -1,0 +1,218 @@
+// The body of contour_trace.comp (and contour_trace_large.comp): the occluding contour f = 0, g = 0
+// (g = ∇f·(x − eye)) traced on the partition of unity, in float. The CPU tracer (engine/lines/lines.cpp,
+// traceContours) follows the same curve one seed at a time; here every seed is projected at once and every node
+// marches at once, to the next node along the curve.
+// - CONTOUR_PASS_PROJECT: each seed that won its cell is corrected onto the contour by Newton steps (the
+//   minimum-norm step of the 2×3 system, as contourNewton in lines.cpp) into a node, entered in the node grid.
+// - CONTOUR_PASS_MARCH: each node marches along t = ∇f × ∇g (one orientation for the whole curve, so every march
+//   runs the same way) by predictor–corrector steps, shorter where the curve turns, until its chord passes
+//   within a third of a step of another node running the same way: the link the host follows to chain the
+//   curve (or back at itself, round a closed curve with one node).
+#include "lines/contour_common.glsl"
+#include "refine/pu_hrbf.glsl"
+
+// Newton onto (f, g) = 0 from x, moving at most maxMove: the minimum-norm step of the 2×3 system
+// J = [∇f; ∇g], ∇g = H (x − eye) + ∇f, as contourNewton in lines.cpp. On success x is on the contour and n, t are
+// the unit normal and the unit tangent ∇f × ∇g there (of the last evaluation, within 1e-6 of x). The Hessian is
+// evaluated at every iteration: with it held from the first (a simplified Newton) the tangents were noisier, the
+// steps shorter and the bunny's contour had 68 cusps instead of 58.
+bool contourNewton(inout vec3 x, float maxMove, uint iterations, out vec3 n, out vec3 t) {
+    const vec3 start = x;
+    n = t = vec3(0.0);
+    for (uint i = 0u; i < iterations; ++i) {
+        vec3 gF;
+        mat3 H;
+        float f = puEvalHessian(x, gF, H);
+        atomicAdd(counters.evaluations, 1u);
+        vec3 r = x - pc.eye.xyz, gG = H * r + gF;
+        float g = dot(gF, r);
+        float a = dot(gF, gF), b = dot(gF, gG), c = dot(gG, gG);
+        precise float det = a * c - b * b;
+        if (!(det > 1e-6 * a * c)) return false;  // ∇f ∥ ∇g: a singular point of the contour
+        float y0 = (c * f - b * g) / det, y1 = (a * g - b * f) / det;
+        vec3 dx = -(y0 * gF + y1 * gG);
+        x += dx;
+        if (any(isnan(x)) || any(isinf(x)) || length(x - start) > maxMove) return false;
+        float moved = length(dx);
+        if (moved < 1e-6 || (i + 1u == iterations && moved < 1e-5)) {
+            n = normalize(gF);
+            vec3 c3 = cross(gF, gG);
+            if (!(length(c3) > 1e-6 * sqrt(a * c))) return false;
+            t = normalize(c3);
+            return true;
+        }
+    }
+    return false;
+}
+
+uint addNode(vec3 x, vec3 n, vec3 t, uint round, uint met);
+
+void project(uint listed) {
+    if (listed >= counters.listed) return;
+    vec3 x = seedList[listed].xyz, n, t;
+    if (contourNewton(x, pc.sizes.y, 5u, n, t)) addNode(x, n, t, 0u, 0u);
+}
+
+bool lessThanVec(vec3 a, vec3 b) { return a.x < b.x || (a.x == b.x && (a.y < b.y || (a.y == b.y && a.z < b.z))); }
+
+// The first node whose normal plane (through it, across its tangent) the chord x → y crosses, within `reach` of
+// it, its tangent along the chord's either way (t·t_j: the orientation ∇f × ∇g flips where ∇f × H (x − eye)
+// passes near 0, and the float Hessian's noise decides where; the ports put it together): its index, or NONE;
+// `along` is whether it runs the same way as t. Crossing the plane, not passing within a hair of the point: where
+// g's gradient is small, float leaves the contour's position uncertain across the curve, and two projections of
+// one place differ by a pixel. A node counts when x lies strictly before its plane, so that two nodes at one
+// place do not meet each other and close a curve of nothing; node `self` counts only once the march has gone
+// `away` along the curve (round a closed curve).
+uint nodeOnChord(vec3 x, vec3 y, vec3 t, float reach, uint self, bool away, out bool along) {
+    float bestU = 2.0, bestDistance = 0.0;
+    vec3 bestP = vec3(0.0);
+    uint found = CONTOUR_NONE;
+    along = true;
+    ivec3 c = contourCell(y);
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                uint s = gridSlot(contourCellKey(c + ivec3(dx, dy, dz)), false);
+                if (s == CONTOUR_NONE) continue;
+                for (uint e = 1u; e <= CONTOUR_GRID_NODES; ++e) {
+                    uint j = nodeGrid[(CONTOUR_GRID_NODES + 1u) * s + e];
+                    if (j == CONTOUR_NONE) break;
+                    if (j == self && !away) continue;
+                    vec3 p = nodes[j].position.xyz, tj = nodes[j].tangent.xyz;
+                    float c = dot(tj, t);
+                    if (abs(c) < 0.7) continue;
+                    vec3 tt = c > 0.0 ? tj : -tj;
+                    float sx = dot(x - p, tt), sy = dot(y - p, tt);
+                    if (!(sx < 0.0 && sy >= 0.0)) continue;
+                    float u = sx / (sx - sy), distance = length(x + u * (y - x) - p);
+                    if (distance > reach) continue;
+                    // The first along the chord; among equals the nearest, then the least position: not the order
+                    // the nodes entered the grid in.
+                    if (u > bestU || (u == bestU && (distance > bestDistance ||
+                                                     (distance == bestDistance && !lessThanVec(p, bestP)))))
+                        continue;
+                    bestU = u;
+                    bestDistance = distance;
+                    bestP = p;
+                    found = j;
+                    along = c > 0.0;
+                }
+            }
+    return found;
+}
+
+// Enters node k in the node grid (NONE when its cell has no room).
+bool enterNode(uint k, vec3 x) {
+    uint g = gridSlot(contourCellKey(contourCell(x)), true);
+    if (g != CONTOUR_NONE)
+        for (uint e = 1u; e <= CONTOUR_GRID_NODES; ++e)
+            if (atomicCompSwap(nodeGrid[(CONTOUR_GRID_NODES + 1u) * g + e], CONTOUR_NONE, k) == CONTOUR_NONE)
+                return true;
+    atomicAdd(counters.lost, 1u);
+    return false;
+}
+
+// A new node at x, whose forward march runs in round `round`, its ports already met (CONTOUR_AT_*): its index,
+// or NONE when the array is full. It enters the node grid in the next CONTOUR_PASS_ENTER, before the next marches,
+// so that what a march meets does not depend on which other marches of its pass ran first.
+uint addNode(vec3 x, vec3 n, vec3 t, uint round, uint met) {
+    uint k = atomicAdd(counters.nodes, 1u);
+    if (k >= pc.limits.x) return CONTOUR_NONE;
+    nodes[k].position = vec4(x, 0.0);
+    nodes[k].normal = vec4(n, 0.0);
+    nodes[k].tangent = vec4(t, 0.0);
+    nodes[k].state = uvec4(round, met, 0u, 0u);
+    nodes[k].forward = nodes[k].backward = uvec4(CONTOUR_NONE, 0u, 0u, 0u);
+    atomicMax(counters.march.x, k / CONTOUR_GROUP_SIZE + 1u);
+    return k;
+}
+
+// One march from node k, along its tangent (forward) or against it, until it meets a node: the link
+// (met node, first vertex, vertex count, CONTOUR_* bits). A march that takes CONTOUR_MARCH_VERTICES without
+// meeting one (the seeds missed a stretch of the curve) leaves a new node where it stopped, which marches on
+// forward in the next round; in the last round it ends there.
+uvec4 march(uint k, bool forward, uint round) {
+    ContourNode start = nodes[k];
+    const float step = pc.eye.w;
+    vec4 vp[CONTOUR_MARCH_VERTICES], vn[CONTOUR_MARCH_VERTICES];
+    vec3 x = start.position.xyz, t = forward ? start.tangent.xyz : -start.tangent.xyz;
+    vp[0] = vec4(x, 0.0);
+    vn[0] = start.normal;
+    uint m = 1u, next = CONTOUR_NONE, how = CONTOUR_TOO_LONG;
+    float h = step, arc = 0.0;
+    // Each pass makes one predictor step and its corrector: at most CONTOUR_MARCH_VERTICES accepted, and every
+    // rejected one halves h (down to step / 16, then the march is stuck), so the loop is bounded.
+    for (uint pass = 0u; pass < 4u * CONTOUR_MARCH_VERTICES; ++pass) {
+        if (m == CONTOUR_MARCH_VERTICES) break;
+        vec3 y = x + h * t, n, ty;
+        if (!contourNewton(y, 2.0 * max(h, step), 10u, n, ty)) {
+            if (h <= step / 16.0) {
+                how = CONTOUR_STUCK;
+                break;
+            }
+            h *= 0.5;
+            continue;
+        }
+        if (dot(ty, t) < 0.0) ty = -ty;
+        bool along;
+        uint j = nodeOnChord(x, y, t, CONTOUR_MEET_STEPS * step, k, arc > 3.0 * step, along);
+        if (j != CONTOUR_NONE) {
+            // Running along j's tangent it arrives at j's back; against it, at j's front.
+            next = j;
+            how = CONTOUR_MET | (along ? 0u : CONTOUR_AT_FORWARD);
+            atomicOr(nodes[j].state.y, along ? CONTOUR_AT_BACKWARD : CONTOUR_AT_FORWARD);
+            break;
+        }
+        arc += distance(x, y);
+        // Shorter steps where the curve turns (the chord stays within a fraction of a pixel), longer where it runs
+        // straight: as the CPU tracer.
+        float turn = acos(clamp(dot(ty, t), -1.0, 1.0));
+        if (turn > 0.15)
+            h = max(step / 16.0, h * 0.5);
+        else if (turn < 0.05)
+            h = min(CONTOUR_LONGEST_STEP * step, h * 1.5);
+        vp[m] = vec4(y, 0.0);
+        vn[m] = vec4(n, 0.0);
+        ++m;
+        x = y;
+        t = ty;
+    }
+    if (how == CONTOUR_TOO_LONG && round + 1u < pc.limits.w) {
+        // Go on from the last vertex in the next round: it becomes that node's first, arrived at from behind.
+        uint j = addNode(x, vn[m - 1u].xyz, t, round + 1u, CONTOUR_AT_BACKWARD);
+        if (j != CONTOUR_NONE) {
+            --m;
+            next = j;
+            how = CONTOUR_MET;
+        }
+    }
+    uint first = atomicAdd(counters.vertices, m);
+    if (first + m > pc.limits.y) return uvec4(next, 0u, 0u, how | CONTOUR_OVERFLOW);
+    for (uint v = 0u; v < m; ++v) {
+        vertices[first + v].position = vp[v];
+        vertices[first + v].normal = vn[v];
+    }
+    return uvec4(next, first, m, how);
+}
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (pc.counts.w == CONTOUR_PASS_PROJECT) {
+        project(i);
+        return;
+    }
+    if (i >= min(counters.nodes, pc.limits.x)) return;
+    ContourNode node = nodes[i];
+    if (pc.counts.w == CONTOUR_PASS_ENTER) {
+        if (node.state.z == 0u) {
+            enterNode(i, node.position.xyz);
+            nodes[i].state.z = 1u;
+        }
+    } else if (pc.counts.w == CONTOUR_PASS_MARCH) {
+        // Round r's nodes march forward.
+        if (node.state.x == pc.limits.z) nodes[i].forward = march(i, true, pc.limits.z);
+    } else if (node.state.x == 0u && (node.state.y & CONTOUR_AT_BACKWARD) == 0u) {
+        // CONTOUR_PASS_BACK, after round 0: the seeds no march arrived at from behind march backward too.
+        nodes[i].backward = march(i, false, 0u);
+    }
+}
