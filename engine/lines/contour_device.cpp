@@ -146,18 +146,21 @@ namespace {
 
 const VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 constexpr double kCellSteps = 6;
+// The trace's start, then the ends of the seeds, the projection, the first round of marches, the later rounds.
+constexpr uint32_t kTimestamps = 5;
 constexpr double kProjectSteps = 8;
-constexpr double kMergeSteps = 0.05;  // nodes nearer than this are one (chainMarches)  // a seed moves at most this far onto the contour (about 20 pixels)
+constexpr double kMergeSteps = 0.05;  // nodes nearer than this are one (chainMarches)  // a seed moves at most this far
+                                      // onto the contour (about 20 pixels)
 static_assert(kCellSteps >= gpu::CONTOUR_LONGEST_STEP + gpu::CONTOUR_MEET_STEPS,
               "a node a march meets must lie in the cells around its step's end");
 
 }  // namespace
 
-bool DeviceContours::supports(const GpuRefinement& r) { return r.puPatches.buffer != VK_NULL_HANDLE; }
+bool DeviceContours::supports(const Context&, const GpuRefinement& r) { return r.puPatches.buffer != VK_NULL_HANDLE; }
 
 DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t samples, const ContourOptions& options)
     : ctx_(ctx), refinement_(r), samples_(samples), options_(options) {
-    if (!supports(r)) throw Error("the device traces the contour of a partition-of-unity fit only");
+    if (!supports(ctx, r)) throw Error("the device traces the contour of a partition-of-unity fit only");
     try {
         // Seeds: a slot per drawn point at most (a few in the band, fewer cells); nodes: one per seed cell at most.
         seedSlots_ = std::bit_ceil(std::max(1024u, std::min(samples, 1u << 24)));
@@ -165,7 +168,8 @@ DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t sa
         gridSlots_ = std::bit_ceil(2 * nodeCapacity_);
         vertexCapacity_ = uint32_t(std::min<size_t>(options.maxTotalVertices, 1u << 24)) + gpu::CONTOUR_MARCH_VERTICES;
         const auto dst = VK_BUFFER_USAGE_TRANSFER_DST_BIT, src = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-        seedTable_ = createBuffer(ctx, VkDeviceSize(seedSlots_) * gpu::CONTOUR_SEED_SLOT * 4, kStorage | dst, MemoryUse::Device);
+        seedTable_ =
+            createBuffer(ctx, VkDeviceSize(seedSlots_) * gpu::CONTOUR_SEED_SLOT * 4, kStorage | dst, MemoryUse::Device);
         grid_ = createBuffer(ctx, VkDeviceSize(gridSlots_) * (gpu::CONTOUR_GRID_NODES + 1) * 4, kStorage | dst,
                              MemoryUse::Device);
         nodes_ = createBuffer(ctx, VkDeviceSize(nodeCapacity_) * sizeof(gpu::ContourNode), kStorage | src,
@@ -175,8 +179,8 @@ DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t sa
         list_ = createBuffer(ctx, VkDeviceSize(seedSlots_) * 16, kStorage, MemoryUse::Device);
         counters_ = createBuffer(ctx, sizeof(gpu::ContourCounters),
                                  kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | dst | src, MemoryUse::Device);
-        readback_ = createBuffer(ctx, nodes_.size + vertices_.size + sizeof(gpu::ContourCounters), dst,
-                                 MemoryUse::Readback);
+        readback_ =
+            createBuffer(ctx, nodes_.size + vertices_.size + sizeof(gpu::ContourCounters), dst, MemoryUse::Readback);
 
         const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, ub = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
         std::vector<DescriptorBinding> bindings = {{gpu::REFINE_SURFACE_HEADER, ub, r.hrbfHeader.buffer},
@@ -192,15 +196,23 @@ DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t sa
                                                    {gpu::CONTOUR_LIST, sb, list_.buffer}};
         if (!r.nodesByAddress) bindings.push_back({gpu::REFINE_PU_NODES, sb, r.puNodes.buffer});
         descriptors_ = createDescriptorSet(ctx, bindings, VK_SHADER_STAGE_COMPUTE_BIT);
-        layout_ = createPipelineLayout(ctx, descriptors_.layout, sizeof(gpu::ContourParams),
-                                       VK_SHADER_STAGE_COMPUTE_BIT);
+        layout_ =
+            createPipelineLayout(ctx, descriptors_.layout, sizeof(gpu::ContourParams), VK_SHADER_STAGE_COMPUTE_BIT);
         seeds_ = createComputePipeline(ctx, layout_, spv_contour_seeds_comp);
+        // A subgroup shares each evaluation of a march on a GPU; an invocation a march on a CPU driver, whose
+        // subgroup is one core's SIMD lanes (contour_trace_body.glsl, CONTOUR_SHARED).
+        using Evaluation = ContourOptions::DeviceEvaluation;
+        shared_ = options.deviceEvaluation == Evaluation::Auto
+                      ? ctx.properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU
+                      : options.deviceEvaluation == Evaluation::Shared;
+        const uint32_t constants[1] = {shared_ ? 1u : 0u};
         trace_ = createComputePipeline(ctx, layout_,
                                        r.nodesByAddress ? std::span<const uint32_t>(spv_contour_trace_large_comp)
-                                                        : std::span<const uint32_t>(spv_contour_trace_comp));
+                                                        : std::span<const uint32_t>(spv_contour_trace_comp),
+                                       constants);
         VkQueryPoolCreateInfo query{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
         query.queryType = VK_QUERY_TYPE_TIMESTAMP;
-        query.queryCount = 2;
+        query.queryCount = kTimestamps;
         VK_CHECK(vkCreateQueryPool(ctx.device, &query, nullptr, &timestamps_));
     } catch (...) {
         release();
@@ -236,12 +248,14 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
     params.sizes = gpu::vec4(float(kCellSteps * step), float(kProjectSteps * step), 0.0f, 0.0f);
     params.counts = gpu::uvec4(samples_, seedSlots_, gridSlots_, 0);
     params.limits = gpu::uvec4(nodeCapacity_, vertexCapacity_, 0, gpu::CONTOUR_ROUNDS);
+    params.shape.x =
+        shared_ ? std::max(1u, gpu::CONTOUR_GROUP_SIZE / std::max(1u, ctx_.maxSubgroupSize)) : gpu::CONTOUR_GROUP_SIZE;
     const uint32_t sampleGroups = (samples_ + gpu::CONTOUR_GROUP_SIZE - 1) / gpu::CONTOUR_GROUP_SIZE;
     const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     const auto rw = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
 
     submitAndWait(ctx_, [&](VkCommandBuffer cmd) {
-        vkCmdResetQueryPool(cmd, timestamps_, 0, 2);
+        vkCmdResetQueryPool(cmd, timestamps_, 0, kTimestamps);
         vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, timestamps_, 0);
         vkCmdFillBuffer(cmd, seedTable_.buffer, 0, VK_WHOLE_SIZE, gpu::CONTOUR_NONE);
         vkCmdFillBuffer(cmd, grid_.buffer, 0, VK_WHOLE_SIZE, gpu::CONTOUR_NONE);
@@ -265,10 +279,12 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
         vkCmdDispatch(cmd, (seedSlots_ + gpu::CONTOUR_GROUP_SIZE - 1) / gpu::CONTOUR_GROUP_SIZE, 1, 1);
         stageBarrier(cmd, compute, rw, compute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
                      rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+        vkCmdWriteTimestamp2(cmd, compute, timestamps_, 1);
         pass(trace_, gpu::CONTOUR_PASS_PROJECT);
         vkCmdDispatchIndirect(cmd, counters_.buffer, offsetof(gpu::ContourCounters, project));
         stageBarrier(cmd, compute, rw, compute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
                      rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+        vkCmdWriteTimestamp2(cmd, compute, timestamps_, 2);
         // Round 0: every seed node marches forward; then those no march arrived at from behind, backward; then
         // the nodes the marches of each round left where they stopped march on.
         for (uint32_t round = 0; round < gpu::CONTOUR_ROUNDS; ++round) {
@@ -283,8 +299,9 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
                                  rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
                 }
             }
+            if (round == 0) vkCmdWriteTimestamp2(cmd, compute, timestamps_, 3);
         }
-        vkCmdWriteTimestamp2(cmd, compute, timestamps_, 1);
+        vkCmdWriteTimestamp2(cmd, compute, timestamps_, 4);
         stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
                      VK_ACCESS_2_TRANSFER_READ_BIT);
         VkBufferCopy copy{0, 0, sizeof(gpu::ContourCounters)};
@@ -292,10 +309,13 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
     });
     gpu::ContourCounters counters;
     std::memcpy(&counters, readback_.mapped, sizeof(counters));
-    uint64_t ticks[2] = {};
-    if (vkGetQueryPoolResults(ctx_.device, timestamps_, 0, 2, sizeof(ticks), ticks, sizeof(uint64_t),
-                              VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS)
-        s.deviceMs = double(ticks[1] - ticks[0]) * ctx_.properties.limits.timestampPeriod * 1e-6;
+    uint64_t ticks[kTimestamps] = {};
+    if (vkGetQueryPoolResults(ctx_.device, timestamps_, 0, kTimestamps, sizeof(ticks), ticks, sizeof(uint64_t),
+                              VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS) {
+        const double ms = ctx_.properties.limits.timestampPeriod * 1e-6;
+        s.deviceMs = double(ticks[4] - ticks[0]) * ms;
+        for (int k = 0; k < 4; ++k) s.devicePassMs[k] = double(ticks[k + 1] - ticks[k]) * ms;
+    }
     auto tooRough = [&](const std::string& what) {
         return Error("the contour of this view passed " + what +
                      ": the surface is too rough to draw lines on (a noisy fit?); draw dots instead, or fit fewer "
@@ -365,6 +385,7 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
     // the CPU, in double, until they run into a traced curve (extendContour).
     PointHash traced(step);
     std::vector<double> lengths(curves.size(), 0.0);
+    const bool anyOpen = std::any_of(curves.begin(), curves.end(), [](const ChainedCurve& c) { return !c.closed; });
     auto enter = [&](uint32_t i, const std::vector<Vector3d>& p, size_t from, double arc) {
         for (size_t v = from; v < p.size(); ++v) {
             if (v > 0) arc += (p[v] - p[v - 1]).norm();
@@ -372,16 +393,16 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
         }
         return arc;
     };
-    for (uint32_t i = 0; i < curves.size(); ++i) lengths[i] = enter(i, curves[i].points, 0, 0.0);
-    for (uint32_t i = 0; i < curves.size(); ++i) {
+    for (uint32_t i = 0; anyOpen && i < curves.size(); ++i) lengths[i] = enter(i, curves[i].points, 0, 0.0);
+    for (uint32_t i = 0; anyOpen && i < curves.size(); ++i) {
         ChainedCurve& c = curves[i];
         if (c.closed || c.points.size() < 2) continue;
         for (bool tail : {true, false}) {
             const size_t m = c.points.size();
             const Vector3d end = tail ? c.points[m - 1] : c.points[0];
             const Vector3d direction = tail ? c.points[m - 1] - c.points[m - 2] : c.points[0] - c.points[1];
-            const std::vector<Vector3d> more =
-                extendContour(surface, eye, end, direction, traced, i, tail ? lengths[i] : 0.0, tail ? 1.0 : -1.0, options_);
+            const std::vector<Vector3d> more = extendContour(surface, eye, end, direction, traced, i,
+                                                             tail ? lengths[i] : 0.0, tail ? 1.0 : -1.0, options_);
             if (more.empty()) continue;
             ++s.extended;
             s.extendedVertices += more.size();

@@ -50,6 +50,9 @@ struct ContourOptions {
     // of the default contour pen, at the default 1024² view) is a swallowtail too small to see, made by a ripple
     // of the surface's normals: both go and the pieces either side join.
     double minSwallowtail = 0.003;
+    // The device tracer (contour_device.h): whether a subgroup shares each evaluation of a march (a GPU's way) or
+    // an invocation makes it alone (a CPU driver's); Auto picks by the device. Tests ask for both.
+    enum class DeviceEvaluation { Auto, Shared, PerInvocation } deviceEvaluation = DeviceEvaluation::Auto;
 };
 
 struct ContourStats {
@@ -60,6 +63,7 @@ struct ContourStats {
     // Traced on the device (contour_device.h): the kernels' time (timestamps; 0 on the CPU), and the marches that
     // ended without meeting the next node (stuck at a singular point, or too long) and so end a curve.
     double deviceMs = 0;
+    double devicePassMs[4] = {};  // of it: the seeds, their projection, the first marches, the later rounds
     size_t openMarches = 0;
     size_t evaluations = 0;                     // of the surface with its Hessian, on the device
     size_t extended = 0, extendedVertices = 0;  // open ends traced on on the CPU, and the vertices that added

@@ -42,7 +42,7 @@ void pair(uint s) {
     vec3 x = mix(p.position, q.position, fp / max(fp + fq, 1e-20));
     uint at = atomicAdd(counters.listed, 1u);
     seedList[at] = vec4(x, 0.0);
-    atomicMax(counters.project.x, at / CONTOUR_GROUP_SIZE + 1u);
+    atomicMax(counters.project.x, at / pc.shape.x + 1u);
 }
 
 void main() {

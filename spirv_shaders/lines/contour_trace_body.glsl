@@ -11,6 +11,86 @@
 #include "lines/contour_common.glsl"
 #include "refine/pu_hrbf.glsl"
 
+// On a GPU one subgroup traces one node (a projection, a march): the steps are a chain, one after the other, and
+// one invocation walking each evaluation's patches and nodes alone waits on every load in turn (on an H200 the
+// bunny's contour took 20 ms so, 2.9 ms shared). The subgroup's invocations share each evaluation, one patch (and
+// one far-field centre) each in turn, and add up; every invocation then holds the same sums and takes the same
+// steps, so control flow stays uniform in the subgroup. On a CPU driver (lavapipe: a subgroup is one core's 8 SIMD
+// lanes) an invocation a node is faster (85 against 440 ms): CONTOUR_SHARED is 0 there (contour_device.cpp).
+layout(constant_id = 0) const bool CONTOUR_SHARED = true;
+
+uint lane() { return CONTOUR_SHARED ? gl_SubgroupInvocationID : 0u; }
+uint lanes() { return CONTOUR_SHARED ? gl_SubgroupSize : 1u; }
+bool leader() { return !CONTOUR_SHARED || subgroupElect(); }
+uint fromLeader(uint v) { return CONTOUR_SHARED ? subgroupBroadcastFirst(v) : v; }
+float sum(float v) { return CONTOUR_SHARED ? subgroupAdd(v) : v; }
+vec3 sum(vec3 v) { return CONTOUR_SHARED ? subgroupAdd(v) : v; }
+
+// puEvalHessian (pu_hrbf.glsl) with its loops shared by the subgroup.
+float puEvalHessianShared(vec3 x, out vec3 grad, out mat3 H) {
+    float S = 0.0, N = 0.0;
+    vec3 dS = vec3(0.0), dN = vec3(0.0);
+    mat3 HS = mat3(0.0), HN = mat3(0.0);
+    int cell = puCell(x);
+    if (cell >= 0) {
+        uint base = puCellCount() + 1u, k1 = puCells[cell + 1];
+        for (uint k = puCells[cell] + lane(); k < k1; k += lanes()) {
+            PuPatch P = puPatches[puCells[base + k]];
+            float R = P.centerRadius.w;
+            vec3 q = (x - P.centerRadius.xyz) / R;
+            if (!(dot(q, q) < 1.0)) continue;
+            float h = dot(P.linear.xyz, q) + P.linear.w;
+            vec3 g = P.linear.xyz;
+            mat3 Hh = mat3(0.0);
+            uint j1 = P.range.x + P.range.y;
+            for (uint j = P.range.x; j < j1; ++j)
+                hrbfNodeHessianF(q, PU_NODE(2u * j), PU_NODE(2u * j + 1u).xyz, h, g, Hh);
+            vec3 dw;
+            float w = puWeight(q, R, dw), fi = R * h;
+            float d = length(q), e = 1.0 - d, e2 = e * e;
+            mat3 Hw = mat3(e2 * e);
+            if (d > 0.0) Hw -= (3.0 * e2 / d) * outerProduct(q, q);
+            Hw *= -20.0 / (R * R);
+            S += w;
+            N += w * fi;
+            dS += dw;
+            dN += fi * dw + w * g;
+            HS += Hw;
+            HN += fi * Hw + outerProduct(dw, g) + outerProduct(g, dw) + (w / R) * Hh;
+        }
+    }
+    S = sum(S);
+    N = sum(N);
+    dS = sum(dS);
+    dN = sum(dN);
+    for (int c = 0; c < 3; ++c) {
+        HS[c] = sum(HS[c]);
+        HN[c] = sum(HN[c]);
+    }
+    float tau = pu.params.x;
+    if (S < tau) {
+        float s = S / tau, e = 1.0 - s, wc = tau * e * e * e;
+        vec3 dwc = -3.0 * e * e * dS, gc = vec3(0.0);
+        mat3 Hwc = (6.0 * e / tau) * outerProduct(dS, dS) - 3.0 * e * e * HS, Hc = mat3(0.0);
+        float fc = 0.0;
+        for (uint j = lane(); j < pu.dims.w; j += lanes())
+            hrbfNodeHessianF(x, puCoarse[2u * j], puCoarse[2u * j + 1u].xyz, fc, gc, Hc);
+        fc = sum(fc) + dot(pu.coarseLinear.xyz, x) + pu.coarseLinear.w;
+        gc = sum(gc) + pu.coarseLinear.xyz;
+        for (int c = 0; c < 3; ++c) Hc[c] = sum(Hc[c]);
+        S += wc;
+        N += wc * fc;
+        dN += fc * dwc + wc * gc;
+        HN += fc * Hwc + outerProduct(dwc, gc) + outerProduct(gc, dwc) + wc * Hc;
+        HS += Hwc;
+        dS += dwc;
+    }
+    float F = N / S;
+    grad = (dN - F * dS) / S;
+    H = (HN - outerProduct(grad, dS) - outerProduct(dS, grad) - F * HS) / S;
+    return F;
+}
+
 // Newton onto (f, g) = 0 from x, moving at most maxMove: the minimum-norm step of the 2×3 system
 // J = [∇f; ∇g], ∇g = H (x − eye) + ∇f, as contourNewton in lines.cpp. On success x is on the contour and n, t are
 // the unit normal and the unit tangent ∇f × ∇g there (of the last evaluation, within 1e-6 of x). The Hessian is
@@ -22,8 +102,8 @@ bool contourNewton(inout vec3 x, float maxMove, uint iterations, out vec3 n, out
     for (uint i = 0u; i < iterations; ++i) {
         vec3 gF;
         mat3 H;
-        float f = puEvalHessian(x, gF, H);
-        atomicAdd(counters.evaluations, 1u);
+        float f = puEvalHessianShared(x, gF, H);
+        if (leader()) atomicAdd(counters.evaluations, 1u);
         vec3 r = x - pc.eye.xyz, gG = H * r + gF;
         float g = dot(gF, r);
         float a = dot(gF, gF), b = dot(gF, gG), c = dot(gG, gG);
@@ -50,7 +130,7 @@ uint addNode(vec3 x, vec3 n, vec3 t, uint round, uint met);
 void project(uint listed) {
     if (listed >= counters.listed) return;
     vec3 x = seedList[listed].xyz, n, t;
-    if (contourNewton(x, pc.sizes.y, 5u, n, t)) addNode(x, n, t, 0u, 0u);
+    if (contourNewton(x, pc.sizes.y, 5u, n, t) && leader()) addNode(x, n, t, 0u, 0u);
 }
 
 bool lessThanVec(vec3 a, vec3 b) { return a.x < b.x || (a.x == b.x && (a.y < b.y || (a.y == b.y && a.z < b.z))); }
@@ -123,7 +203,7 @@ uint addNode(vec3 x, vec3 n, vec3 t, uint round, uint met) {
     nodes[k].tangent = vec4(t, 0.0);
     nodes[k].state = uvec4(round, met, 0u, 0u);
     nodes[k].forward = nodes[k].backward = uvec4(CONTOUR_NONE, 0u, 0u, 0u);
-    atomicMax(counters.march.x, k / CONTOUR_GROUP_SIZE + 1u);
+    atomicMax(counters.march.x, k / pc.shape.x + 1u);
     return k;
 }
 
@@ -134,10 +214,13 @@ uint addNode(vec3 x, vec3 n, vec3 t, uint round, uint met) {
 uvec4 march(uint k, bool forward, uint round) {
     ContourNode start = nodes[k];
     const float step = pc.eye.w;
+    // Vertex v is kept by invocation v mod lanes(), in its slot v / lanes().
     vec4 vp[CONTOUR_MARCH_VERTICES], vn[CONTOUR_MARCH_VERTICES];
-    vec3 x = start.position.xyz, t = forward ? start.tangent.xyz : -start.tangent.xyz;
-    vp[0] = vec4(x, 0.0);
-    vn[0] = start.normal;
+    vec3 x = start.position.xyz, t = forward ? start.tangent.xyz : -start.tangent.xyz, lastNormal = start.normal.xyz;
+    if (lane() == 0u) {
+        vp[0] = vec4(x, 0.0);
+        vn[0] = start.normal;
+    }
     uint m = 1u, next = CONTOUR_NONE, how = CONTOUR_TOO_LONG;
     float h = step, arc = 0.0;
     // Each pass makes one predictor step and its corrector: at most CONTOUR_MARCH_VERTICES accepted, and every
@@ -160,7 +243,7 @@ uvec4 march(uint k, bool forward, uint round) {
             // Running along j's tangent it arrives at j's back; against it, at j's front.
             next = j;
             how = CONTOUR_MET | (along ? 0u : CONTOUR_AT_FORWARD);
-            atomicOr(nodes[j].state.y, along ? CONTOUR_AT_BACKWARD : CONTOUR_AT_FORWARD);
+            if (leader()) atomicOr(nodes[j].state.y, along ? CONTOUR_AT_BACKWARD : CONTOUR_AT_FORWARD);
             break;
         }
         arc += distance(x, y);
@@ -171,48 +254,63 @@ uvec4 march(uint k, bool forward, uint round) {
             h = max(step / 16.0, h * 0.5);
         else if (turn < 0.05)
             h = min(CONTOUR_LONGEST_STEP * step, h * 1.5);
-        vp[m] = vec4(y, 0.0);
-        vn[m] = vec4(n, 0.0);
+        if (m % lanes() == lane()) {
+            vp[m / lanes()] = vec4(y, 0.0);
+            vn[m / lanes()] = vec4(n, 0.0);
+        }
+        lastNormal = n;
         ++m;
         x = y;
         t = ty;
     }
     if (how == CONTOUR_TOO_LONG && round + 1u < pc.limits.w) {
         // Go on from the last vertex in the next round: it becomes that node's first, arrived at from behind.
-        uint j = addNode(x, vn[m - 1u].xyz, t, round + 1u, CONTOUR_AT_BACKWARD);
+        uint j = CONTOUR_NONE;
+        if (leader()) j = addNode(x, lastNormal, t, round + 1u, CONTOUR_AT_BACKWARD);
+        j = fromLeader(j);
         if (j != CONTOUR_NONE) {
             --m;
             next = j;
             how = CONTOUR_MET;
         }
     }
-    uint first = atomicAdd(counters.vertices, m);
+    uint first = 0u;
+    if (leader()) first = atomicAdd(counters.vertices, m);
+    first = fromLeader(first);
     if (first + m > pc.limits.y) return uvec4(next, 0u, 0u, how | CONTOUR_OVERFLOW);
-    for (uint v = 0u; v < m; ++v) {
-        vertices[first + v].position = vp[v];
-        vertices[first + v].normal = vn[v];
+    for (uint v = lane(); v < m; v += lanes()) {
+        vertices[first + v].position = vp[v / lanes()];
+        vertices[first + v].normal = vn[v / lanes()];
     }
     return uvec4(next, first, m, how);
 }
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    // One subgroup a seed or a march (CONTOUR_SHARED), else one invocation; one invocation a node for the grid.
+    const uint item = CONTOUR_SHARED ? gl_WorkGroupID.x * gl_NumSubgroups + gl_SubgroupID : gl_GlobalInvocationID.x;
     if (pc.counts.w == CONTOUR_PASS_PROJECT) {
-        project(i);
+        project(item);
         return;
     }
-    if (i >= min(counters.nodes, pc.limits.x)) return;
-    ContourNode node = nodes[i];
     if (pc.counts.w == CONTOUR_PASS_ENTER) {
-        if (node.state.z == 0u) {
-            enterNode(i, node.position.xyz);
+        uint i = gl_GlobalInvocationID.x;
+        if (i < min(counters.nodes, pc.limits.x) && nodes[i].state.z == 0u) {
+            enterNode(i, nodes[i].position.xyz);
             nodes[i].state.z = 1u;
         }
-    } else if (pc.counts.w == CONTOUR_PASS_MARCH) {
+        return;
+    }
+    if (item >= min(counters.nodes, pc.limits.x)) return;
+    ContourNode node = nodes[item];
+    if (pc.counts.w == CONTOUR_PASS_MARCH) {
         // Round r's nodes march forward.
-        if (node.state.x == pc.limits.z) nodes[i].forward = march(i, true, pc.limits.z);
+        if (node.state.x == pc.limits.z) {
+            uvec4 link = march(item, true, pc.limits.z);
+            if (leader()) nodes[item].forward = link;
+        }
     } else if (node.state.x == 0u && (node.state.y & CONTOUR_AT_BACKWARD) == 0u) {
         // CONTOUR_PASS_BACK, after round 0: the seeds no march arrived at from behind march backward too.
-        nodes[i].backward = march(i, false, 0u);
+        uvec4 link = march(item, false, 0u);
+        if (leader()) nodes[item].backward = link;
     }
 }

@@ -24,10 +24,10 @@ INK_CONST uint CONTOUR_GRID_NODES = 15u;
 INK_CONST uint CONTOUR_NONE = 0xFFFFFFFFu;
 INK_CONST uint CONTOUR_SEED_SLOT = 5u;
 // A march's bits (ContourNode::forward.w, backward.w): how it ended.
-INK_CONST uint CONTOUR_MET = 1u;        // at a node (x), possibly itself round a closed curve
-INK_CONST uint CONTOUR_STUCK = 2u;      // the corrector failed at the smallest step (a singular point, the grid's end)
-INK_CONST uint CONTOUR_TOO_LONG = 4u;   // CONTOUR_MARCH_VERTICES without meeting a node
-INK_CONST uint CONTOUR_OVERFLOW = 8u;   // the vertex array was full: the march's vertices were dropped
+INK_CONST uint CONTOUR_MET = 1u;       // at a node (x), possibly itself round a closed curve
+INK_CONST uint CONTOUR_STUCK = 2u;     // the corrector failed at the smallest step (a singular point, the grid's end)
+INK_CONST uint CONTOUR_TOO_LONG = 4u;  // CONTOUR_MARCH_VERTICES without meeting a node
+INK_CONST uint CONTOUR_OVERFLOW = 8u;  // the vertex array was full: the march's vertices were dropped
 INK_CONST uint CONTOUR_AT_FORWARD = 16u;   // it arrived at the met node's forward port (and ContourNode::state.y)
 INK_CONST uint CONTOUR_AT_BACKWARD = 32u;  // (ContourNode::state.y only) one arrived at its backward port
 // Rounds of marches: a march that met no node leaves a node where it stopped, marched in the next round.
@@ -44,12 +44,14 @@ INK_CONST uint CONTOUR_PASS_ENTER = 6u;    // per node made since the last, befo
 
 // The push constants (std430).
 struct ContourParams {
-    vec4 eye;     // xyz: the eye (normalized coordinates); w: the predictor step
-    vec4 sizes;   // x: the cell size of both grids, y: a seed's farthest projection; z, w: unused
-    uvec4 counts; // x: samples, y: seed-table slots, z: node-grid slots (powers of two), w: the pass
-    uvec4 limits; // x: node capacity, y: vertex capacity, z: the march's round, w: rounds
+    vec4 eye;      // xyz: the eye (normalized coordinates); w: the predictor step
+    vec4 sizes;    // x: the cell size of both grids, y: a seed's farthest projection; z, w: unused
+    uvec4 counts;  // x: samples, y: seed-table slots, z: node-grid slots (powers of two), w: the pass
+    uvec4 limits;  // x: node capacity, y: vertex capacity, z: the march's round, w: rounds
+    uvec4 shape;   // x: seeds or nodes a workgroup traces (the fewest: its subgroups of the largest size, or its
+                   // invocations); y, z, w unused
 };
-INK_ASSERT_SIZE(ContourParams, 64);
+INK_ASSERT_SIZE(ContourParams, 80);
 INK_ASSERT_OFFSET(ContourParams, counts, 32);
 
 // A point on the contour marches start from (std430). Its two ends ("ports"): forward (along its tangent) and
@@ -79,13 +81,13 @@ INK_ASSERT_SIZE(ContourVertex, 32);
 
 // What the passes count (std430).
 struct ContourCounters {
-    uint nodes;     // nodes made (may pass the capacity: those past it were not stored)
-    uint vertices;  // vertices written (likewise)
-    uint evaluations;  // of the surface (f, ∇f and the Hessian)
-    uint lost;      // seeds whose cell found no slot in the table, nodes none in the grid
-    uvec4 march;    // the march pass's VkDispatchIndirectCommand (and a pad)
-    uvec4 project;  // the projection pass's, over the listed seeds
-    uint listed;    // seeds listed (CONTOUR_LIST)
+    uint nodes;             // nodes made (may pass the capacity: those past it were not stored)
+    uint vertices;          // vertices written (likewise)
+    uint evaluations;       // of the surface (f, ∇f and the Hessian)
+    uint lost;              // seeds whose cell found no slot in the table, nodes none in the grid
+    uvec4 march;            // the march pass's VkDispatchIndirectCommand (and a pad)
+    uvec4 project;          // the projection pass's, over the listed seeds
+    uint listed;            // seeds listed (CONTOUR_LIST)
     uint pad0, pad1, pad2;  // (std430: uvec4 alignment)
 };
 INK_ASSERT_SIZE(ContourCounters, 64);
