@@ -791,7 +791,7 @@ TEST_CASE("lines: --contour-tracer device draws the contour the CPU draws, and s
         text << in.rdbuf();
         return text.str();
     };
-    const std::string device = render("device", "--contour-tracer device"), cpu = render("cpu", "");
+    const std::string device = render("device", "--contour-tracer device"), cpu = render("cpu", "--contour-tracer cpu");
     CHECK(device.find("\"traced_on\": \"device\"") != std::string::npos);
     CHECK(cpu.find("\"traced_on\": \"cpu\"") != std::string::npos);
     const ink::RgbaImage a = ink::readPng(dir / "device.png"), b = ink::readPng(dir / "cpu.png");

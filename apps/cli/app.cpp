@@ -99,9 +99,10 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
         ->capture_default_str();
     cmd->add_option("--contour-width", s.penWidth, "Contour pen width in pixels")->capture_default_str();
     cmd->add_option("--contour-tracer", o.contourTracer,
-                    "Where the contour is traced for each view: cpu (the default), or device (all seeds and marches "
-                    "at once on the GPU, in float; a partition-of-unity fit only; docs/lines.md)")
-        ->check(CLI::IsMember({"cpu", "device"}))
+                    "Where the contour is traced for each view: device (all seeds and marches at once, in float; a "
+                    "partition-of-unity fit only), cpu (the reference tracer, in double), or auto: the device where "
+                    "it is a GPU, else the CPU (docs/lines.md)")
+        ->check(CLI::IsMember({"auto", "cpu", "device"}))
         ->capture_default_str();
     cmd->add_option("--hatch-width", s.hatchWidth, "Hatching pen width in pixels")->capture_default_str();
     cmd->add_option("--halo", s.haloWidth, "Paper kept clear each side of an interior contour, in pixels")
@@ -271,7 +272,9 @@ static void parseStyle(Options& o) {
                              "' is not stipple, direction, both, contours or hatching, or is given twice (parts are "
                              "joined by '+', at most one of stipple, direction and both)");
     }
-    o.lines.contoursOnDevice = o.contourTracer == "device";
+    o.lines.contourTracer = o.contourTracer == "device" ? ink::LineOptions::ContourTracer::Device
+                            : o.contourTracer == "cpu"  ? ink::LineOptions::ContourTracer::Cpu
+                                                        : ink::LineOptions::ContourTracer::Auto;
     o.style = dots == "direction" ? DrawStyle::Direction : dots == "both" ? DrawStyle::Both : DrawStyle::Stipple;
     // A mesh's creases and boundaries go with the pen lines unless asked for or against.
     const bool pen = o.lines.contours || o.lines.hatching;

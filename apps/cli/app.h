@@ -51,7 +51,7 @@ struct Options {
     ink::LineOptions lines;  // pen lines the style asks for
     // --creases, --boundaries: auto draws a mesh's crease and boundary lines with the pen-line styles
     std::string creases = "auto", boundaries = "auto";
-    std::string contourTracer = "cpu";  // --contour-tracer: cpu or device
+    std::string contourTracer = "auto";  // --contour-tracer: auto, cpu or device
     double creaseAngle = ink::kCreaseAngleDeg;
     bool trim = true;
     std::vector<float> camera;  // azimuth, elevation, distance

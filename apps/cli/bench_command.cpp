@@ -23,7 +23,7 @@ struct Workload {
     uint32_t levels;
     bool lines = false;  // pen lines: contours and hatching over the stipple set's depth, no dots (docs/lines.md)
     ink::FitMethod method = ink::FitMethod::PartitionOfUnity;
-    bool contoursOnDevice = false;  // the contour traced on the device (--contour-tracer device)
+    bool contoursOnDevice = false;  // the contour traced on the device (--contour-tracer device), else the CPU
 };
 
 // The report's workloads (with the default fit), the bunny-684 one with the report's global fit for comparison,
@@ -76,7 +76,8 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
     options.distribution = distribution;  // the passes follow it: 1 for blue-noise stipples, the report's 2 else
     ink::LineOptions lines;
     lines.contours = lines.hatching = w.lines;
-    lines.contoursOnDevice = w.contoursOnDevice;
+    lines.contourTracer =
+        w.contoursOnDevice ? ink::LineOptions::ContourTracer::Device : ink::LineOptions::ContourTracer::Cpu;
     const double loadSeconds = secondsSince(start);
     json out;
     {

@@ -25,10 +25,10 @@ struct LineOptions {
     bool hatching = false;  // hatching strokes, traced once for the model
     // A mesh's crease and boundary lines (Model::features, docs/lines.md), where it has them.
     bool creases = false, boundaries = false;
-    // The contour traced on the device (DeviceContours) where it can be (a partition-of-unity fit), rather than on
-    // the CPU (traceContours). Off by default: in float the device's corrector leaves gaps where ∇g's tangential
-    // part nearly vanishes, which the CPU closes only in part (docs/lines.md).
-    bool contoursOnDevice = false;
+    // Where the contour is traced: on the device (DeviceContours) or the CPU (traceContours). Auto: on the device
+    // where it is a GPU and the fit a partition of unity (docs/lines.md); on a CPU driver (lavapipe) the CPU's
+    // tracer is the faster.
+    enum class ContourTracer { Auto, Cpu, Device } contourTracer = ContourTracer::Auto;
     ContourOptions contour;
     HatchOptions hatch;
     bool any() const { return contours || hatching || creases || boundaries; }
@@ -69,7 +69,7 @@ public:
     void replace(Sets newSets, double seconds, TracedLines traced);
     void setLines(TracedLines traced);
     // Traces the occluding contour seen from `camera` (nothing without LineOptions::contours), on the device
-    // where it can (LineOptions::contoursOnDevice), and replaces the contour strokes on the device (waits for it
+    // where LineOptions::contourTracer says, and replaces the contour strokes on the device (waits for it
     // to be idle).
     void traceContours(const Camera& camera);
     // The sets as the renderer takes them.

@@ -166,7 +166,9 @@ DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t sa
         seedSlots_ = std::bit_ceil(std::max(1024u, std::min(samples, 1u << 24)));
         nodeCapacity_ = std::max(256u, std::min(samples, 1u << 20));
         gridSlots_ = std::bit_ceil(2 * nodeCapacity_);
-        vertexCapacity_ = uint32_t(std::min<size_t>(options.maxTotalVertices, 1u << 24)) + gpu::CONTOUR_MARCH_VERTICES;
+        // Each march takes room for CONTOUR_MARCH_VERTICES and uses a few on average (the bunny: 8): four times
+        // the CPU's budget of vertices.
+        vertexCapacity_ = uint32_t(std::min<size_t>(4 * options.maxTotalVertices, 1u << 24));
         const auto dst = VK_BUFFER_USAGE_TRANSFER_DST_BIT, src = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
         seedTable_ =
             createBuffer(ctx, VkDeviceSize(seedSlots_) * gpu::CONTOUR_SEED_SLOT * 4, kStorage | dst, MemoryUse::Device);
@@ -321,8 +323,7 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
                      ": the surface is too rough to draw lines on (a noisy fit?); draw dots instead, or fit fewer "
                      "points (--control-points)");
     };
-    if (counters.vertices > vertexCapacity_ - gpu::CONTOUR_MARCH_VERTICES)
-        throw tooRough(std::to_string(options_.maxTotalVertices) + " vertices");
+    if (counters.vertices > vertexCapacity_) throw tooRough(std::to_string(options_.maxTotalVertices) + " vertices");
     if (counters.nodes > nodeCapacity_) throw tooRough(std::to_string(nodeCapacity_) + " nodes");
 
     // The marches, read back: the nodes' links and the vertices they wrote.

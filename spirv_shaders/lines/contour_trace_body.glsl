@@ -19,76 +19,60 @@
 // lanes) an invocation a node is faster (85 against 440 ms): CONTOUR_SHARED is 0 there (contour_device.cpp).
 layout(constant_id = 0) const bool CONTOUR_SHARED = true;
 
-uint lane() { return CONTOUR_SHARED ? gl_SubgroupInvocationID : 0u; }
-uint lanes() { return CONTOUR_SHARED ? gl_SubgroupSize : 1u; }
-bool leader() { return !CONTOUR_SHARED || subgroupElect(); }
-uint fromLeader(uint v) { return CONTOUR_SHARED ? subgroupBroadcastFirst(v) : v; }
-float sum(float v) { return CONTOUR_SHARED ? subgroupAdd(v) : v; }
-vec3 sum(vec3 v) { return CONTOUR_SHARED ? subgroupAdd(v) : v; }
+// (Branches, not ?: — a conditional expression may compile to a select that runs both sides, and a subgroup
+// operation run where the invocations of a subgroup have diverged gave lavapipe wrong vertices.)
+uint lane() {
+    if (CONTOUR_SHARED) return gl_SubgroupInvocationID;
+    return 0u;
+}
+uint lanes() {
+    if (CONTOUR_SHARED) return gl_SubgroupSize;
+    return 1u;
+}
+bool leader() {
+    if (CONTOUR_SHARED) return subgroupElect();
+    return true;
+}
+uint fromLeader(uint v) {
+    if (CONTOUR_SHARED) return subgroupBroadcastFirst(v);
+    return v;
+}
+float sum(float v) {
+    if (CONTOUR_SHARED) return subgroupAdd(v);
+    return v;
+}
+vec3 sum(vec3 v) {
+    if (CONTOUR_SHARED) return subgroupAdd(v);
+    return v;
+}
 
 // puEvalHessian (pu_hrbf.glsl) with its loops shared by the subgroup.
 float puEvalHessianShared(vec3 x, out vec3 grad, out mat3 H) {
-    float S = 0.0, N = 0.0;
-    vec3 dS = vec3(0.0), dN = vec3(0.0);
-    mat3 HS = mat3(0.0), HN = mat3(0.0);
+    PuHessianSums s = puNoSums();
     int cell = puCell(x);
     if (cell >= 0) {
         uint base = puCellCount() + 1u, k1 = puCells[cell + 1];
-        for (uint k = puCells[cell] + lane(); k < k1; k += lanes()) {
-            PuPatch P = puPatches[puCells[base + k]];
-            float R = P.centerRadius.w;
-            vec3 q = (x - P.centerRadius.xyz) / R;
-            if (!(dot(q, q) < 1.0)) continue;
-            float h = dot(P.linear.xyz, q) + P.linear.w;
-            vec3 g = P.linear.xyz;
-            mat3 Hh = mat3(0.0);
-            uint j1 = P.range.x + P.range.y;
-            for (uint j = P.range.x; j < j1; ++j)
-                hrbfNodeHessianF(q, PU_NODE(2u * j), PU_NODE(2u * j + 1u).xyz, h, g, Hh);
-            vec3 dw;
-            float w = puWeight(q, R, dw), fi = R * h;
-            float d = length(q), e = 1.0 - d, e2 = e * e;
-            mat3 Hw = mat3(e2 * e);
-            if (d > 0.0) Hw -= (3.0 * e2 / d) * outerProduct(q, q);
-            Hw *= -20.0 / (R * R);
-            S += w;
-            N += w * fi;
-            dS += dw;
-            dN += fi * dw + w * g;
-            HS += Hw;
-            HN += fi * Hw + outerProduct(dw, g) + outerProduct(g, dw) + (w / R) * Hh;
-        }
+        for (uint k = puCells[cell] + lane(); k < k1; k += lanes()) puAddPatchHessian(puCells[base + k], x, s);
     }
-    S = sum(S);
-    N = sum(N);
-    dS = sum(dS);
-    dN = sum(dN);
+    s.S = sum(s.S);
+    s.N = sum(s.N);
+    s.dS = sum(s.dS);
+    s.dN = sum(s.dN);
     for (int c = 0; c < 3; ++c) {
-        HS[c] = sum(HS[c]);
-        HN[c] = sum(HN[c]);
+        s.HS[c] = sum(s.HS[c]);
+        s.HN[c] = sum(s.HN[c]);
     }
-    float tau = pu.params.x;
-    if (S < tau) {
-        float s = S / tau, e = 1.0 - s, wc = tau * e * e * e;
-        vec3 dwc = -3.0 * e * e * dS, gc = vec3(0.0);
-        mat3 Hwc = (6.0 * e / tau) * outerProduct(dS, dS) - 3.0 * e * e * HS, Hc = mat3(0.0);
-        float fc = 0.0;
+    float fc = 0.0;
+    vec3 gc = vec3(0.0);
+    mat3 Hc = mat3(0.0);
+    if (s.S < pu.params.x) {
         for (uint j = lane(); j < pu.dims.w; j += lanes())
             hrbfNodeHessianF(x, puCoarse[2u * j], puCoarse[2u * j + 1u].xyz, fc, gc, Hc);
         fc = sum(fc) + dot(pu.coarseLinear.xyz, x) + pu.coarseLinear.w;
         gc = sum(gc) + pu.coarseLinear.xyz;
         for (int c = 0; c < 3; ++c) Hc[c] = sum(Hc[c]);
-        S += wc;
-        N += wc * fc;
-        dN += fc * dwc + wc * gc;
-        HN += fc * Hwc + outerProduct(dwc, gc) + outerProduct(gc, dwc) + wc * Hc;
-        HS += Hwc;
-        dS += dwc;
     }
-    float F = N / S;
-    grad = (dN - F * dS) / S;
-    H = (HN - outerProduct(grad, dS) - outerProduct(dS, grad) - F * HS) / S;
-    return F;
+    return puFinishHessian(x, s, fc, gc, Hc, grad, H);
 }
 
 // Newton onto (f, g) = 0 from x, moving at most maxMove: the minimum-norm step of the 2×3 system
@@ -214,12 +198,17 @@ uint addNode(vec3 x, vec3 n, vec3 t, uint round, uint met) {
 uvec4 march(uint k, bool forward, uint round) {
     ContourNode start = nodes[k];
     const float step = pc.eye.w;
-    // Vertex v is kept by invocation v mod lanes(), in its slot v / lanes().
-    vec4 vp[CONTOUR_MARCH_VERTICES], vn[CONTOUR_MARCH_VERTICES];
+    // Room for the most vertices a march makes, taken first; vertex v is written by invocation v mod lanes() as
+    // it comes. (Held in private arrays instead, 48 of them, lavapipe lost some when an invocation marched alone:
+    // the Wuson had 168 marches with stale vertices, straight lines across the drawing.)
+    uint first = 0u;
+    if (leader()) first = atomicAdd(counters.vertices, CONTOUR_MARCH_VERTICES);
+    first = fromLeader(first);
+    if (first + CONTOUR_MARCH_VERTICES > pc.limits.y) return uvec4(CONTOUR_NONE, 0u, 0u, CONTOUR_OVERFLOW);
     vec3 x = start.position.xyz, t = forward ? start.tangent.xyz : -start.tangent.xyz, lastNormal = start.normal.xyz;
     if (lane() == 0u) {
-        vp[0] = vec4(x, 0.0);
-        vn[0] = start.normal;
+        vertices[first].position = vec4(x, 0.0);
+        vertices[first].normal = start.normal;
     }
     uint m = 1u, next = CONTOUR_NONE, how = CONTOUR_TOO_LONG;
     float h = step, arc = 0.0;
@@ -255,8 +244,8 @@ uvec4 march(uint k, bool forward, uint round) {
         else if (turn < 0.05)
             h = min(CONTOUR_LONGEST_STEP * step, h * 1.5);
         if (m % lanes() == lane()) {
-            vp[m / lanes()] = vec4(y, 0.0);
-            vn[m / lanes()] = vec4(n, 0.0);
+            vertices[first + m].position = vec4(y, 0.0);
+            vertices[first + m].normal = vec4(n, 0.0);
         }
         lastNormal = n;
         ++m;
@@ -274,20 +263,13 @@ uvec4 march(uint k, bool forward, uint round) {
             how = CONTOUR_MET;
         }
     }
-    uint first = 0u;
-    if (leader()) first = atomicAdd(counters.vertices, m);
-    first = fromLeader(first);
-    if (first + m > pc.limits.y) return uvec4(next, 0u, 0u, how | CONTOUR_OVERFLOW);
-    for (uint v = lane(); v < m; v += lanes()) {
-        vertices[first + v].position = vp[v / lanes()];
-        vertices[first + v].normal = vn[v / lanes()];
-    }
     return uvec4(next, first, m, how);
 }
 
 void main() {
     // One subgroup a seed or a march (CONTOUR_SHARED), else one invocation; one invocation a node for the grid.
-    const uint item = CONTOUR_SHARED ? gl_WorkGroupID.x * gl_NumSubgroups + gl_SubgroupID : gl_GlobalInvocationID.x;
+    uint item = gl_GlobalInvocationID.x;
+    if (CONTOUR_SHARED) item = gl_WorkGroupID.x * gl_NumSubgroups + gl_SubgroupID;
     if (pc.counts.w == CONTOUR_PASS_PROJECT) {
         project(item);
         return;

@@ -97,57 +97,74 @@ float puEval(vec3 x, out vec3 grad) {
     return puFinish(x, S, dS, N, dN, grad);
 }
 
+// The sums the Hessian is made of, over the patches: S, N = Σ w_i f_i, their gradients and Hessians.
+struct PuHessianSums {
+    float S, N;
+    vec3 dS, dN;
+    mat3 HS, HN;
+};
+
+PuHessianSums puNoSums() { return PuHessianSums(0.0, 0.0, vec3(0.0), vec3(0.0), mat3(0.0), mat3(0.0)); }
+
+// Patch `patchId`'s terms at x, added to s (nothing outside its ball).
+void puAddPatchHessian(uint patchId, vec3 x, inout PuHessianSums s) {
+    PuPatch P = puPatches[patchId];
+    float R = P.centerRadius.w;
+    vec3 q = (x - P.centerRadius.xyz) / R;
+    if (!(dot(q, q) < 1.0)) return;
+    float h = dot(P.linear.xyz, q) + P.linear.w;
+    vec3 g = P.linear.xyz;
+    mat3 Hh = mat3(0.0);
+    uint j1 = P.range.x + P.range.y;
+    for (uint j = P.range.x; j < j1; ++j) hrbfNodeHessianF(q, PU_NODE(2u * j), PU_NODE(2u * j + 1u).xyz, h, g, Hh);
+    vec3 dw;
+    float w = puWeight(q, R, dw), fi = R * h;
+    float d = length(q), e = 1.0 - d, e2 = e * e;
+    mat3 Hw = mat3(e2 * e);  // Hw = −20/R² [(1 − d)³ I − 3 (1 − d)² q qᵀ / d]
+    if (d > 0.0) Hw -= (3.0 * e2 / d) * outerProduct(q, q);
+    Hw *= -20.0 / (R * R);
+    s.S += w;
+    s.N += w * fi;
+    s.dS += dw;
+    s.dN += fi * dw + w * g;
+    s.HS += Hw;
+    s.HN += fi * Hw + outerProduct(dw, g) + outerProduct(g, dw) + (w / R) * Hh;
+}
+
+// F, ∇F and HF from the patches' sums and, where S < τ, the far field's value, gradient and Hessian at x.
+float puFinishHessian(vec3 x, PuHessianSums s, float fc, vec3 gc, mat3 Hc, out vec3 grad, out mat3 H) {
+    float tau = pu.params.x;
+    if (s.S < tau) {
+        float e = 1.0 - s.S / tau, wc = tau * e * e * e;
+        vec3 dwc = -3.0 * e * e * s.dS;
+        mat3 Hwc = (6.0 * e / tau) * outerProduct(s.dS, s.dS) - 3.0 * e * e * s.HS;
+        s.S += wc;
+        s.N += wc * fc;
+        s.dN += fc * dwc + wc * gc;
+        s.HN += fc * Hwc + outerProduct(dwc, gc) + outerProduct(gc, dwc) + wc * Hc;
+        s.HS += Hwc;
+        s.dS += dwc;
+    }
+    float F = s.N / s.S;
+    grad = (s.dN - F * s.dS) / s.S;
+    H = (s.HN - outerProduct(grad, s.dS) - outerProduct(s.dS, grad) - F * s.HS) / s.S;
+    return F;
+}
+
 // F, ∇F and the Hessian HF = (HN − ∇F ∇Sᵀ − ∇S ∇Fᵀ − F HS) / S.
 float puEvalHessian(vec3 x, out vec3 grad, out mat3 H) {
-    float S = 0.0, N = 0.0;
-    vec3 dS = vec3(0.0), dN = vec3(0.0);
-    mat3 HS = mat3(0.0), HN = mat3(0.0);
+    PuHessianSums s = puNoSums();
     int cell = puCell(x);
     if (cell >= 0) {
         uint base = puCellCount() + 1u, k1 = puCells[cell + 1];
-        for (uint k = puCells[cell]; k < k1; ++k) {
-            PuPatch P = puPatches[puCells[base + k]];
-            float R = P.centerRadius.w;
-            vec3 q = (x - P.centerRadius.xyz) / R;
-            if (!(dot(q, q) < 1.0)) continue;
-            float h = dot(P.linear.xyz, q) + P.linear.w;
-            vec3 g = P.linear.xyz;
-            mat3 Hh = mat3(0.0);
-            uint j1 = P.range.x + P.range.y;
-            for (uint j = P.range.x; j < j1; ++j)
-                hrbfNodeHessianF(q, PU_NODE(2u * j), PU_NODE(2u * j + 1u).xyz, h, g, Hh);
-            vec3 dw;
-            float w = puWeight(q, R, dw), fi = R * h;
-            float d = length(q), e = 1.0 - d, e2 = e * e;
-            mat3 Hw = mat3(e2 * e);  // Hw = −20/R² [(1 − d)³ I − 3 (1 − d)² q qᵀ / d]
-            if (d > 0.0) Hw -= (3.0 * e2 / d) * outerProduct(q, q);
-            Hw *= -20.0 / (R * R);
-            S += w;
-            N += w * fi;
-            dS += dw;
-            dN += fi * dw + w * g;
-            HS += Hw;
-            HN += fi * Hw + outerProduct(dw, g) + outerProduct(g, dw) + (w / R) * Hh;
-        }
+        for (uint k = puCells[cell]; k < k1; ++k) puAddPatchHessian(puCells[base + k], x, s);
     }
-    float tau = pu.params.x;
-    if (S < tau) {
-        float s = S / tau, e = 1.0 - s, wc = tau * e * e * e;
-        vec3 dwc = -3.0 * e * e * dS, gc = pu.coarseLinear.xyz;
-        mat3 Hwc = (6.0 * e / tau) * outerProduct(dS, dS) - 3.0 * e * e * HS, Hc = mat3(0.0);
-        float fc = dot(pu.coarseLinear.xyz, x) + pu.coarseLinear.w;
+    float fc = dot(pu.coarseLinear.xyz, x) + pu.coarseLinear.w;
+    vec3 gc = pu.coarseLinear.xyz;
+    mat3 Hc = mat3(0.0);
+    if (s.S < pu.params.x)
         for (uint j = 0u; j < pu.dims.w; ++j) hrbfNodeHessianF(x, puCoarse[2u * j], puCoarse[2u * j + 1u].xyz, fc, gc, Hc);
-        S += wc;
-        N += wc * fc;
-        dN += fc * dwc + wc * gc;
-        HN += fc * Hwc + outerProduct(dwc, gc) + outerProduct(gc, dwc) + wc * Hc;
-        HS += Hwc;
-        dS += dwc;
-    }
-    float F = N / S;
-    grad = (dN - F * dS) / S;
-    H = (HN - outerProduct(grad, dS) - outerProduct(dS, grad) - F * HS) / S;
-    return F;
+    return puFinishHessian(x, s, fc, gc, Hc, grad, H);
 }
 
 #endif

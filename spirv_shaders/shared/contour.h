@@ -10,9 +10,8 @@
 INK_BEGIN
 
 // A march from one node stops after this many vertices (the node's own included) without meeting another node,
-// and goes on from a new node in the next round, up to CONTOUR_ROUNDS: short rounds keep the invocations of a
-// subgroup busy alike (a CPU driver's 8 lanes run as long as the longest; marches of up to 48 took 70 ms on
-// the bunny there, of 16 ...).
+// and goes on from a new node in the next round, up to CONTOUR_ROUNDS. It takes room for this many in the vertex
+// array when it starts.
 INK_CONST uint CONTOUR_MARCH_VERTICES = 48u;
 INK_CONST uint CONTOUR_GROUP_SIZE = 64u;
 // The longest predictor step, in steps (ContourOptions::step), where the curve runs straight.
@@ -27,7 +26,7 @@ INK_CONST uint CONTOUR_SEED_SLOT = 5u;
 INK_CONST uint CONTOUR_MET = 1u;       // at a node (x), possibly itself round a closed curve
 INK_CONST uint CONTOUR_STUCK = 2u;     // the corrector failed at the smallest step (a singular point, the grid's end)
 INK_CONST uint CONTOUR_TOO_LONG = 4u;  // CONTOUR_MARCH_VERTICES without meeting a node
-INK_CONST uint CONTOUR_OVERFLOW = 8u;  // the vertex array was full: the march's vertices were dropped
+INK_CONST uint CONTOUR_OVERFLOW = 8u;  // the vertex array was full: the march did not start
 INK_CONST uint CONTOUR_AT_FORWARD = 16u;   // it arrived at the met node's forward port (and ContourNode::state.y)
 INK_CONST uint CONTOUR_AT_BACKWARD = 32u;  // (ContourNode::state.y only) one arrived at its backward port
 // Rounds of marches: a march that met no node leaves a node where it stopped, marched in the next round.
