@@ -706,7 +706,7 @@ TEST_CASE("contours: traced on the device, the torus's contour lies on both equa
     ink::RefineOptions options;
     options.levels = 3;
     Refinement refined(gpu.ctx, m.surface, options);
-    REQUIRE(ink::DeviceContours::supports(gpu.ctx, refined.r));
+    REQUIRE(ink::DeviceContours::supports(refined.r));
     const std::vector<ink::PointRecord> drawn = ink::readDrawnPoints(gpu.ctx, refined.r);
     std::vector<ink::SurfaceSample> samples;
     for (const ink::PointRecord& p : drawn)

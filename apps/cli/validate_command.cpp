@@ -63,7 +63,7 @@ void checkScene(ink::Context& ctx, const std::string& name, const ink::Model& mo
             }
 
             // The contour traced on the device from the default view: every vertex on both of its equations.
-            if (style == ink::SampleStyle::Stipple && ink::DeviceContours::supports(ctx, r)) {
+            if (style == ink::SampleStyle::Stipple && ink::DeviceContours::supports(r)) {
                 const glm::vec3 e = ink::Camera{}.eye();
                 const Eigen::Vector3d eye(e.x, e.y, e.z);
                 ink::DeviceContours tracer(ctx, r, uint32_t(ink::readDrawnPoints(ctx, r).size()), {});

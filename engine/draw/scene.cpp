@@ -141,13 +141,12 @@ void Scene::traceContours(const Camera& camera) {
     const bool onDevice =
         lines.contourTracer == Tracer::Device ||
         (lines.contourTracer == Tracer::Auto && ctx.properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU);
-    if (onDevice && first && DeviceContours::supports(ctx, *first) && !samples.empty()) {
+    if (onDevice && first && DeviceContours::supports(*first) && !samples.empty()) {
         if (!deviceContours_)
             deviceContours_ = std::make_unique<DeviceContours>(ctx, *first, uint32_t(samples.size()), lines.contour);
         contours = trimStrokes(deviceContours_->trace(model.surface, eye, &contourStats), model.support);
     } else {
-        if (lines.contourTracer == Tracer::Device && first && !DeviceContours::supports(ctx, *first) &&
-            !notedCpuContours_) {
+        if (lines.contourTracer == Tracer::Device && first && !DeviceContours::supports(*first) && !notedCpuContours_) {
             note(
                 "the contour is traced on the CPU: the device traces a partition-of-unity fit only (not --fit global)");
             notedCpuContours_ = true;

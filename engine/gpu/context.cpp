@@ -219,7 +219,6 @@ static void describeDevice(Context& ctx, bool pickQueueFamily = true) {
     ctx.driverInfo = std::string(driver.driverName) + " " + driver.driverInfo;
     ctx.driverId = driver.driverID;
     ctx.maxBufferSize = std::min(v13.maxBufferSize, v11.maxMemoryAllocationSize);
-    ctx.minSubgroupSize = std::max(1u, std::min(v13.minSubgroupSize, subgroup.subgroupSize));
     ctx.maxSubgroupSize = std::max(v13.maxSubgroupSize, subgroup.subgroupSize);
     vkGetPhysicalDeviceMemoryProperties(ctx.physicalDevice, &ctx.memoryProperties);
 

@@ -56,8 +56,8 @@ struct Context {
     // bufferDeviceAddress enabled: a model whose patch nodes outgrow maxStorageBufferRange reads them by address
     // (refine.cpp), up to maxBufferSize.
     bool bufferDeviceAddress = false;
-    VkDeviceSize maxBufferSize = 0;                     // the most one buffer (and one allocation) may hold
-    uint32_t minSubgroupSize = 0, maxSubgroupSize = 0;  // the sizes a compute dispatch's subgroups may have
+    VkDeviceSize maxBufferSize = 0;  // the most one buffer (and one allocation) may hold
+    uint32_t maxSubgroupSize = 0;    // the largest a compute dispatch's subgroups may be
     bool validation = false;
     bool ownsDevice = true;  // false for an adopted device: destroyContext leaves it to its owner
     std::function<void(bool error, const std::string& message)> validationMessage;

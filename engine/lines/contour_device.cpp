@@ -156,11 +156,11 @@ static_assert(kCellSteps >= gpu::CONTOUR_LONGEST_STEP + gpu::CONTOUR_MEET_STEPS,
 
 }  // namespace
 
-bool DeviceContours::supports(const Context&, const GpuRefinement& r) { return r.puPatches.buffer != VK_NULL_HANDLE; }
+bool DeviceContours::supports(const GpuRefinement& r) { return r.puPatches.buffer != VK_NULL_HANDLE; }
 
 DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t samples, const ContourOptions& options)
     : ctx_(ctx), refinement_(r), samples_(samples), options_(options) {
-    if (!supports(ctx, r)) throw Error("the device traces the contour of a partition-of-unity fit only");
+    if (!supports(r)) throw Error("the device traces the contour of a partition-of-unity fit only");
     try {
         // Seeds: a slot per drawn point at most (a few in the band, fewer cells); nodes: one per seed cell at most.
         seedSlots_ = std::bit_ceil(std::max(1024u, std::min(samples, 1u << 24)));

@@ -56,7 +56,7 @@ class DeviceContours {
 public:
     // Whether the device traces this refinement's surface: the partition of unity (a global fit, evaluated in
     // double, is traced on the CPU).
-    static bool supports(const Context& ctx, const GpuRefinement& refinement);
+    static bool supports(const GpuRefinement& refinement);
 
     // Buffers and pipelines for seeds from the first `samples` drawn points of `refinement`, which must outlive it.
     DeviceContours(Context& ctx, const GpuRefinement& refinement, uint32_t samples, const ContourOptions& options);
