@@ -712,17 +712,9 @@ TEST_CASE("contours: traced on the device, the torus's contour lies on both equa
     for (const ink::PointRecord& p : drawn)
         samples.push_back(
             {Vector3d(p.position[0], p.position[1], p.position[2]), Vector3d(p.normal[0], p.normal[1], p.normal[2])});
-    // Both ways of evaluating: a subgroup sharing each evaluation of a march (a GPU's), an invocation alone (a
-    // CPU driver's).
-    using Evaluation = ink::ContourOptions::DeviceEvaluation;
-    for (auto [evaluation, elevation] :
-         {std::pair{Evaluation::Shared, 15.0f}, std::pair{Evaluation::Shared, 50.0f},
-          std::pair{Evaluation::PerInvocation, 15.0f}, std::pair{Evaluation::PerInvocation, 50.0f}}) {
-        CAPTURE(int(evaluation));
+    ink::DeviceContours tracer(gpu.ctx, refined.r, uint32_t(drawn.size()), {});
+    for (float elevation : {15.0f, 50.0f}) {
         CAPTURE(elevation);
-        ink::ContourOptions contourOptions;
-        contourOptions.deviceEvaluation = evaluation;
-        ink::DeviceContours tracer(gpu.ctx, refined.r, uint32_t(drawn.size()), contourOptions);
         ink::Camera camera;
         camera.azimuthDeg = 30.0f;
         camera.elevationDeg = elevation;

@@ -201,17 +201,9 @@ DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t sa
         layout_ =
             createPipelineLayout(ctx, descriptors_.layout, sizeof(gpu::ContourParams), VK_SHADER_STAGE_COMPUTE_BIT);
         seeds_ = createComputePipeline(ctx, layout_, spv_contour_seeds_comp);
-        // A subgroup shares each evaluation of a march on a GPU; an invocation a march on a CPU driver, whose
-        // subgroup is one core's SIMD lanes (contour_trace_body.glsl, CONTOUR_SHARED).
-        using Evaluation = ContourOptions::DeviceEvaluation;
-        shared_ = options.deviceEvaluation == Evaluation::Auto
-                      ? ctx.properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU
-                      : options.deviceEvaluation == Evaluation::Shared;
-        const uint32_t constants[1] = {shared_ ? 1u : 0u};
         trace_ = createComputePipeline(ctx, layout_,
                                        r.nodesByAddress ? std::span<const uint32_t>(spv_contour_trace_large_comp)
-                                                        : std::span<const uint32_t>(spv_contour_trace_comp),
-                                       constants);
+                                                        : std::span<const uint32_t>(spv_contour_trace_comp));
         VkQueryPoolCreateInfo query{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
         query.queryType = VK_QUERY_TYPE_TIMESTAMP;
         query.queryCount = kTimestamps;
@@ -250,8 +242,8 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
     params.sizes = gpu::vec4(float(kCellSteps * step), float(kProjectSteps * step), 0.0f, 0.0f);
     params.counts = gpu::uvec4(samples_, seedSlots_, gridSlots_, 0);
     params.limits = gpu::uvec4(nodeCapacity_, vertexCapacity_, 0, gpu::CONTOUR_ROUNDS);
-    params.shape.x =
-        shared_ ? std::max(1u, gpu::CONTOUR_GROUP_SIZE / std::max(1u, ctx_.maxSubgroupSize)) : gpu::CONTOUR_GROUP_SIZE;
+    // A subgroup a seed or a march: a workgroup holds at least this many (subgroups of the largest size).
+    params.shape.x = std::max(1u, gpu::CONTOUR_GROUP_SIZE / std::max(1u, ctx_.maxSubgroupSize));
     const uint32_t sampleGroups = (samples_ + gpu::CONTOUR_GROUP_SIZE - 1) / gpu::CONTOUR_GROUP_SIZE;
     const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     const auto rw = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
@@ -348,10 +340,8 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
         return std::tuple(d.position.x, d.position.y, d.position.z, d.tangent.x, d.tangent.y, d.tangent.z);
     };
     std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
-    // Nodes at one place (two seeds projected to the same point) are one: which of them a march met depends on
-    // the order they entered the grid in.
-    for (uint32_t r = 0; r < nodeCount; ++r)
-        rank[order[r]] = r > 0 && key(order[r]) == key(order[r - 1]) ? rank[order[r - 1]] : r;
+    // (Nodes at one place, which a march may meet either of, are one in chainMarches.)
+    for (uint32_t r = 0; r < nodeCount; ++r) rank[order[r]] = r;
     std::vector<ContourMarch> marches;
     std::vector<ContourNodeInfo> nodes(nodeCount);
     for (uint32_t r = 0; r < nodeCount; ++r) {

@@ -85,7 +85,6 @@ private:
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
     VkPipeline seeds_ = VK_NULL_HANDLE, trace_ = VK_NULL_HANDLE;
     VkQueryPool timestamps_ = VK_NULL_HANDLE;
-    bool shared_ = true;  // a subgroup a march (a GPU), or an invocation (a CPU driver)
 };
 
 }  // namespace ink

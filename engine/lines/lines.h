@@ -50,9 +50,6 @@ struct ContourOptions {
     // of the default contour pen, at the default 1024² view) is a swallowtail too small to see, made by a ripple
     // of the surface's normals: both go and the pieces either side join.
     double minSwallowtail = 0.003;
-    // The device tracer (contour_device.h): whether a subgroup shares each evaluation of a march (a GPU's way) or
-    // an invocation makes it alone (a CPU driver's); Auto picks by the device. Tests ask for both.
-    enum class DeviceEvaluation { Auto, Shared, PerInvocation } deviceEvaluation = DeviceEvaluation::Auto;
 };
 
 struct ContourStats {

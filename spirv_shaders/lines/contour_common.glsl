@@ -46,20 +46,21 @@ uint seedSlot(uint key, bool claim) {
     return CONTOUR_NONE;
 }
 
-// The node grid's slot of a cell (claimed when `claim`), or NONE.
-uint gridSlot(uint key, bool claim) {
+// The node grid: a cell takes as many slots as its nodes need, all on its key's probe sequence before the first
+// empty slot, so that a look-up finds every one and a crowded cell drops no node (which nodes it dropped depended
+// on the order they came in). The slot of `key` at or after probe `probe` (then advanced past it), or NONE.
+uint gridFind(uint key, inout uint probe) {
     const uint stride = CONTOUR_GRID_NODES + 1u;
-    uint mask = pc.counts.z - 1u, s = contourHash(key) & mask;
-    for (uint probe = 0u; probe < CONTOUR_PROBES; ++probe, s = (s + 1u) & mask) {
-        uint k = nodeGrid[stride * s];
-        if (k == key) return s;
-        if (k != CONTOUR_NONE) continue;
-        if (!claim) return CONTOUR_NONE;
-        k = atomicCompSwap(nodeGrid[stride * s], CONTOUR_NONE, key);
-        if (k == CONTOUR_NONE || k == key) return s;
+    uint mask = pc.counts.z - 1u, h = contourHash(key);
+    for (; probe < CONTOUR_PROBES; ++probe) {
+        uint s = (h + probe) & mask, k = nodeGrid[stride * s];
+        if (k == CONTOUR_NONE) return CONTOUR_NONE;
+        if (k == key) {
+            ++probe;
+            return s;
+        }
     }
     return CONTOUR_NONE;
 }
-
 
 #endif

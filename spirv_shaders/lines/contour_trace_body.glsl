@@ -11,40 +11,18 @@
 #include "lines/contour_common.glsl"
 #include "refine/pu_hrbf.glsl"
 
-// On a GPU one subgroup traces one node (a projection, a march): the steps are a chain, one after the other, and
-// one invocation walking each evaluation's patches and nodes alone waits on every load in turn (on an H200 the
-// bunny's contour took 20 ms so, 2.9 ms shared). The subgroup's invocations share each evaluation, one patch (and
-// one far-field centre) each in turn, and add up; every invocation then holds the same sums and takes the same
-// steps, so control flow stays uniform in the subgroup. On a CPU driver (lavapipe: a subgroup is one core's 8 SIMD
-// lanes) an invocation a node is faster (85 against 440 ms): CONTOUR_SHARED is 0 there (contour_device.cpp).
-layout(constant_id = 0) const bool CONTOUR_SHARED = true;
-
-// (Branches, not ?: — a conditional expression may compile to a select that runs both sides, and a subgroup
-// operation run where the invocations of a subgroup have diverged gave lavapipe wrong vertices.)
-uint lane() {
-    if (CONTOUR_SHARED) return gl_SubgroupInvocationID;
-    return 0u;
-}
-uint lanes() {
-    if (CONTOUR_SHARED) return gl_SubgroupSize;
-    return 1u;
-}
-bool leader() {
-    if (CONTOUR_SHARED) return subgroupElect();
-    return true;
-}
-uint fromLeader(uint v) {
-    if (CONTOUR_SHARED) return subgroupBroadcastFirst(v);
-    return v;
-}
-float sum(float v) {
-    if (CONTOUR_SHARED) return subgroupAdd(v);
-    return v;
-}
-vec3 sum(vec3 v) {
-    if (CONTOUR_SHARED) return subgroupAdd(v);
-    return v;
-}
+// One subgroup traces one node (a projection, a march): the steps are a chain, one after the other, and one
+// invocation walking each evaluation's patches and nodes alone waits on every load in turn (on an H200 the bunny's
+// contour took 20 ms so, 2.9 ms shared). The subgroup's invocations share each evaluation, one patch (and one
+// far-field centre) each in turn, and add up; every invocation then holds the same sums and takes the same steps,
+// so control flow stays uniform in the subgroup. (An invocation a march was faster on lavapipe, 85 against 440 ms,
+// but what it drew there changed from run to run on the Wuson; `auto` traces on the CPU there anyway.)
+uint lane() { return gl_SubgroupInvocationID; }
+uint lanes() { return gl_SubgroupSize; }
+bool leader() { return subgroupElect(); }
+uint fromLeader(uint v) { return subgroupBroadcastFirst(v); }
+float sum(float v) { return subgroupAdd(v); }
+vec3 sum(vec3 v) { return subgroupAdd(v); }
 
 // puEvalHessian (pu_hrbf.glsl) with its loops shared by the subgroup.
 float puEvalHessianShared(vec3 x, out vec3 grad, out mat3 H) {
@@ -136,8 +114,8 @@ uint nodeOnChord(vec3 x, vec3 y, vec3 t, float reach, uint self, bool away, out 
     for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)
             for (int dx = -1; dx <= 1; ++dx) {
-                uint s = gridSlot(contourCellKey(c + ivec3(dx, dy, dz)), false);
-                if (s == CONTOUR_NONE) continue;
+                uint key = contourCellKey(c + ivec3(dx, dy, dz)), probe = 0u;
+                for (uint s = gridFind(key, probe); s != CONTOUR_NONE; s = gridFind(key, probe))
                 for (uint e = 1u; e <= CONTOUR_GRID_NODES; ++e) {
                     uint j = nodeGrid[(CONTOUR_GRID_NODES + 1u) * s + e];
                     if (j == CONTOUR_NONE) break;
@@ -165,13 +143,20 @@ uint nodeOnChord(vec3 x, vec3 y, vec3 t, float reach, uint self, bool away, out 
     return found;
 }
 
-// Enters node k in the node grid (NONE when its cell has no room).
+// Enters node k in the node grid: in its cell's first slot with room, claiming another when they are full.
 bool enterNode(uint k, vec3 x) {
-    uint g = gridSlot(contourCellKey(contourCell(x)), true);
-    if (g != CONTOUR_NONE)
+    const uint stride = CONTOUR_GRID_NODES + 1u;
+    uint key = contourCellKey(contourCell(x)), mask = pc.counts.z - 1u, h = contourHash(key);
+    for (uint probe = 0u; probe < CONTOUR_PROBES; ++probe) {
+        uint s = (h + probe) & mask, owner = nodeGrid[stride * s];
+        if (owner == CONTOUR_NONE) {
+            owner = atomicCompSwap(nodeGrid[stride * s], CONTOUR_NONE, key);
+            if (owner == CONTOUR_NONE) owner = key;
+        }
+        if (owner != key) continue;
         for (uint e = 1u; e <= CONTOUR_GRID_NODES; ++e)
-            if (atomicCompSwap(nodeGrid[(CONTOUR_GRID_NODES + 1u) * g + e], CONTOUR_NONE, k) == CONTOUR_NONE)
-                return true;
+            if (atomicCompSwap(nodeGrid[stride * s + e], CONTOUR_NONE, k) == CONTOUR_NONE) return true;
+    }
     atomicAdd(counters.lost, 1u);
     return false;
 }
@@ -232,7 +217,10 @@ uvec4 march(uint k, bool forward, uint round) {
             // Running along j's tangent it arrives at j's back; against it, at j's front.
             next = j;
             how = CONTOUR_MET | (along ? 0u : CONTOUR_AT_FORWARD);
-            if (leader()) atomicOr(nodes[j].state.y, along ? CONTOUR_AT_BACKWARD : CONTOUR_AT_FORWARD);
+            // Noted for CONTOUR_PASS_BACK, by the first round's forward marches only: a backward march noting it
+            // too would change which nodes of its own pass march backward, as the invocations came.
+            if (forward && round == 0u && leader())
+                atomicOr(nodes[j].state.y, along ? CONTOUR_AT_BACKWARD : CONTOUR_AT_FORWARD);
             break;
         }
         arc += distance(x, y);
@@ -267,22 +255,24 @@ uvec4 march(uint k, bool forward, uint round) {
 }
 
 void main() {
-    // One subgroup a seed or a march (CONTOUR_SHARED), else one invocation; one invocation a node for the grid.
-    uint item = gl_GlobalInvocationID.x;
-    if (CONTOUR_SHARED) item = gl_WorkGroupID.x * gl_NumSubgroups + gl_SubgroupID;
+    // One subgroup a seed or a march; one invocation a node for the grid.
+    const uint item = gl_WorkGroupID.x * gl_NumSubgroups + gl_SubgroupID;
     if (pc.counts.w == CONTOUR_PASS_PROJECT) {
         project(item);
         return;
     }
     if (pc.counts.w == CONTOUR_PASS_ENTER) {
-        uint i = gl_GlobalInvocationID.x;
-        if (i < min(counters.nodes, pc.limits.x) && nodes[i].state.z == 0u) {
+        // No node is made in this pass: its count is the next marches' (which make nodes as they go, and must not
+        // march one a march of their own pass is still writing).
+        uint i = gl_GlobalInvocationID.x, count = min(counters.nodes, pc.limits.x);
+        if (i == 0u) counters.marching = count;
+        if (i < count && nodes[i].state.z == 0u) {
             enterNode(i, nodes[i].position.xyz);
             nodes[i].state.z = 1u;
         }
         return;
     }
-    if (item >= min(counters.nodes, pc.limits.x)) return;
+    if (item >= counters.marching) return;
     ContourNode node = nodes[item];
     if (pc.counts.w == CONTOUR_PASS_MARCH) {
         // Round r's nodes march forward.

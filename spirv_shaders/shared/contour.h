@@ -80,14 +80,15 @@ INK_ASSERT_SIZE(ContourVertex, 32);
 
 // What the passes count (std430).
 struct ContourCounters {
-    uint nodes;             // nodes made (may pass the capacity: those past it were not stored)
-    uint vertices;          // vertices written (likewise)
-    uint evaluations;       // of the surface (f, ∇f and the Hessian)
-    uint lost;              // seeds whose cell found no slot in the table, nodes none in the grid
-    uvec4 march;            // the march pass's VkDispatchIndirectCommand (and a pad)
-    uvec4 project;          // the projection pass's, over the listed seeds
-    uint listed;            // seeds listed (CONTOUR_LIST)
-    uint pad0, pad1, pad2;  // (std430: uvec4 alignment)
+    uint nodes;        // nodes made (may pass the capacity: those past it were not stored)
+    uint vertices;     // vertices written (likewise)
+    uint evaluations;  // of the surface (f, ∇f and the Hessian)
+    uint lost;         // seeds whose cell found no slot in the table, nodes none in the grid
+    uvec4 march;       // the march pass's VkDispatchIndirectCommand (and a pad)
+    uvec4 project;     // the projection pass's, over the listed seeds
+    uint listed;       // seeds listed (CONTOUR_LIST)
+    uint marching;     // the nodes when the last CONTOUR_PASS_ENTER ran: those the next marches march from
+    uint pad0, pad1;   // (std430: uvec4 alignment)
 };
 INK_ASSERT_SIZE(ContourCounters, 64);
 INK_ASSERT_OFFSET(ContourCounters, march, 16);
