@@ -745,6 +745,7 @@ json linesJson(const ink::Scene& scene) {
                 {"first_marches", c.devicePassMs[2]},
                 {"later_rounds", c.devicePassMs[3]}}},
               {"open_marches", c.openMarches},
+              {"lost", c.lost},
               {"evaluations", c.evaluations},
               {"ends_traced_on_cpu", c.extended},
               {"vertices_traced_on_cpu", c.extendedVertices},

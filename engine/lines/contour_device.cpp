@@ -369,6 +369,7 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
     }
     s.seedsTried = nodeCount;
     s.evaluations = counters.evaluations;
+    s.lost = counters.lost;
 
     std::vector<ChainedCurve> curves = chainMarches(marches, nodes, points, normals, kMergeSteps * step);
 

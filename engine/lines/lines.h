@@ -62,7 +62,8 @@ struct ContourStats {
     double deviceMs = 0;
     double devicePassMs[4] = {};  // of it: the seeds, their projection, the first marches, the later rounds
     size_t openMarches = 0;
-    size_t evaluations = 0;                     // of the surface with its Hessian, on the device
+    size_t lost = 0;         // seeds or nodes whose grid cell found no slot within its probes (0 but on a full table)
+    size_t evaluations = 0;  // of the surface with its Hessian, on the device
     size_t extended = 0, extendedVertices = 0;  // open ends traced on on the CPU, and the vertices that added
     bool onDevice = false;
 };
