@@ -118,6 +118,17 @@ TEST_CASE("points: computed normals do not depend on the model's scale" * doctes
         REQUIRE(p.positions.size() == 3);
         for (const Vector3d& n : p.normals) CHECK(near(n, {0, 0, 1}));
     }
+    // Near the top of double's range a face's area vector is finite but its length is not (a fuzzing find:
+    // the normals came out zero); the same for a normal given that long.
+    OrientedPoints huge = obj("v 0 0 0\nv 1e308 1.5 0\nv 1e308 0 1.5\nf 1 2 3\n");
+    REQUIRE(huge.positions.size() == 3);
+    CHECK(allUnit(huge));
+    for (const Vector3d& n : huge.normals) CHECK(near(n, Vector3d(0, -1, -1).normalized()));
+    OrientedPoints given = obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 1.5e308 1.5e308 0\nf 1//1 2//1 3//1\n");
+    CHECK(allUnit(given));
+    CHECK(near(given.normals[0], Vector3d(1, 1, 0).normalized()));
+    OrientedPoints cloud = parsePoints("1e308 0 0 1.5e308 1.5e308 0\n", "pts", "huge.pts");
+    CHECK(allUnit(cloud));
     // A sliver next to a big triangle is still a real face, but a needle with no area is not.
     CHECK(obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 1e-5\nv 6 5 0\nv 5 6 0\nf 1 2 3\nf 4 5 6\n").positions.size() == 6);
     CHECK_THROWS_WITH_AS(

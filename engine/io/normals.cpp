@@ -47,6 +47,13 @@ double safeNorm(const Vector3d& v) {
     return big > 0 && std::isfinite(big) ? big * (v / big).norm() : big;
 }
 
+Vector3d safeNormalized(const Vector3d& v) {
+    double big = v.cwiseAbs().maxCoeff();
+    if (!(big > 0) || !std::isfinite(big)) return v;
+    Vector3d unit = v / big;
+    return unit / unit.norm();
+}
+
 double usedDiagonal(const std::vector<Vector3d>& positions, const std::vector<char>& used) {
     Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (size_t i = 0; i < positions.size(); ++i) {
@@ -105,7 +112,7 @@ OrientedPoints areaNormalPoints(const std::vector<Vector3d>& positions, const Po
             ++degenerate;
             continue;
         }
-        if (std::isfinite(length)) n /= length;  // otherwise finish() reports it
+        n = safeNormalized(n);  // a non-finite one finish() reports
         renumber[i] = uint32_t(kept.size());
         kept.push_back(i);
         out.positions.push_back(positions[i]);

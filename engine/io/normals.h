@@ -40,6 +40,11 @@ void addAreaNormals(const std::vector<Eigen::Vector3d>& positions, const Polygon
 // Length of v without overflow or underflow in the squares.
 double safeNorm(const Eigen::Vector3d& v);
 
+// v brought to unit length the same way: divided by its largest component first, so that a vector whose
+// length overflows a double (a face of 1e308 across) still gives its direction. Zero or non-finite v is
+// returned as it is.
+Eigen::Vector3d safeNormalized(const Eigen::Vector3d& v);
+
 // The bounding-box diagonal of the vertices faces use: the scale against which area normals are judged.
 double usedDiagonal(const std::vector<Eigen::Vector3d>& positions, const std::vector<char>& used);
 
@@ -52,7 +57,7 @@ void settleAreaNormal(Eigen::Vector3d& n, double diagonal, const std::string& na
     if (!std::isfinite(length)) return;  // finish() reports it
     if (length == 0 || (std::isfinite(diagonal) && length / diagonal / diagonal <= 1e-12))
         fail(name, where() + ": normal is zero (the faces around it have no area, or their windings cancel)");
-    n /= length;
+    n = safeNormalized(n);
 }
 
 // Merges positions that are bit for bit the same (+0 and -0 alike), as triangle soups (STL, glTF without
@@ -78,7 +83,7 @@ void finish(OrientedPoints& points, const std::string& name, Where where) {
         if (!n.allFinite()) fail(name, where(i) + ": normal is not finite " + str(n));
         double length = safeNorm(n);
         if (!(length > kZeroNormal)) fail(name, where(i) + ": normal is zero");
-        n /= length;
+        n = safeNormalized(n);
     }
 }
 

@@ -181,7 +181,7 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
         double length = safeNorm(vn);
         if (!(length > kZeroNormal)) fail(name, lineName(scan.vnLine[size_t(ni)]) + ": normal is zero");
         uint32_t vi = scan.faces.indices[k];
-        given[vi] += vn / length;
+        given[vi] += safeNormalized(vn);
         hasGiven[vi] = 1;
     }
 
