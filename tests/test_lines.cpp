@@ -100,6 +100,30 @@ TEST_CASE("contours: fitted meshes have their true cusps only (issue 24)" * doct
     CHECK(s.curves >= 3);
 }
 
+TEST_CASE("contours: a march the corrector holds in place stops there, without piling up vertices" *
+          doctest::test_suite("unit")) {
+    // Seen from 291.8° (a frame of `bench`'s orbit), the bunny's contour runs into a point where each corrected
+    // step lands back beside the last, the steps shrinking geometrically: the march from this seed made 100,000
+    // vertices on one spot and took 20 s. A step that makes less than a quarter of its length counts as rejected.
+    const ink::Model bunny = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {});
+    ink::Camera camera;
+    camera.azimuthDeg = 30.0f + 360.0f * 8.0f / 11.0f;
+    const glm::vec3 e = camera.eye();
+    const Vector3d eye(e.x, e.y, e.z), x(-0.191884, -0.198829, 0.0388608);
+    Vector3d gradient;
+    bunny.surface.eval(x, gradient);
+    ink::ContourStats stats;
+    const std::vector<ink::PenStroke> pieces =
+        ink::traceContours(bunny.surface, eye, {{x, gradient.normalized()}}, {}, &stats);
+    CHECK(stats.curves == 1);
+    CHECK(stats.vertices < 2000);
+    double shortest = 1;
+    for (const ink::PenStroke& p : pieces)
+        for (size_t i = 1; i < p.points.size(); ++i)
+            shortest = std::min(shortest, double((p.points[i] - p.points[i - 1]).norm()));
+    CHECK(shortest > ink::ContourOptions{}.step / 16 * 0.2);
+}
+
 TEST_CASE("contours: swallowtails smaller than the pen are no cusps; the pieces either side join" *
           doctest::test_suite("unit")) {
     // The bunny from its first picture (330°, 15°): its fit's ripples fold the contour's image into tiny

@@ -3,6 +3,7 @@
 
 #include "base/common.h"
 #include "base/point_hash.h"
+#include "shared/contour.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -190,7 +191,7 @@ std::vector<Vector3d> extendContour(const Surface& hrbf, const Vector3d& eye, co
         t.normalize();
         if (t.dot(previous) < 0) t = -t;
         Vector3d y = x + h * t;
-        if (!contourNewton(hrbf, eye, y, 2 * h, 10, &next)) {
+        if (!contourNewton(hrbf, eye, y, 2 * h, 10, &next) || (y - x).norm() < gpu::CONTOUR_LEAST_PROGRESS * h) {
             if (h <= step / 16) break;
             h *= 0.5;
             continue;
@@ -268,7 +269,8 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, c
                         h = std::min(2 * step, h * 1.5);
                 }
                 Vector3d y = x + h * t;
-                if (!contourNewton(hrbf, eye, y, 2 * h, 10, &next)) {
+                if (!contourNewton(hrbf, eye, y, 2 * h, 10, &next) ||
+                    (y - x).norm() < gpu::CONTOUR_LEAST_PROGRESS * h) {
                     if (h <= step / 16) return;
                     h *= 0.5;
                     continue;

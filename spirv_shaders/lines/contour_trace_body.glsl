@@ -202,7 +202,7 @@ uvec4 march(uint k, bool forward, uint round) {
     for (uint pass = 0u; pass < 4u * CONTOUR_MARCH_VERTICES; ++pass) {
         if (m == CONTOUR_MARCH_VERTICES) break;
         vec3 y = x + h * t, n, ty;
-        if (!contourNewton(y, 2.0 * max(h, step), 10u, n, ty)) {
+        if (!contourNewton(y, 2.0 * max(h, step), 10u, n, ty) || distance(x, y) < CONTOUR_LEAST_PROGRESS * h) {
             if (h <= step / 16.0) {
                 how = CONTOUR_STUCK;
                 break;

@@ -16,6 +16,10 @@ INK_CONST uint CONTOUR_MARCH_VERTICES = 48u;
 INK_CONST uint CONTOUR_GROUP_SIZE = 64u;
 // The longest predictor step, in steps (ContourOptions::step), where the curve runs straight.
 INK_CONST float CONTOUR_LONGEST_STEP = 4.0;
+// A corrected step that lands less than this fraction of the predictor step h from where it began made no
+// progress (the corrector pulls it back towards a singular point, where the steps shrink geometrically): it counts
+// as rejected. The CPU tracer (lines.cpp) uses the same.
+INK_CONST float CONTOUR_LEAST_PROGRESS = 0.25;
 // A march meets a node when it crosses the node's normal plane within this many steps of it.
 INK_CONST float CONTOUR_MEET_STEPS = 2.0;
 // A node-grid slot: its cell key, then up to this many nodes.
