@@ -48,10 +48,12 @@ double safeNorm(const Vector3d& v) {
 }
 
 Vector3d safeNormalized(const Vector3d& v) {
-    double big = v.cwiseAbs().maxCoeff();
-    if (!(big > 0) || !std::isfinite(big)) return v;
-    Vector3d unit = v / big;
-    return unit / unit.norm();
+    const double length = safeNorm(v);
+    if (std::isfinite(length)) return length > 0 ? Vector3d(v / length) : v;
+    const double big = v.cwiseAbs().maxCoeff();
+    if (!std::isfinite(big)) return v;
+    const Vector3d scaled = v / big;  // the length overflows, the components do not
+    return scaled / scaled.norm();
 }
 
 double usedDiagonal(const std::vector<Vector3d>& positions, const std::vector<char>& used) {
