@@ -49,8 +49,13 @@ ContourEval evalContour(const Surface& hrbf, const Vector3d& eye, const Vector3d
     return {f, gradient.dot(r), gradient, hessian * r + gradient};
 }
 
-// Newton on (f, g) = 0 with the minimum-norm step of the 2×3 system. `last` gets the evaluation of the last
-// iteration, taken within 1e-9 of the point returned: the next step's tangent.
+// Newton on (f, g) = 0 with the minimum-norm step of the 2×3 system, done when a step moves less than
+// kNewtonDone (normalized units: a thousandth of a pixel at 1024²; convergence is quadratic, so the error left is
+// about the curvature times its square, ~1e-10). The step after the predictor's correction is ~1e-7 (the bunny's
+// median): most points take two evaluations, not three. `last` gets the evaluation of the last iteration, taken
+// within kNewtonDone of the point returned: the next step's tangent.
+constexpr double kNewtonDone = 1e-6;
+
 bool contourNewton(const Surface& hrbf, const Vector3d& eye, Vector3d& x, double maxMove, int iterations = 10,
                    ContourEval* last = nullptr) {
     const Vector3d start = x;
@@ -64,7 +69,7 @@ bool contourNewton(const Surface& hrbf, const Vector3d& eye, Vector3d& x, double
         Vector3d dx = -(y0 * e.gradF + y1 * e.gradG);
         x += dx;
         if (!x.allFinite() || (x - start).norm() > maxMove) return false;
-        if (dx.norm() < 1e-9) return true;
+        if (dx.norm() < kNewtonDone) return true;
     }
     return false;
 }
@@ -245,10 +250,11 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, c
         if (traced.near(x0, seeds[index].normal, 2.0 * step)) continue;  // on a curve already traced
 
         // March one way until the curve closes (it always does, generically) or cannot go on, then the other.
-        std::vector<Vector3d> forward, backward;
+        // Each vertex's unit normal is taken from the corrector's last evaluation (within kNewtonDone of it).
+        std::vector<Vector3d> forward, backward, forwardNormals, backwardNormals;
         bool closed = false;
         const size_t hashStart = traced.size();
-        auto march = [&](double sign, std::vector<Vector3d>& out) {
+        auto march = [&](double sign, std::vector<Vector3d>& out, std::vector<Vector3d>& outNormals) {
             Vector3d x = x0, previous = Vector3d::Zero();
             double h = step, arc = 0;
             ContourEval e = evalContour(hrbf, eye, x), next;
@@ -287,13 +293,14 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, c
                 if (traced.near(y, n, 0.5 * step, curveId, sign * arc, 20 * step)) return;
                 traced.add(y, n, curveId, sign * arc);
                 out.push_back(y);
+                outNormals.push_back(next.gradF.normalized());
                 previous = t;
                 x = y;
                 e = next;
             }
         };
-        march(1.0, forward);
-        if (!closed) march(-1.0, backward);
+        march(1.0, forward, forwardNormals);
+        if (!closed) march(-1.0, backward, backwardNormals);
         std::vector<Vector3d> curve(backward.rbegin(), backward.rend());
         curve.push_back(x0);
         curve.insert(curve.end(), forward.begin(), forward.end());
@@ -317,13 +324,11 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, c
         s.closedCurves += closed;
         s.vertices += curve.size();
 
-        const size_t m = curve.size();
-        std::vector<Vector3d> normals(m);
-        for (size_t i = 0; i < m; ++i) {
-            Vector3d gradient;
-            hrbf.eval(curve[i], gradient);
-            normals[i] = gradient.normalized();
-        }
+        std::vector<Vector3d> normals(backwardNormals.rbegin(), backwardNormals.rend());
+        Vector3d gradient;
+        hrbf.eval(x0, gradient);
+        normals.push_back(gradient.normalized());
+        normals.insert(normals.end(), forwardNormals.begin(), forwardNormals.end());
         splitAtCusps(curve, normals, closed, eye, options, curveId, pieces, s);
         ++curveId;
     }
