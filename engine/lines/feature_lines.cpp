@@ -19,6 +19,7 @@ uint64_t edgeKey(uint32_t a, uint32_t b) { return uint64_t(std::min(a, b)) << 32
 // How far a mesh point may move onto the fitted surface (normalized units): the fit rounds a crease, and the
 // sharp edge lies off the rounded surface by about a tenth of the face samples' spacing (a cube's edges: 0.002).
 constexpr double kReach = 2 * kFaceSpacing;
+constexpr int kSmoothingRounds = 10;  // λ|μ pairs
 
 struct Chain {
     std::vector<uint32_t> vertices;
@@ -61,10 +62,53 @@ std::vector<Chain> chainEdges(const std::vector<Edge>& edges) {
     return chains;
 }
 
+// The chain's vertex positions, smoothed along it. A coarse mesh's feature edges zigzag where the feature runs
+// across its triangles (the bunny's ear rims: a turn of 30–60° at every vertex, alternating): rounds of Taubin's
+// λ|μ smoothing (1995) take out the zigzag, the chain's highest frequency (λ = ½ cancels an alternating one in a
+// step), without shrinking its longer bends. The ends stay put, and so do corners: a turn of over 60° with
+// turns under 20° either side (straight stretches meeting), as where a CAD part's crease changes direction.
+struct SmoothChain {
+    std::vector<Eigen::Vector3d> x;
+    std::vector<bool> fixed;  // an end or a corner: the curve through the points may turn there
+};
+
+SmoothChain smoothChain(const Chain& chain, const OrientedPoints& mesh) {
+    const size_t n = chain.vertices.size();
+    std::vector<Eigen::Vector3d> x(n);
+    for (size_t i = 0; i < n; ++i) x[i] = mesh.positions[chain.vertices[i]];
+    if (n < 3) return {x, std::vector<bool>(n, true)};
+    auto turn = [&](size_t i) {  // the angle between the edges either side of vertex i (closed chains wrap)
+        const Eigen::Vector3d a = x[i] - x[(i + n - 1) % n], b = x[(i + 1) % n] - x[i];
+        return std::atan2(a.cross(b).norm(), a.dot(b));
+    };
+    std::vector<double> turns(n);
+    for (size_t i = 0; i < n; ++i) turns[i] = turn(i);
+    std::vector<bool> fixed(n, false);
+    if (!chain.closed) fixed.front() = fixed.back() = true;
+    constexpr double kCorner = 60 * M_PI / 180, kStraight = 20 * M_PI / 180;
+    for (size_t i = 0; i < n; ++i)
+        if (turns[i] > kCorner && turns[(i + n - 1) % n] < kStraight && turns[(i + 1) % n] < kStraight) fixed[i] = true;
+    std::vector<Eigen::Vector3d> next(n);
+    for (int round = 0; round < 2 * kSmoothingRounds; ++round) {
+        const double factor = round % 2 == 0 ? 0.5 : -0.53;  // λ, then μ
+        for (size_t i = 0; i < n; ++i) {
+            const bool end = !chain.closed && (i == 0 || i + 1 == n);
+            next[i] = fixed[i] || end
+                          ? x[i]
+                          : Eigen::Vector3d(x[i] + factor * (0.5 * (x[(i + n - 1) % n] + x[(i + 1) % n]) - x[i]));
+        }
+        x.swap(next);
+    }
+    if (!chain.closed) fixed.front() = fixed.back() = true;
+    return {x, fixed};
+}
+
 // The chain resampled at `step` along its edges and laid onto the surface; pieces between points that do not
 // reach it, shorter than minLength, are dropped.
 void layOnSurface(const Chain& chain, const OrientedPoints& mesh, const Surface& surface, const FeatureOptions& options,
                   std::vector<PenStroke>& out) {
+    const SmoothChain smooth = smoothChain(chain, mesh);
+    const std::vector<Eigen::Vector3d>& x = smooth.x;
     PenStroke stroke;
     bool broken = false;
     auto flush = [&] {
@@ -73,17 +117,25 @@ void layOnSurface(const Chain& chain, const OrientedPoints& mesh, const Surface&
     };
     const size_t n = chain.vertices.size(), segments = chain.closed ? n : n - 1;
     for (size_t i = 0; i < segments; ++i) {
-        const Eigen::Vector3d a = mesh.positions[chain.vertices[i]], b = mesh.positions[chain.vertices[(i + 1) % n]];
+        // A Catmull–Rom segment from a to b (C¹ through the smoothed points; a fixed point ends the curve, as at a
+        // corner), resampled at `step` and laid onto the surface.
+        const size_t ia = i, ib = (i + 1) % n;
+        const Eigen::Vector3d &a = x[ia], &b = x[ib];
+        const Eigen::Vector3d& before = smooth.fixed[ia] ? a : x[(ia + n - 1) % n];
+        const Eigen::Vector3d& after = smooth.fixed[ib] ? b : x[(ib + 1) % n];
         const int pieces = std::max(1, int(std::ceil((b - a).norm() / options.step)));
         const bool last = !chain.closed && i + 1 == segments;
         for (int j = 0; j < pieces + (last ? 1 : 0); ++j) {
-            Eigen::Vector3d x = a + (b - a) * (double(j) / pieces), normal;
-            if (!projectToSurface(surface, x, normal, kReach)) {
+            const double t = double(j) / pieces;
+            Eigen::Vector3d p = 0.5 * (2 * a + (b - before) * t + (2 * before - 5 * a + 4 * b - after) * t * t +
+                                       (3 * a - before - 3 * b + after) * t * t * t),
+                            normal;
+            if (!projectToSurface(surface, p, normal, kReach)) {
                 broken = true;
                 flush();
                 continue;
             }
-            stroke.points.push_back(x.cast<float>());
+            stroke.points.push_back(p.cast<float>());
             stroke.normals.push_back(normal.cast<float>());
         }
     }
