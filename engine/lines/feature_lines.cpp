@@ -20,6 +20,9 @@ uint64_t edgeKey(uint32_t a, uint32_t b) { return uint64_t(std::min(a, b)) << 32
 // sharp edge lies off the rounded surface by about a tenth of the face samples' spacing (a cube's edges: 0.002).
 constexpr double kReach = 2 * kFaceSpacing;
 constexpr int kSmoothingRounds = 10;  // λ|μ pairs
+// How far a feature line may stand off f = 0 once smoothed (normalized units: about two pixels at 1024², the height
+// of the fit's ripple along a crease).
+constexpr double kLineOffset = 0.002;
 
 struct Chain {
     std::vector<uint32_t> vertices;
@@ -103,6 +106,41 @@ SmoothChain smoothChain(const Chain& chain, const OrientedPoints& mesh) {
     return {x, fixed};
 }
 
+// A line laid onto the fit follows the fit's ripple where it rounds a crease (the fandisk's edges: a scallop of a
+// pixel or two at every mesh vertex, seen where the edge is on the outline). The same λ|μ rounds over the laid
+// points take it out, each point then kept within kLineOffset of f = 0 (moved back along ∇f where it strayed
+// farther: the device's visibility test for these lines allows four splat radii), its normal the unit ∇f there.
+// Its ends (unless closed) and pinned points (corners) stay.
+void smoothLaid(const Surface& surface, PenStroke& stroke, const std::vector<bool>& pinned) {
+    const size_t n = stroke.points.size();
+    if (n < 3) return;
+    std::vector<Eigen::Vector3d> p(n), q(n);
+    for (size_t i = 0; i < n; ++i) p[i] = stroke.points[i].cast<double>();
+    for (int round = 0; round < 2 * kSmoothingRounds; ++round) {
+        const double factor = round % 2 == 0 ? 0.5 : -0.53;
+        for (size_t i = 0; i < n; ++i) {
+            const bool keep = pinned[i] || (!stroke.closed && (i == 0 || i + 1 == n));
+            const Eigen::Vector3d& a = p[(i + n - 1) % n];
+            const Eigen::Vector3d& b = p[(i + 1) % n];
+            q[i] = keep ? p[i] : Eigen::Vector3d(p[i] + factor * (0.5 * (a + b) - p[i]));
+        }
+        p.swap(q);
+    }
+    for (size_t i = 0; i < n; ++i) {
+        Eigen::Vector3d g;
+        const double f = surface.eval(p[i], g), length = g.norm();
+        if (!(length > 0) || !std::isfinite(f)) continue;  // keeps the laid point
+        const double distance = f / length;
+        if (std::abs(distance) > kLineOffset) {
+            p[i] -= (distance - std::copysign(kLineOffset, distance)) / length * g;
+            surface.eval(p[i], g);
+        }
+        if (!(g.norm() > 0) || !p[i].allFinite()) continue;
+        stroke.points[i] = p[i].cast<float>();
+        stroke.normals[i] = g.normalized().cast<float>();
+    }
+}
+
 // The chain resampled at `step` along its edges and laid onto the surface; pieces between points that do not
 // reach it, shorter than minLength, are dropped.
 void layOnSurface(const Chain& chain, const OrientedPoints& mesh, const Surface& surface, const FeatureOptions& options,
@@ -110,10 +148,15 @@ void layOnSurface(const Chain& chain, const OrientedPoints& mesh, const Surface&
     const SmoothChain smooth = smoothChain(chain, mesh);
     const std::vector<Eigen::Vector3d>& x = smooth.x;
     PenStroke stroke;
+    std::vector<bool> pinned;  // the stroke's points at the chain's fixed points
     bool broken = false;
     auto flush = [&] {
-        if (stroke.points.size() >= 2 && stroke.length() >= options.minLength) out.push_back(std::move(stroke));
+        if (stroke.points.size() >= 2 && stroke.length() >= options.minLength) {
+            smoothLaid(surface, stroke, pinned);
+            out.push_back(std::move(stroke));
+        }
         stroke = {};
+        pinned.clear();
     };
     const size_t n = chain.vertices.size(), segments = chain.closed ? n : n - 1;
     for (size_t i = 0; i < segments; ++i) {
@@ -137,6 +180,7 @@ void layOnSurface(const Chain& chain, const OrientedPoints& mesh, const Surface&
             }
             stroke.points.push_back(p.cast<float>());
             stroke.normals.push_back(normal.cast<float>());
+            pinned.push_back((j == 0 && smooth.fixed[ia]) || (j == pieces && smooth.fixed[ib]));
         }
     }
     stroke.closed = chain.closed && !broken;
