@@ -189,6 +189,95 @@ void layOnSurface(const Chain& chain, const OrientedPoints& mesh, const Surface&
 
 }  // namespace
 
+namespace {
+
+// The unit tangent of a stroke at point i (central difference; one-sided at an open stroke's ends).
+Eigen::Vector3f tangentAt(const PenStroke& s, size_t i) {
+    const size_t m = s.points.size();
+    const size_t a = i > 0 ? i - 1 : (s.closed ? m - 1 : 0), b = i + 1 < m ? i + 1 : (s.closed ? 0 : m - 1);
+    const Eigen::Vector3f t = s.points[b] - s.points[a];
+    return t.norm() > 0 ? Eigen::Vector3f(t.normalized()) : t;
+}
+
+}  // namespace
+
+std::vector<PenStroke> dropAlongLines(const std::vector<PenStroke>& contours, const std::vector<PenStroke>& lines,
+                                      double radius, double minRun, size_t* dropped) {
+    if (lines.empty() || !(radius > 0)) {
+        if (dropped) *dropped = 0;
+        return contours;
+    }
+    struct Entry {
+        Eigen::Vector3f p, n, t;
+    };
+    std::vector<Entry> entries;
+    std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
+    const double inverse = 1.0 / radius;
+    auto cellKey = [&](const Eigen::Vector3f& p, int dx, int dy, int dz) {
+        const Eigen::Array3i c = (p.cast<double>().array() * inverse).floor().cast<int>() + Eigen::Array3i(dx, dy, dz);
+        return (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
+               uint64_t(uint32_t(c.z()) & 0x1FFFFF);
+    };
+    for (const PenStroke& s : lines)
+        for (size_t i = 0; i < s.points.size(); ++i) {
+            grid[cellKey(s.points[i], 0, 0, 0)].push_back(uint32_t(entries.size()));
+            entries.push_back({s.points[i], s.normals[i], tangentAt(s, i)});
+        }
+    const float r2 = float(radius * radius), parallel = std::cos(float(30 * M_PI / 180));
+    auto along = [&](const PenStroke& s, size_t i) {
+        const Eigen::Vector3f& p = s.points[i];
+        const Eigen::Vector3f t = tangentAt(s, i);
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    auto it = grid.find(cellKey(p, dx, dy, dz));
+                    if (it == grid.end()) continue;
+                    for (uint32_t e : it->second) {
+                        const Entry& l = entries[e];
+                        if ((l.p - p).squaredNorm() < r2 && l.n.dot(s.normals[i]) > 0 &&
+                            std::abs(l.t.dot(t)) > parallel)
+                            return true;
+                    }
+                }
+        return false;
+    };
+    std::vector<std::vector<char>> gone(contours.size());
+    for (size_t si = 0; si < contours.size(); ++si) {
+        const PenStroke& s = contours[si];
+        const size_t m = s.points.size();
+        std::vector<char>& g = gone[si];
+        g.resize(m);
+        size_t count = 0;
+        for (size_t i = 0; i < m; ++i) count += g[i] = along(s, i);
+        if (count == 0 || count == m) continue;
+        // The stretches left between dropped points, or between one and an open stroke's end, shorter than minRun go
+        // too (a closed stroke is walked from a dropped point, so that no stretch wraps).
+        size_t first = 0;
+        while (!g[first]) ++first;
+        const size_t steps = s.closed ? m : m - first;
+        for (size_t k = 0; k < steps;) {
+            const size_t i = (first + k) % m;
+            if (g[i]) {
+                ++k;
+                continue;
+            }
+            size_t end = k;
+            while (end < steps && !g[(first + end) % m]) ++end;
+            // Its extent, end to end: a scrap that wanders off the line and back is short however long its arc.
+            const double extent = (s.points[(first + end - 1) % m] - s.points[i]).norm();
+            if (extent < minRun)
+                for (size_t j = k; j < end; ++j) g[(first + j) % m] = 1;
+            k = end;
+        }
+        if (!s.closed && first > 0) {  // the stretch before the first dropped point, from the stroke's start
+            if ((s.points[first - 1] - s.points[0]).norm() < minRun)
+                for (size_t i = 0; i < first; ++i) g[i] = 1;
+        }
+    }
+    return keepRuns(
+        contours, [&](size_t si, size_t i) { return !gone[si][i]; }, dropped);
+}
+
 bool projectToSurface(const Surface& surface, Eigen::Vector3d& x, Eigen::Vector3d& normal, double reach) {
     const Eigen::Vector3d start = x;
     for (int k = 0; k < 8; ++k) {

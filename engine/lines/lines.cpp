@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <queue>
 #include <thread>
@@ -216,6 +217,48 @@ std::vector<Vector3d> extendContour(const Surface& hrbf, const Vector3d& eye, co
         x = y;
         e = next;
     }
+    return out;
+}
+
+std::vector<PenStroke> keepRuns(const std::vector<PenStroke>& strokes, const std::function<bool(size_t, size_t)>& keep,
+                                size_t* dropped) {
+    std::vector<PenStroke> out;
+    size_t removed = 0;
+    for (size_t si = 0; si < strokes.size(); ++si) {
+        const PenStroke& s = strokes[si];
+        const size_t m = s.points.size();
+        std::vector<bool> in(m);
+        size_t kept = 0;
+        for (size_t i = 0; i < m; ++i) kept += in[i] = keep(si, i);
+        removed += m - kept;
+        if (kept == m) {
+            out.push_back(s);
+            continue;
+        }
+        // A closed stroke cut open starts after its first cut, so that its run across the start stays whole.
+        size_t start = 0;
+        if (s.closed)
+            while (start < m && in[start]) ++start;
+        PenStroke run;
+        auto flush = [&] {
+            if (run.points.size() >= 2) out.push_back(std::move(run));
+            run = {};
+        };
+        for (size_t k = 0; k < m; ++k) {
+            const size_t i = (start + k) % m;
+            if (!in[i]) {
+                flush();
+                continue;
+            }
+            run.points.push_back(s.points[i]);
+            run.normals.push_back(s.normals[i]);
+            run.curve = s.curve;
+            run.family = s.family;
+            run.level = s.level;
+        }
+        flush();
+    }
+    if (dropped) *dropped = removed;
     return out;
 }
 

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace ink {
@@ -27,6 +28,12 @@ struct PenStroke {
     uint32_t level = 0;   // hatching: 0 traced at twice the spacing, 1 filled in between (darker tones)
     double length() const;
 };
+
+// Strokes cut where keep(stroke index, point index) is false: the runs of kept points, each kept when it has two or
+// more; a closed stroke cut open starts after its first cut, so that its run across the start stays whole.
+// `dropped` (when given) counts the points removed.
+std::vector<PenStroke> keepRuns(const std::vector<PenStroke>& strokes, const std::function<bool(size_t, size_t)>& keep,
+                                size_t* dropped = nullptr);
 
 // ---- Occluding contour ------------------------------------------------------------------------------------
 // The curve where f = 0 and g = ∇f·(p − eye) = 0, traced by predictor–corrector steps: a step of `step` along

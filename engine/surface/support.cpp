@@ -147,43 +147,8 @@ bool Support::supports(const Eigen::Vector3d& x) const {
 
 std::vector<PenStroke> trimStrokes(const std::vector<PenStroke>& strokes, const Support& support, size_t* dropped) {
     if (support.empty()) return strokes;
-    std::vector<PenStroke> out;
-    size_t removed = 0;
-    for (const PenStroke& s : strokes) {
-        const size_t m = s.points.size();
-        std::vector<bool> in(m);
-        size_t kept = 0;
-        for (size_t i = 0; i < m; ++i) kept += in[i] = support.supports(s.points[i].cast<double>());
-        removed += m - kept;
-        if (kept == m) {
-            out.push_back(s);
-            continue;
-        }
-        // A closed stroke cut open starts after its first cut, so that its run across the start stays whole.
-        size_t start = 0;
-        if (s.closed)
-            while (start < m && in[start]) ++start;
-        PenStroke run;
-        auto flush = [&] {
-            if (run.points.size() >= 2) out.push_back(std::move(run));
-            run = {};
-        };
-        for (size_t k = 0; k < m; ++k) {
-            const size_t i = (start + k) % m;
-            if (!in[i]) {
-                flush();
-                continue;
-            }
-            run.points.push_back(s.points[i]);
-            run.normals.push_back(s.normals[i]);
-            run.curve = s.curve;
-            run.family = s.family;
-            run.level = s.level;
-        }
-        flush();
-    }
-    if (dropped) *dropped = removed;
-    return out;
+    return keepRuns(
+        strokes, [&](size_t s, size_t i) { return support.supports(strokes[s].points[i].cast<double>()); }, dropped);
 }
 
 }  // namespace ink
