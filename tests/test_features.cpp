@@ -172,19 +172,19 @@ TEST_CASE("features: a coarse mesh's crease lines do not zigzag along its edges"
     CHECK(sharpest < 0.6);
 }
 
-TEST_CASE("features: the contour along a drawn crease line goes, the contour across it or beside it stays" *
+TEST_CASE("features: the contour along a drawn crease line is laid onto it, the contour across it or beside it stays" *
           doctest::test_suite("unit")) {
     // A crease line along x, seen from +z; contours beside it within 2 steps (0.006), rippling as the fit does.
-    auto line = [](Vector3d from, Vector3d to, Vector3d normal, double ripple, double rippleFrom = -1,
-                   double rippleTo = -1, double lift = 0) {
+    auto line = [](Vector3d from, Vector3d to, Vector3d normal, double ripple, double bumpFrom = -1, double bumpTo = -1,
+                   double bump = 0) {
         ink::PenStroke s;
         const int n = int(std::ceil((to - from).norm() / 0.003));
         for (int i = 0; i <= n; ++i) {
             const double t = double(i) / n;
             Vector3d p = from + t * (to - from);
             p.y() += ripple * std::sin(400 * t);
-            if (t >= rippleFrom && t <= rippleTo)
-                p.y() += lift * std::pow(std::sin(M_PI * (t - rippleFrom) / (rippleTo - rippleFrom)), 2);
+            if (t >= bumpFrom && t <= bumpTo)
+                p.y() += bump * std::pow(std::sin(M_PI * (t - bumpFrom) / (bumpTo - bumpFrom)), 2);
             s.points.push_back(p.cast<float>());
             s.normals.push_back(normal.normalized().cast<float>());
         }
@@ -192,43 +192,47 @@ TEST_CASE("features: the contour along a drawn crease line goes, the contour acr
     };
     const std::vector<ink::PenStroke> crease = {line({0, 0, 0}, {1, 0, 0}, {0, 1, 1}, 0)};
     const double radius = 0.006, minRun = 0.024;
-    auto points = [](const std::vector<ink::PenStroke>& strokes) {
-        size_t n = 0;
-        for (const ink::PenStroke& s : strokes) n += s.points.size();
-        return n;
+    auto largestY = [](const ink::PenStroke& s, float fromX, float toX) {
+        float y = 0;
+        for (const Eigen::Vector3f& p : s.points)
+            if (p.x() >= fromX && p.x() <= toX) y = std::max(y, std::abs(p.y()));
+        return y;
     };
-    // Along it, rippling by a pixel: gone.
+    // Along it, rippling by a pixel: on it, every point.
     const ink::PenStroke along = line({0, 0.002, 0}, {1, 0.002, 0}, {0, 1, 1}, 0.001);
-    size_t dropped = 0;
-    CHECK(ink::dropAlongLines({along}, crease, radius, minRun, &dropped).empty());
-    CHECK(dropped == along.points.size());
-    // Across it: whole.
+    size_t snapped = 0;
+    std::vector<ink::PenStroke> out = ink::snapToLines({along}, crease, radius, minRun, &snapped);
+    REQUIRE(out.size() == 1);
+    CHECK(snapped == along.points.size());
+    CHECK(out[0].points.size() == along.points.size());
+    CHECK(largestY(out[0], -1, 2) == 0.0f);
+    // Across it, or beside it on the other side of a thin part (normals opposite): as it was.
     const ink::PenStroke across = line({0.5, -0.2, 0}, {0.5, 0.2, 0}, {0, 0, 1}, 0);
-    std::vector<ink::PenStroke> kept = ink::dropAlongLines({across}, crease, radius, minRun);
-    REQUIRE(kept.size() == 1);
-    CHECK(kept[0].points.size() == across.points.size());
-    // Beside it on the other side of a thin part (normals opposite): whole.
     const ink::PenStroke behind = line({0, 0.002, 0}, {1, 0.002, 0}, {0, -1, -1}, 0.001);
-    CHECK(points(ink::dropAlongLines({behind}, crease, radius, minRun)) == behind.points.size());
-    // Along it, then beyond its end: the part beyond stays.
+    out = ink::snapToLines({across, behind}, crease, radius, minRun, &snapped);
+    CHECK(snapped == 0);
+    CHECK(out[0].points == across.points);
+    CHECK(out[1].points == behind.points);
+    // Along it, then beyond its end: on it, then easing off to where it was.
     const ink::PenStroke past = line({0.7, 0.001, 0}, {1.3, 0.001, 0}, {0, 1, 1}, 0);
-    kept = ink::dropAlongLines({past}, crease, radius, minRun);
-    REQUIRE(kept.size() == 1);
-    CHECK(kept[0].points.front().x() > 1.0f);
-    CHECK(kept[0].points.front().x() < 1.0f + float(radius) + 0.004f);
-    CHECK(kept[0].points.back().x() == doctest::Approx(1.3f));
-    // Along it but for a stretch that leaves it: a scrap under minRun goes, a longer stretch stays.
+    out = ink::snapToLines({past}, crease, radius, minRun);
+    CHECK(largestY(out[0], 0.7f, 0.97f) == 0.0f);
+    CHECK(out[0].points.back().y() == doctest::Approx(0.001f));
+    float jump = 0;
+    for (size_t i = 1; i < out[0].points.size(); ++i)
+        jump = std::max(jump, std::abs(out[0].points[i].y() - out[0].points[i - 1].y()));
+    CHECK(jump < 0.0005f);
+    // Along it but for a stretch that leaves it: a scrap under minRun is bridged on the line, a longer stretch stays.
     const ink::PenStroke scrap = line({0, 0.001, 0}, {1, 0.001, 0}, {0, 1, 1}, 0, 0.50, 0.52, 0.01);
-    CHECK(ink::dropAlongLines({scrap}, crease, radius, minRun).empty());
+    out = ink::snapToLines({scrap}, crease, radius, minRun);
+    CHECK(largestY(out[0], -1, 2) < 1e-6f);
     const ink::PenStroke stretch = line({0, 0.001, 0}, {1, 0.001, 0}, {0, 1, 1}, 0, 0.40, 0.60, 0.02);
-    kept = ink::dropAlongLines({stretch}, crease, radius, minRun);
-    REQUIRE(kept.size() == 1);
-    CHECK(kept[0].points.front().x() > 0.40f);
-    CHECK(kept[0].points.back().x() < 0.60f);
-    CHECK(kept[0].length() > 0.1);
+    out = ink::snapToLines({stretch}, crease, radius, minRun);
+    CHECK(largestY(out[0], 0.49f, 0.51f) > 0.02f);
+    CHECK(largestY(out[0], 0.0f, 0.35f) == 0.0f);
     // No lines drawn: the contour as it was.
-    CHECK(points(ink::dropAlongLines({along, across}, {}, radius, minRun)) ==
-          along.points.size() + across.points.size());
+    out = ink::snapToLines({along}, {}, radius, minRun);
+    CHECK(out[0].points == along.points);
 }
 
 TEST_CASE("features: a torus and a sphere, smooth closed meshes, have no crease or boundary lines" *
@@ -356,9 +360,8 @@ TEST_CASE("cli: a cube's SVG has its creases on a pen of their own, an open hemi
     REQUIRE(r.status == 0);
     std::ifstream in(dir / "cube.svg");
     const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    // Its outline is all crease edges: the crease lines stand for it, and the fit's contour along them goes.
-    CHECK(svg.find("inkscape:label=\"1 creases\"") != std::string::npos);
-    CHECK(svg.find("contour") == std::string::npos);
+    CHECK(svg.find("inkscape:label=\"1 contour\"") != std::string::npos);
+    CHECK(svg.find("inkscape:label=\"2 creases\"") != std::string::npos);
     CHECK(svg.find("boundaries") == std::string::npos);
     // Drawn with the crease pen: a wider one inks more (the device once took creases for contours, with their pen).
     auto ink = [&](const std::string& width) {
@@ -381,7 +384,6 @@ TEST_CASE("cli: a cube's SVG has its creases on a pen of their own, an open hemi
     std::ifstream off(dir / "off.svg");
     const std::string plain((std::istreambuf_iterator<char>(off)), std::istreambuf_iterator<char>());
     CHECK(plain.find("creases") == std::string::npos);
-    CHECK(plain.find("inkscape:label=\"1 contour\"") != std::string::npos);  // without them the contour is drawn
 
     r = runInkwell("render " + kModels + "hemisphere.obj --style contours --camera 30 40 1.6 --size 256 256 -o " +
                    dir / "hemi.svg");

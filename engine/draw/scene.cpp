@@ -156,12 +156,12 @@ void Scene::traceContours(const Camera& camera) {
         contours =
             trimStrokes(ink::traceContours(model.surface, eye, samples, lines.contour, &contourStats), model.support);
     }
-    // A crease or boundary line drawn stands for its edge: the contour along it goes (dropAlongLines), within two
-    // steps of it, and the scraps the fit's ripple leaves between, under eight steps.
+    // A crease or boundary line drawn stands for its edge: the contour along it, within two steps, is laid onto it
+    // (snapToLines), and the scraps the fit's ripple leaves between, under eight steps, bridged.
     std::vector<PenStroke> drawn;
     if (lines.creases) drawn = model.features.creases;
     if (lines.boundaries) drawn.insert(drawn.end(), model.features.boundaries.begin(), model.features.boundaries.end());
-    contours = dropAlongLines(contours, drawn, 2 * lines.contour.step, 8 * lines.contour.step);
+    contours = snapToLines(contours, drawn, 2 * lines.contour.step, 8 * lines.contour.step);
     strokes->set(StrokeBuffers::Contours, contours);
 }
 

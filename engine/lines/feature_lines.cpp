@@ -201,12 +201,10 @@ Eigen::Vector3f tangentAt(const PenStroke& s, size_t i) {
 
 }  // namespace
 
-std::vector<PenStroke> dropAlongLines(const std::vector<PenStroke>& contours, const std::vector<PenStroke>& lines,
-                                      double radius, double minRun, size_t* dropped) {
-    if (lines.empty() || !(radius > 0)) {
-        if (dropped) *dropped = 0;
-        return contours;
-    }
+std::vector<PenStroke> snapToLines(const std::vector<PenStroke>& contours, const std::vector<PenStroke>& lines,
+                                   double radius, double minRun, size_t* snapped) {
+    if (snapped) *snapped = 0;
+    if (lines.empty() || !(radius > 0)) return contours;
     struct Entry {
         Eigen::Vector3f p, n, t;
     };
@@ -224,9 +222,12 @@ std::vector<PenStroke> dropAlongLines(const std::vector<PenStroke>& contours, co
             entries.push_back({s.points[i], s.normals[i], tangentAt(s, i)});
         }
     const float r2 = float(radius * radius), parallel = std::cos(float(30 * M_PI / 180));
-    auto along = [&](const PenStroke& s, size_t i) {
+    // The nearest line point within `radius` of the contour's point i, on its side and running its way; -1 if none.
+    auto nearest = [&](const PenStroke& s, size_t i) {
         const Eigen::Vector3f& p = s.points[i];
         const Eigen::Vector3f t = tangentAt(s, i);
+        int64_t best = -1;
+        float bestD2 = r2;
         for (int dz = -1; dz <= 1; ++dz)
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
@@ -234,48 +235,71 @@ std::vector<PenStroke> dropAlongLines(const std::vector<PenStroke>& contours, co
                     if (it == grid.end()) continue;
                     for (uint32_t e : it->second) {
                         const Entry& l = entries[e];
-                        if ((l.p - p).squaredNorm() < r2 && l.n.dot(s.normals[i]) > 0 &&
-                            std::abs(l.t.dot(t)) > parallel)
-                            return true;
+                        const float d2 = (l.p - p).squaredNorm();
+                        if (d2 < bestD2 && l.n.dot(s.normals[i]) > 0 && std::abs(l.t.dot(t)) > parallel)
+                            best = e, bestD2 = d2;
                     }
                 }
-        return false;
+        return best;
     };
-    std::vector<std::vector<char>> gone(contours.size());
-    for (size_t si = 0; si < contours.size(); ++si) {
-        const PenStroke& s = contours[si];
+    std::vector<PenStroke> out = contours;
+    for (PenStroke& s : out) {
         const size_t m = s.points.size();
-        std::vector<char>& g = gone[si];
-        g.resize(m);
+        if (m < 2) continue;
+        std::vector<int64_t> target(m);
         size_t count = 0;
-        for (size_t i = 0; i < m; ++i) count += g[i] = along(s, i);
-        if (count == 0 || count == m) continue;
-        // The stretches left between dropped points, or between one and an open stroke's end, shorter than minRun go
-        // too (a closed stroke is walked from a dropped point, so that no stretch wraps).
-        size_t first = 0;
-        while (!g[first]) ++first;
-        const size_t steps = s.closed ? m : m - first;
-        for (size_t k = 0; k < steps;) {
-            const size_t i = (first + k) % m;
-            if (g[i]) {
-                ++k;
-                continue;
+        for (size_t i = 0; i < m; ++i) count += (target[i] = nearest(s, i)) >= 0;
+        if (count == 0) continue;
+        const std::vector<Eigen::Vector3f> original = s.points;
+        std::vector<char> along(m);
+        for (size_t i = 0; i < m; ++i) along[i] = target[i] >= 0;
+        // A stretch left between snapped points that spans under minRun end to end (the fit's ripple took it past
+        // `radius` for a moment) is bridged straight between its neighbours, which lie on the line.
+        auto bridge = [&](size_t from, size_t to, size_t length) {  // points from+1 .. from+length-1 (mod m)
+            const Eigen::Vector3f a = s.points[from % m], b = s.points[to % m];
+            for (size_t k = 1; k < length; ++k) {
+                s.points[(from + k) % m] = a + (b - a) * (float(k) / float(length));
+                along[(from + k) % m] = 1;
             }
-            size_t end = k;
-            while (end < steps && !g[(first + end) % m]) ++end;
-            // Its extent, end to end: a scrap that wanders off the line and back is short however long its arc.
-            const double extent = (s.points[(first + end - 1) % m] - s.points[i]).norm();
-            if (extent < minRun)
-                for (size_t j = k; j < end; ++j) g[(first + j) % m] = 1;
-            k = end;
+        };
+        for (size_t i = 0; i < m; ++i)
+            if (target[i] >= 0) s.points[i] = entries[size_t(target[i])].p;
+        if (count < m) {
+            size_t first = 0;
+            while (!along[first]) ++first;
+            const size_t steps = s.closed ? m : m - first;
+            for (size_t k = 0; k < steps;) {
+                if (along[(first + k) % m]) {
+                    ++k;
+                    continue;
+                }
+                size_t end = k;
+                while (end < steps && !along[(first + end) % m]) ++end;
+                const bool between = end < steps || s.closed;
+                if (between && (original[(first + end - 1) % m] - original[(first + k) % m]).norm() < minRun)
+                    bridge(first + k - 1, first + end, end - k + 1);
+                k = end;
+            }
+            // Where the contour truly leaves the line, it eases off over a few points instead of jumping.
+            constexpr size_t kEase = 4;
+            std::vector<float> weight(m, 0.0f);
+            for (size_t i = 0; i < m; ++i) {
+                if (!along[i]) continue;
+                size_t gap = kEase + 1;  // the distance to the nearest point not along, up to kEase + 1
+                for (size_t d = 1; d <= kEase && gap > kEase; ++d) {
+                    const bool before = (s.closed || i >= d) && !along[(i + m - d) % m];
+                    const bool after = (s.closed || i + d < m) && !along[(i + d) % m];
+                    if (before || after) gap = d;
+                }
+                weight[i] = float(std::min(gap, kEase + 1)) / float(kEase + 1);
+            }
+            for (size_t i = 0; i < m; ++i)
+                if (along[i] && weight[i] < 1.0f) s.points[i] = original[i] + (s.points[i] - original[i]) * weight[i];
         }
-        if (!s.closed && first > 0) {  // the stretch before the first dropped point, from the stroke's start
-            if ((s.points[first - 1] - s.points[0]).norm() < minRun)
-                for (size_t i = 0; i < first; ++i) g[i] = 1;
-        }
+        if (snapped)
+            for (size_t i = 0; i < m; ++i) *snapped += along[i];
     }
-    return keepRuns(
-        contours, [&](size_t si, size_t i) { return !gone[si][i]; }, dropped);
+    return out;
 }
 
 bool projectToSurface(const Surface& surface, Eigen::Vector3d& x, Eigen::Vector3d& normal, double reach) {

@@ -39,14 +39,15 @@ struct FeatureOptions {
 // the line.
 FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, const FeatureOptions& options = {});
 
-// The contour without the stretches that run along a feature line drawn beside it: a contour point within `radius`
-// of a point of `lines`, on the same side (normals less than 90° apart) and running the same way (tangents within
-// 30°), goes, and so does a stretch left between such points (or between one and the stroke's end) that spans less
-// than `minRun` end to end. The fit rounds a crease, and its contour along the rounded edge ripples with the fit's
-// seams beside the smoothed crease line that stands for the edge (the fandisk's outline, drawn twice, wobbled). Cut as
-// keepRuns cuts; `dropped` counts the points removed.
-std::vector<PenStroke> dropAlongLines(const std::vector<PenStroke>& contours, const std::vector<PenStroke>& lines,
-                                      double radius, double minRun, size_t* dropped = nullptr);
+// The contour laid onto the feature lines drawn beside it: a contour point within `radius` of a point of `lines`,
+// on the same side (normals less than 90° apart) and running the same way (tangents within 30°), moves onto the
+// nearest such point; a stretch left between such points that spans under `minRun` end to end is bridged straight;
+// where the contour leaves a line it eases off over four points. The fit rounds a crease, and its contour along the
+// rounded edge ripples with the fit beside the smoothed crease line that stands for the edge (the fandisk's
+// outline, drawn twice, wobbled); snapped, it is drawn once, smooth, and with the contour's pen and visibility.
+// `snapped` counts the points moved.
+std::vector<PenStroke> snapToLines(const std::vector<PenStroke>& contours, const std::vector<PenStroke>& lines,
+                                   double radius, double minRun, size_t* snapped = nullptr);
 
 // Moves x onto f = 0 by Newton steps along ∇f and returns the unit normal there in `normal`; false when it does
 // not converge or moves farther than `reach`.
