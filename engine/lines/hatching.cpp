@@ -1,5 +1,6 @@
 // Hatching strokes (hatching.h): evenly spaced streamlines of the cross field.
 #include "lines/hatching.h"
+#include "shared/contour.h"
 
 #include "base/point_hash.h"
 
@@ -120,7 +121,11 @@ private:
             double arc = 0;
             for (int k = 0; k < 20000; ++k) {
                 Vector3d y = x + step_ * d, ny, dy;
-                if (!stepToSurface(y, ny) || (y - x).norm() > 2 * step_ || !field(y, ny, d, dy)) return;
+                // A step the projection sends back beside where it began goes nowhere (as the contour's
+                // CONTOUR_LEAST_PROGRESS): the stroke ends rather than piling points on one spot.
+                if (!stepToSurface(y, ny) || (y - x).norm() > 2 * step_ ||
+                    (y - x).norm() < gpu::CONTOUR_LEAST_PROGRESS * step_ || !field(y, ny, d, dy))
+                    return;
                 if (dy.dot(d) < minTurn_) return;  // turns sharply
                 arc += (y - x).norm();
                 if (arc > 4 * dsep && (y - x0).norm() < 1.5 * step_) {
