@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -256,6 +257,7 @@ private:
     ink::Camera camera_, home_;
     std::optional<ink::Camera> autoHome_;          // the first picture of `--up auto`, for the panel's "auto" up entry
     glm::vec3 tracedEye_{NAN}, previousEye_{NAN};  // where the contours were traced from; the last frame's eye
+    double traceSeconds_ = INFINITY;               // how long the last trace of the contour took
     DrawStyle appliedStyle_;
     ink::RefineOptions appliedRefine_;
     ink::LineOptions appliedLines_;
@@ -777,10 +779,15 @@ void Viewer::savePng(const std::string& path, uint32_t width, uint32_t height) {
 }
 
 void Viewer::record(Frame& f, uint32_t index, bool capture) {
-    // The contour depends on the eye: traced again once the eye stops (a frame without motion), since tracing
-    // takes longer than a frame (docs/lines.md); while it moves, the last view's contour is drawn.
-    if (scene_.lines.contours && camera_.eye() != tracedEye_ && camera_.eye() == previousEye_) {
+    // The contour depends on the eye: traced again every frame while a trace takes under kTraceBudget (the device's
+    // tracer on a GPU, a few milliseconds), else once the eye stops (a frame without motion; the CPU tracer on
+    // lavapipe takes 35–45 ms for the bunny), the last view's contour drawn while it moves (docs/lines.md).
+    constexpr double kTraceBudget = 0.008;
+    const bool moving = camera_.eye() != previousEye_;
+    if (scene_.lines.contours && camera_.eye() != tracedEye_ && (!moving || traceSeconds_ < kTraceBudget)) {
+        const auto start = std::chrono::steady_clock::now();
         scene_.traceContours(camera_);
+        traceSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         tracedEye_ = camera_.eye();
     }
     previousEye_ = camera_.eye();
