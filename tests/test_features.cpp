@@ -235,6 +235,41 @@ TEST_CASE("features: the contour along a drawn crease line is laid onto it, the 
     CHECK(out[0].points == along.points);
 }
 
+TEST_CASE("features: a point cloud's sharp edges are crease lines, a smooth one's none" * doctest::test_suite("unit")) {
+    // Points on a cube's faces, 20 × 20 a face, with the faces' normals: its twelve edges.
+    ink::OrientedPoints cube;
+    for (int axis = 0; axis < 3; ++axis)
+        for (double sign : {-1.0, 1.0})
+            for (int i = 0; i < 20; ++i)
+                for (int j = 0; j < 20; ++j) {
+                    Vector3d p, n = Vector3d::Zero();
+                    p[axis] = 0.5 * sign;
+                    p[(axis + 1) % 3] = (i + 0.5) / 20 - 0.5;
+                    p[(axis + 2) % 3] = (j + 0.5) / 20 - 0.5;
+                    n[axis] = sign;
+                    cube.positions.push_back(p);
+                    cube.normals.push_back(n);
+                }
+    const ink::Model model = ink::fitModel(cube, {});
+    const std::vector<ink::PenStroke>& creases = model.features.creases;
+    const double side = 1 / std::sqrt(3.0);  // normalized: the diagonal is 1
+    MESSAGE("cube cloud: " << creases.size() << " crease strokes, " << totalLength(creases) / side << " sides long");
+    CHECK(creases.size() == 12);
+    CHECK(totalLength(creases) > 8 * side);  // 9.0 measured: near the corners, where three faces meet, none
+    CHECK(totalLength(creases) < 12.5 * side);
+    for (const ink::PenStroke& s : creases)
+        for (const Eigen::Vector3f& p : s.points) {
+            const Eigen::Vector3d x = model.surface.frame.toInput(p.cast<double>()).cwiseAbs();
+            CHECK(int(x.x() > 0.44) + int(x.y() > 0.44) + int(x.z() > 0.44) >= 2);
+        }
+    CHECK(model.features.boundaries.empty());
+    // A smooth shape's points, however curved (the torus's inner ring), have none.
+    for (const ink::OrientedPoints& mesh : {torusMesh(), sphereMesh()}) {
+        const ink::OrientedPoints points{mesh.positions, mesh.normals, {}};
+        CHECK(ink::fitModel(points, {}).features.creases.empty());
+    }
+}
+
 TEST_CASE("features: a torus and a sphere, smooth closed meshes, have no crease or boundary lines" *
           doctest::test_suite("unit")) {
     for (const ink::OrientedPoints& mesh : {torusMesh(), sphereMesh()}) {

@@ -34,7 +34,8 @@ void addModelOptions(CLI::App* cmd, Options& o) {
                     "Control points chosen by farthest-point sampling (default: all; at most 1000 for --fit global)")
         ->check(nonNegativeInteger());
     cmd->add_option("--crease-angle", o.creaseAngle,
-                    "A mesh's crease lines: edges whose faces turn by more than this, degrees (0-180)")
+                    "Crease lines: a mesh's edges whose faces, or a point cloud's neighbours whose normals, turn by "
+                    "more than this, degrees (0-180)")
         ->capture_default_str();
     cmd->add_flag("!--no-trim", o.trim,
                   "Keep the surface the input does not support (by default an open scan's holes stay open: the "
@@ -108,7 +109,8 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--halo", s.haloWidth, "Paper kept clear each side of an interior contour, in pixels")
         ->capture_default_str();
     cmd->add_option("--creases", o.creases,
-                    "A mesh's crease lines (sharp edges), on their own pen: auto draws them with contours or hatching")
+                    "Crease lines (a mesh's or a point cloud's sharp edges), on their own pen: auto draws them with "
+                    "contours or hatching")
         ->check(CLI::IsMember({"auto", "on", "off"}))
         ->capture_default_str();
     cmd->add_option("--boundaries", o.boundaries,

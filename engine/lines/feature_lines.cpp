@@ -1,5 +1,7 @@
 #include "lines/feature_lines.h"
 
+#include "base/parallel.h"
+#include "base/point_tree.h"
 #include "surface/surface_sampling.h"
 
 #include <Eigen/Geometry>
@@ -75,10 +77,10 @@ struct SmoothChain {
     std::vector<bool> fixed;  // an end or a corner: the curve through the points may turn there
 };
 
-SmoothChain smoothChain(const Chain& chain, const OrientedPoints& mesh) {
+SmoothChain smoothChain(const Chain& chain, const std::vector<Eigen::Vector3d>& positions) {
     const size_t n = chain.vertices.size();
     std::vector<Eigen::Vector3d> x(n);
-    for (size_t i = 0; i < n; ++i) x[i] = mesh.positions[chain.vertices[i]];
+    for (size_t i = 0; i < n; ++i) x[i] = positions[chain.vertices[i]];
     if (n < 3) return {x, std::vector<bool>(n, true)};
     auto turn = [&](size_t i) {  // the angle between the edges either side of vertex i (closed chains wrap)
         const Eigen::Vector3d a = x[i] - x[(i + n - 1) % n], b = x[(i + 1) % n] - x[i];
@@ -143,9 +145,9 @@ void smoothLaid(const Surface& surface, PenStroke& stroke, const std::vector<boo
 
 // The chain resampled at `step` along its edges and laid onto the surface; pieces between points that do not
 // reach it, shorter than minLength, are dropped.
-void layOnSurface(const Chain& chain, const OrientedPoints& mesh, const Surface& surface, const FeatureOptions& options,
-                  std::vector<PenStroke>& out) {
-    const SmoothChain smooth = smoothChain(chain, mesh);
+void layOnSurface(const Chain& chain, const std::vector<Eigen::Vector3d>& positions, const Surface& surface,
+                  const FeatureOptions& options, std::vector<PenStroke>& out) {
+    const SmoothChain smooth = smoothChain(chain, positions);
     const std::vector<Eigen::Vector3d>& x = smooth.x;
     PenStroke stroke;
     std::vector<bool> pinned;  // the stroke's points at the chain's fixed points
@@ -371,8 +373,119 @@ FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, co
                 creases.push_back(e);
         }
     }
-    for (const Chain& c : chainEdges(creases)) layOnSurface(c, mesh, surface, options, lines.creases);
-    for (const Chain& c : chainEdges(boundaries)) layOnSurface(c, mesh, surface, options, lines.boundaries);
+    for (const Chain& c : chainEdges(creases)) layOnSurface(c, mesh.positions, surface, options, lines.creases);
+    for (const Chain& c : chainEdges(boundaries)) layOnSurface(c, mesh.positions, surface, options, lines.boundaries);
+    return lines;
+}
+
+FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, const FeatureOptions& options) {
+    FeatureLines lines;
+    const size_t m = cloud.positions.size();
+    constexpr size_t kNeighbours = 12;
+    if (m <= 4 * kNeighbours || !cloud.triangles.empty()) return lines;
+    const PointCloud adaptor{cloud.positions};
+    const PointTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    const double creaseCos = std::cos(options.creaseAngleDeg * M_PI / 180.0),
+                 sameCos = std::cos(0.5 * options.creaseAngleDeg * M_PI / 180.0);
+    // Each point's neighbourhood: where its normals fall into two groups turning by more than the crease angle, the
+    // edge is where the groups' planes meet; the point nearest it on that line, and the line's direction.
+    std::vector<Eigen::Vector3d> at(m), along(m);
+    std::vector<char> edge(m, 0);
+    std::vector<double> nearest(m, 0.0);
+    parallelChunks(m, 256, [&](size_t begin, size_t end, size_t) {
+        std::array<uint32_t, kNeighbours + 1> index{};
+        std::array<double, kNeighbours + 1> squared{};
+        for (size_t i = begin; i < end; ++i) {
+            const Eigen::Vector3d& p = cloud.positions[i];
+            const Eigen::Vector3d& n = cloud.normals[i];
+            const size_t found = tree.knnSearch(p.data(), kNeighbours + 1, index.data(), squared.data());
+            if (found < 2) continue;
+            nearest[i] = std::sqrt(squared[1]);
+            Eigen::Vector3d sameP = Eigen::Vector3d::Zero(), sameN = sameP, otherP = sameP, otherN = sameP;
+            int same = 0, other = 0, between = 0;
+            for (size_t k = 0; k < found; ++k) {
+                const Eigen::Vector3d& q = cloud.positions[index[k]];
+                const Eigen::Vector3d& nq = cloud.normals[index[k]];
+                const double c = n.dot(nq);
+                if (c < -0.5) continue;  // the other side of a thin part
+                if (c >= sameCos) {
+                    sameP += q, sameN += nq, ++same;
+                } else if (c < creaseCos) {
+                    otherP += q, otherN += nq, ++other;
+                } else {
+                    ++between;
+                }
+            }
+            // A crease's normals are two tight groups with (nearly) none between: a smooth bend as sharp (an ear's
+            // tip) turns them through every angle.
+            if (same < 3 || other < 3 || between > 1) continue;
+            if (sameN.norm() < 0.95 * same || otherN.norm() < 0.95 * other) continue;
+            const Eigen::Vector3d a = sameN.normalized(), b = otherN.normalized(), pa = sameP / same,
+                                  pb = otherP / other;
+            const Eigen::Vector3d e = a.cross(b);
+            if (!(e.norm() > 0.5 * std::sqrt(1 - creaseCos * creaseCos))) continue;
+            // The point of the line a·x = a·pa, b·x = b·pb nearest p: p − G (GᵀG)⁻¹ r, G = [a b].
+            const double ab = a.dot(b), det = 1 - ab * ab, ra = a.dot(p - pa), rb = b.dot(p - pb);
+            const double la = (ra - ab * rb) / det, lb = (rb - ab * ra) / det;
+            const Eigen::Vector3d x = p - la * a - lb * b;
+            if (!x.allFinite() || (x - p).norm() > std::sqrt(squared[found - 1])) continue;
+            at[i] = x, along[i] = e.normalized(), edge[i] = 1;
+        }
+    });
+    std::vector<double> spacings = nearest;
+    std::nth_element(spacings.begin(), spacings.begin() + long(m / 2), spacings.end());
+    const double spacing = std::max(spacings[m / 2], 1e-6);
+    // One edge sample a cell of the point spacing (the points either side of an edge find the same line), its
+    // position and direction the cell's average.
+    std::vector<Eigen::Vector3d> x, e;
+    {
+        std::unordered_map<uint64_t, uint32_t> cell;
+        std::vector<int> count;
+        for (size_t i = 0; i < m; ++i) {
+            if (!edge[i]) continue;
+            const Eigen::Array3i c = (at[i].array() / spacing).floor().cast<int>();
+            const uint64_t key = (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) |
+                                 (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) | uint64_t(uint32_t(c.z()) & 0x1FFFFF);
+            auto [it, added] = cell.emplace(key, uint32_t(x.size()));
+            if (added) {
+                x.push_back(Eigen::Vector3d::Zero()), e.push_back(Eigen::Vector3d::Zero()), count.push_back(0);
+            }
+            const uint32_t k = it->second;
+            x[k] += at[i];
+            e[k] += along[i].dot(e[k]) < 0 ? Eigen::Vector3d(-along[i]) : along[i];
+            ++count[k];
+        }
+        for (size_t k = 0; k < x.size(); ++k) x[k] /= count[k], e[k].normalize();
+    }
+    if (x.size() < 2) return lines;
+    // Chains: each sample's nearest sample ahead and behind along its line (within three spacings, the line's
+    // direction within 30°), linked where the two choose each other.
+    const PointCloud samples{x};
+    const PointTree sampleTree(3, samples, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    const double reach = 3 * spacing;
+    std::vector<std::array<int64_t, 2>> pick(x.size(), {-1, -1});  // ahead (+e), behind (−e)
+    for (size_t a = 0; a < x.size(); ++a) {
+        std::vector<std::pair<uint32_t, double>> hits;
+        sampleTree.radiusSearch(x[a].data(), reach * reach, hits, nanoflann::SearchParams());
+        double best[2] = {INFINITY, INFINITY};
+        for (const auto& hit : hits) {
+            const size_t b = hit.first;
+            if (b == a || std::abs(e[a].dot(e[b])) < std::cos(30 * M_PI / 180)) continue;
+            const Eigen::Vector3d d = x[b] - x[a];
+            const double t = d.dot(e[a]), distance = d.norm();
+            if (std::abs(t) < 0.8 * distance) continue;  // beside the line, not along it
+            const int side = t > 0 ? 0 : 1;
+            if (distance < best[side]) best[side] = distance, pick[a][side] = int64_t(b);
+        }
+    }
+    auto chooses = [&](size_t b, size_t a) { return pick[b][0] == int64_t(a) || pick[b][1] == int64_t(a); };
+    std::vector<Edge> links;
+    for (size_t a = 0; a < x.size(); ++a)
+        for (int side = 0; side < 2; ++side) {
+            const int64_t b = pick[a][side];
+            if (b > int64_t(a) && chooses(size_t(b), a)) links.push_back({uint32_t(a), uint32_t(b)});
+        }
+    for (const Chain& c : chainEdges(links)) layOnSurface(c, x, surface, options, lines.creases);
     return lines;
 }
 

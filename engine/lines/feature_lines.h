@@ -39,6 +39,16 @@ struct FeatureOptions {
 // the line.
 FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, const FeatureOptions& options = {});
 
+// The crease lines of a point cloud (normalized coordinates, oriented points without faces) on `surface`: where a
+// point's 12 nearest neighbours' normals fall into two tight groups (each within ~18°) turning by more than the
+// crease angle, with at most one normal between them (a smooth bend as sharp turns them through every angle;
+// neighbours turned past 120° are the other side of a thin part, and left out), the edge is the line where the
+// groups' planes meet. The points nearest it, one a cell of the point spacing, are chained along it (each links to the
+// nearest ahead and behind, within three spacings and 30°, where the two choose each other), then smoothed and
+// laid onto the surface as a mesh's creases are; chains under minLength go. A smooth shape's normals turn by a
+// few degrees between neighbours: no creases. Boundaries are a mesh's only.
+FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, const FeatureOptions& options = {});
+
 // The contour laid onto the feature lines drawn beside it: a contour point within `radius` of a point of `lines`,
 // on the same side (normals less than 90° apart) and running the same way (tangents within 30°), moves onto the
 // nearest such point; a stretch left between such points that spans under `minRun` end to end is bridged straight;

@@ -35,7 +35,7 @@ struct Model {
     // The error at every point the fit was given (all input points, not only the control points), normalized
     // units (fractions of the diagonal), evaluated as the device evaluates.
     double inputMaxDistance = 0, inputMeanDistance = 0, inputMaxAngleDeg = 0;
-    // A mesh's creases and boundaries (none for points and .hrbf files), and where the input supports the
+    // A mesh's creases and boundaries, a point cloud's creases (none for .hrbf files), and where the input supports the
     // surface (everywhere without ModelOptions::trim, and for .hrbf files: they keep no input points).
     FeatureLines features;
     Support support;

@@ -169,8 +169,9 @@ struct DrawingOptions {
     // when the eye moves: about 20–60 ms for the 684-point bunny), and hatching strokes once, along the surface.
     bool contours = false;
     bool hatching = false;
-    // A mesh's crease lines (sharp edges) and boundary lines (open edges, holes' rims), on pens of their own;
-    // a point cloud or a .hrbf model has none. The command line draws them with contours or hatching.
+    // A model's crease lines (sharp edges: a mesh's, or a point cloud's where its normals turn sharply) and a mesh's
+    // boundary lines (open edges, holes' rims), on pens of their own; a .hrbf model has none. The command line
+    // draws them with contours or hatching.
     bool creases = false;
     bool boundaries = false;
     float hatchSpacing = 0.007f;  // of the bounding-box diagonal, the finest level (the coarse one is twice this)
