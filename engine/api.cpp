@@ -159,6 +159,7 @@ FitReport Model::report() const {
     FitReport r;
     r.inputPoints = m.inputPoints;
     r.mergedDuplicates = m.mergedDuplicates;
+    r.flippedNormals = m.flippedNormals;
     r.controlPoints = m.fit.controlPoints;
     r.seconds = m.fit.seconds;
     r.maxDistance = m.fit.maxDistance;

@@ -67,6 +67,39 @@ TEST_CASE("fit: the bunny with 684 control points interpolates its points and no
     CHECK(m.fit.maxNormalAngleDeg < 0.01);
 }
 
+TEST_CASE("fit: a point cloud's normals pointing every way are oriented; consistent ones, a thin plate's, are not" *
+          doctest::test_suite("unit")) {
+    // Points on an ellipsoid, every third normal turned inwards (a scan's normals estimated without a viewpoint).
+    ink::OrientedPoints cloud;
+    const Vector3d axes(1.0, 0.6, 0.4);
+    for (int i = 0; i < 40; ++i)
+        for (int j = 0; j < 80; ++j) {
+            const double theta = M_PI * (i + 0.5) / 40, phi = 2 * M_PI * j / 80;
+            const Vector3d u(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+            cloud.positions.push_back(axes.cwiseProduct(u));
+            cloud.normals.push_back(u.cwiseQuotient(axes).normalized());
+        }
+    ink::OrientedPoints mixed = cloud;
+    size_t turned = 0;
+    for (size_t i = 0; i < mixed.normals.size(); i += 3, ++turned) mixed.normals[i] = -mixed.normals[i];
+    const ink::Model fixed = ink::fitModel(mixed, {});
+    CHECK(fixed.flippedNormals == turned);
+    CHECK(fixed.inputMaxAngleDeg < 5);  // against the input's normals, as oriented
+    Vector3d g;
+    CHECK(fixed.surface.eval(fixed.surface.frame.toNormalized(Vector3d::Zero()), g) < 0);  // inside
+    // Consistent already: untouched, the same fit as without the step.
+    CHECK(ink::fitModel(cloud, {}).flippedNormals == 0);
+    // A thin plate's two sides face apart rightly: 0.02 thick, points 0.05 apart, each side's normals outward.
+    ink::OrientedPoints plate;
+    for (int i = 0; i < 30; ++i)
+        for (int j = 0; j < 30; ++j)
+            for (double side : {-1.0, 1.0}) {
+                plate.positions.push_back({i * 0.05, j * 0.05, 0.01 * side});
+                plate.normals.push_back({0, 0, side});
+            }
+    CHECK(ink::fitModel(plate, {}).flippedNormals == 0);
+}
+
 TEST_CASE("fit: farthest-point sampling through fitModel picks the same centres every time" *
           doctest::test_suite("unit")) {
     ink::OrientedPoints points = ink::loadPoints(kBunny);

@@ -27,6 +27,7 @@ static int runFit(Options& o, const std::string& output, bool text) {
                             {"input_points", model.inputPoints},
                             {"face_samples", model.faceSamples},
                             {"merged_duplicates", model.mergedDuplicates},
+                            {"flipped_normals", model.flippedNormals},
                             {"load_seconds", model.loadSeconds},
                             {"fit", fitJson(model)}});
     outputs.commit();

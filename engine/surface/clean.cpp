@@ -2,6 +2,7 @@
 #include "surface/clean.h"
 
 #include "base/parallel.h"
+#include "base/point_tree.h"
 
 #include <algorithm>
 #include <array>
@@ -10,6 +11,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <queue>
 #include <tuple>
 #include <unordered_map>
 
@@ -407,6 +409,75 @@ std::vector<size_t> farthestPointSample(const std::vector<Vector3d>& positions, 
         current = tree.pick(current);
     }
     return picked;
+}
+
+size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals) {
+    const size_t m = positions.size();
+    constexpr size_t kNeighbours = 8;
+    if (m <= kNeighbours + 1) return 0;
+    const PointCloud cloud{positions};
+    const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    std::vector<uint32_t> neighbours(m * kNeighbours, UINT32_MAX);
+    std::vector<size_t> opposedIn(64, 0), pairsIn(64, 0);
+    const size_t chunks = parallelChunks(m, 1024, [&](size_t begin, size_t end, size_t chunk) {
+        std::array<uint32_t, kNeighbours + 1> index{};
+        std::array<double, kNeighbours + 1> squared{};
+        for (size_t i = begin; i < end; ++i) {
+            const size_t found = tree.knnSearch(positions[i].data(), kNeighbours + 1, index.data(), squared.data());
+            size_t used = 0;
+            for (size_t k = 0; k < found && used < kNeighbours; ++k) {
+                if (index[k] == i) continue;
+                // Only neighbours along the surface, not across it: the two sides of a thin part face apart
+                // rightly (each lies behind the other's tangent plane: a = nᵢ·d̂ and b = nⱼ·d̂ of opposite signs,
+                // both clear of 0; the walls of a narrow gap face each other, the same), and the tree must not
+                // turn one to agree with the other. A flipped normal on one sheet gives a and b the same sign.
+                const Eigen::Vector3d d = positions[index[k]] - positions[i];
+                const double length = d.norm();
+                if (!(length > 0)) continue;
+                const double a = normals[i].dot(d) / length, b = normals[index[k]].dot(d) / length;
+                if (std::abs(a) > 0.5 || std::abs(b) > 0.5 || (a * b < 0 && std::abs(a) > 0.05 && std::abs(b) > 0.05))
+                    continue;
+                neighbours[i * kNeighbours + used++] = index[k];
+                ++pairsIn[chunk];
+                opposedIn[chunk] += normals[i].dot(normals[index[k]]) < -0.5;
+            }
+        }
+    });
+    size_t opposed = 0, pairs = 0;
+    for (size_t c = 0; c < chunks; ++c) opposed += opposedIn[c], pairs += pairsIn[c];
+    if (opposed * 20 <= pairs) return 0;
+    // The graph both ways: j among i's nearest, or i among j's.
+    std::vector<std::vector<uint32_t>> around(m);
+    for (size_t i = 0; i < m; ++i)
+        for (size_t k = 0; k < kNeighbours; ++k) {
+            const uint32_t j = neighbours[i * kNeighbours + k];
+            if (j == UINT32_MAX) continue;
+            around[i].push_back(j);
+            around[j].push_back(uint32_t(i));
+        }
+    std::vector<uint32_t> byX(m);
+    for (uint32_t i = 0; i < m; ++i) byX[i] = i;
+    std::stable_sort(byX.begin(), byX.end(),
+                     [&](uint32_t a, uint32_t b) { return positions[a].x() > positions[b].x(); });
+    std::vector<char> reached(m, 0);
+    size_t flipped = 0;
+    using Item = std::tuple<double, uint32_t, uint32_t>;  // weight, point, the point it is reached from
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    for (uint32_t root : byX) {
+        if (reached[root]) continue;
+        if (normals[root].x() < 0) normals[root] = -normals[root], ++flipped;  // on the hull: facing +x
+        queue.push({0.0, root, root});
+        while (!queue.empty()) {
+            const auto [weight, i, from] = queue.top();
+            queue.pop();
+            if (reached[i]) continue;
+            reached[i] = 1;
+            if (i != from && normals[i].dot(normals[from]) < 0) normals[i] = -normals[i], ++flipped;
+            for (uint32_t j : around[i])
+                if (!reached[j]) queue.push({1.0 - std::abs(normals[i].dot(normals[j])), j, i});
+        }
+    }
+    return flipped;
 }
 
 }  // namespace ink

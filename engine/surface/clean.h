@@ -24,6 +24,17 @@ struct NearMerge {
 };
 NearMerge mergeNearPoints(OrientedPoints& points, double tolerance);
 
+// Points whose normals are not consistently oriented (a scan's normals estimated without a viewpoint: some point
+// in, some out) give a fit that turns inside out in places. Neighbours along the surface are those of each point's
+// 8 nearest that lie within 60° of both tangent planes, and not each behind the other's (the two sides of a thin
+// part, the walls of a narrow gap: rightly opposed). When more
+// than 5% of those pairs have normals opposed (a dot product under −½), the normals are oriented over them as Hoppe
+// et al. (1992) do: from the extreme point along x, its normal
+// turned outward (+x), along a minimum spanning tree of the neighbour graph weighted 1 − |nᵢ·nⱼ| (Prim's, ties by
+// index: deterministic), each point's normal turned to agree with the one it is reached from; each connected
+// part starts again from its own extreme point. Returns the normals flipped (0 when consistent already).
+size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals);
+
 // Deterministic farthest-point sampling: starts at the point with the smallest (x, y, z) in
 // lexicographic order, then repeatedly takes the point farthest from those chosen (ties: lowest index).
 // Returns indices into `positions`; count >= positions.size() returns all of them in input order.

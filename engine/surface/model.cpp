@@ -118,6 +118,16 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         inputs.positions.push_back(frame.toNormalized(points.positions[i]));
         inputs.normals.push_back(points.normals[i]);
     }
+    if (points.triangles.empty()) {  // a mesh's winding orients its normals; a point cloud's may point every way
+        model.flippedNormals = orientNormals(inputs.positions, inputs.normals);
+        if (model.flippedNormals) {
+            points.normals = inputs.normals;
+            note("turned " + std::to_string(model.flippedNormals) + " of the input's " +
+                 std::to_string(points.normals.size()) +
+                 " normals to agree with their neighbours' (they were not consistently oriented)");
+        }
+    }
+    phases.lap("orient");
 
     // A mesh's faces, sampled besides its vertices: the surface then follows the triangles, not only their
     // corners (a low-poly model's long thin triangles have no vertex along them).

@@ -31,6 +31,7 @@ struct Model {
     size_t inputPoints = 0;  // read from the file (a mesh's vertices)
     size_t faceSamples = 0;  // points sampled over a mesh's faces and fitted besides its vertices
     size_t mergedDuplicates = 0;
+    size_t flippedNormals = 0;  // a point cloud's normals turned to agree with their neighbours' (orientNormals)
     double loadSeconds = 0;
     // The error at every point the fit was given (all input points, not only the control points), normalized
     // units (fractions of the diagonal), evaluated as the device evaluates.
