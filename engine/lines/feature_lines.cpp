@@ -67,6 +67,25 @@ std::vector<Chain> chainEdges(const std::vector<Edge>& edges) {
     return chains;
 }
 
+// kSmoothingRounds of Taubin's λ|μ smoothing (1995) along a polyline: each point moves by λ = ½, then μ = −0.53, of
+// the way to its neighbours' midpoint (λ cancels an alternating zigzag in a step; μ keeps longer bends from
+// shrinking); `fixed` points stay. Closed: the ends are neighbours.
+void taubinSmooth(std::vector<Eigen::Vector3d>& x, const std::vector<bool>& fixed, bool closed) {
+    const size_t n = x.size();
+    if (n < 3) return;
+    std::vector<Eigen::Vector3d> next(n);
+    for (int round = 0; round < 2 * kSmoothingRounds; ++round) {
+        const double factor = round % 2 == 0 ? 0.5 : -0.53;
+        for (size_t i = 0; i < n; ++i) {
+            const bool end = !closed && (i == 0 || i + 1 == n);
+            next[i] = fixed[i] || end
+                          ? x[i]
+                          : Eigen::Vector3d(x[i] + factor * (0.5 * (x[(i + n - 1) % n] + x[(i + 1) % n]) - x[i]));
+        }
+        x.swap(next);
+    }
+}
+
 // The chain's vertex positions, smoothed along it. A coarse mesh's feature edges zigzag where the feature runs
 // across its triangles (the bunny's ear rims: a turn of 30–60° at every vertex, alternating): rounds of Taubin's
 // λ|μ smoothing (1995) take out the zigzag, the chain's highest frequency (λ = ½ cancels an alternating one in a
@@ -93,17 +112,7 @@ SmoothChain smoothChain(const Chain& chain, const std::vector<Eigen::Vector3d>& 
     constexpr double kCorner = 60 * M_PI / 180, kStraight = 20 * M_PI / 180;
     for (size_t i = 0; i < n; ++i)
         if (turns[i] > kCorner && turns[(i + n - 1) % n] < kStraight && turns[(i + 1) % n] < kStraight) fixed[i] = true;
-    std::vector<Eigen::Vector3d> next(n);
-    for (int round = 0; round < 2 * kSmoothingRounds; ++round) {
-        const double factor = round % 2 == 0 ? 0.5 : -0.53;  // λ, then μ
-        for (size_t i = 0; i < n; ++i) {
-            const bool end = !chain.closed && (i == 0 || i + 1 == n);
-            next[i] = fixed[i] || end
-                          ? x[i]
-                          : Eigen::Vector3d(x[i] + factor * (0.5 * (x[(i + n - 1) % n] + x[(i + 1) % n]) - x[i]));
-        }
-        x.swap(next);
-    }
+    taubinSmooth(x, fixed, chain.closed);
     if (!chain.closed) fixed.front() = fixed.back() = true;
     return {x, fixed};
 }
@@ -116,18 +125,9 @@ SmoothChain smoothChain(const Chain& chain, const std::vector<Eigen::Vector3d>& 
 void smoothLaid(const Surface& surface, PenStroke& stroke, const std::vector<bool>& pinned) {
     const size_t n = stroke.points.size();
     if (n < 3) return;
-    std::vector<Eigen::Vector3d> p(n), q(n);
+    std::vector<Eigen::Vector3d> p(n);
     for (size_t i = 0; i < n; ++i) p[i] = stroke.points[i].cast<double>();
-    for (int round = 0; round < 2 * kSmoothingRounds; ++round) {
-        const double factor = round % 2 == 0 ? 0.5 : -0.53;
-        for (size_t i = 0; i < n; ++i) {
-            const bool keep = pinned[i] || (!stroke.closed && (i == 0 || i + 1 == n));
-            const Eigen::Vector3d& a = p[(i + n - 1) % n];
-            const Eigen::Vector3d& b = p[(i + 1) % n];
-            q[i] = keep ? p[i] : Eigen::Vector3d(p[i] + factor * (0.5 * (a + b) - p[i]));
-        }
-        p.swap(q);
-    }
+    taubinSmooth(p, pinned, stroke.closed);
     for (size_t i = 0; i < n; ++i) {
         Eigen::Vector3d g;
         const double f = surface.eval(p[i], g), length = g.norm();
