@@ -120,6 +120,7 @@ void Scene::setLines(TracedLines traced) {
     hatching = std::move(traced.hatching);
     hatchStats = traced.hatchStats;
     contours.clear();
+    snap_ = {};
     if (!lines.any()) {
         strokes.reset();
         hatchSeconds = 0;
@@ -130,6 +131,10 @@ void Scene::setLines(TracedLines traced) {
     strokes->set(StrokeBuffers::Hatching, hatching);
     strokes->set(StrokeBuffers::Contours, {});
     strokes->set(StrokeBuffers::Creases, lines.creases ? model.features.creases : std::vector<PenStroke>{});
+    std::vector<PenStroke> drawn;  // the feature lines the contour is laid onto where it runs along them
+    if (lines.creases) drawn = model.features.creases;
+    if (lines.boundaries) drawn.insert(drawn.end(), model.features.boundaries.begin(), model.features.boundaries.end());
+    snap_ = LineSnap(drawn, 2 * lines.contour.step);
     strokes->set(StrokeBuffers::Boundaries, lines.boundaries ? model.features.boundaries : std::vector<PenStroke>{});
     hatchSeconds = traced.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -157,11 +162,8 @@ void Scene::traceContours(const Camera& camera) {
             trimStrokes(ink::traceContours(model.surface, eye, samples, lines.contour, &contourStats), model.support);
     }
     // A crease or boundary line drawn stands for its edge: the contour along it, within two steps, is laid onto it
-    // (snapToLines), and the scraps the fit's ripple leaves between, under eight steps, bridged.
-    std::vector<PenStroke> drawn;
-    if (lines.creases) drawn = model.features.creases;
-    if (lines.boundaries) drawn.insert(drawn.end(), model.features.boundaries.begin(), model.features.boundaries.end());
-    contours = snapToLines(contours, drawn, 2 * lines.contour.step, 8 * lines.contour.step);
+    // (snapToLines, indexed in setLines), and the scraps the fit's ripple leaves between, under eight steps, bridged.
+    contours = snap_.apply(contours, 8 * lines.contour.step);
     strokes->set(StrokeBuffers::Contours, contours);
 }
 

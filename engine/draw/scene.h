@@ -4,6 +4,7 @@
 
 #include "draw/camera.h"
 #include "lines/contour_device.h"
+#include "lines/feature_lines.h"
 #include "lines/hatching.h"
 #include "lines/lines.h"
 #include "lines/strokes.h"
@@ -91,6 +92,7 @@ public:
 
 private:
     std::unique_ptr<DeviceContours> deviceContours_;  // for the first set; dropped whenever the sets change
+    LineSnap snap_;  // the drawn crease and boundary lines, for the contour to be laid onto (setLines)
     bool notedCpuContours_ = false;
 };
 

@@ -203,28 +203,32 @@ Eigen::Vector3f tangentAt(const PenStroke& s, size_t i) {
 
 }  // namespace
 
-std::vector<PenStroke> snapToLines(const std::vector<PenStroke>& contours, const std::vector<PenStroke>& lines,
-                                   double radius, double minRun, size_t* snapped) {
-    if (snapped) *snapped = 0;
-    if (lines.empty() || !(radius > 0)) return contours;
-    struct Entry {
-        Eigen::Vector3f p, n, t;
-    };
-    std::vector<Entry> entries;
-    std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
-    const double inverse = 1.0 / radius;
-    auto cellKey = [&](const Eigen::Vector3f& p, int dx, int dy, int dz) {
-        const Eigen::Array3i c = (p.cast<double>().array() * inverse).floor().cast<int>() + Eigen::Array3i(dx, dy, dz);
-        return (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
-               uint64_t(uint32_t(c.z()) & 0x1FFFFF);
-    };
+uint64_t LineSnap::key(const Eigen::Vector3f& p, int dx, int dy, int dz) const {
+    const Eigen::Array3i c = (p.cast<double>().array() * inverse_).floor().cast<int>() + Eigen::Array3i(dx, dy, dz);
+    return (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
+           uint64_t(uint32_t(c.z()) & 0x1FFFFF);
+}
+
+LineSnap::LineSnap(const std::vector<PenStroke>& lines, double radius)
+    : radius_(radius > 0 ? radius : 0), inverse_(radius > 0 ? 1.0 / radius : 0) {
+    if (!(radius > 0)) return;
     for (const PenStroke& s : lines)
         for (size_t i = 0; i < s.points.size(); ++i) {
-            grid[cellKey(s.points[i], 0, 0, 0)].push_back(uint32_t(entries.size()));
-            entries.push_back({s.points[i], s.normals[i], tangentAt(s, i)});
+            grid_[key(s.points[i], 0, 0, 0)].push_back(uint32_t(entries_.size()));
+            entries_.push_back({s.points[i], s.normals[i], tangentAt(s, i)});
         }
-    const float r2 = float(radius * radius), parallel = std::cos(float(30 * M_PI / 180));
-    // The nearest line point within `radius` of the contour's point i, on its side and running its way; -1 if none.
+}
+
+std::vector<PenStroke> snapToLines(const std::vector<PenStroke>& contours, const std::vector<PenStroke>& lines,
+                                   double radius, double minRun, size_t* snapped) {
+    return LineSnap(lines, radius).apply(contours, minRun, snapped);
+}
+
+std::vector<PenStroke> LineSnap::apply(const std::vector<PenStroke>& contours, double minRun, size_t* snapped) const {
+    if (snapped) *snapped = 0;
+    if (entries_.empty()) return contours;
+    const float r2 = float(radius_ * radius_), parallel = std::cos(float(30 * M_PI / 180));
+    // The nearest line point within the radius of the contour's point i, on its side and running its way; -1 if none.
     auto nearest = [&](const PenStroke& s, size_t i) {
         const Eigen::Vector3f& p = s.points[i];
         const Eigen::Vector3f t = tangentAt(s, i);
@@ -233,10 +237,10 @@ std::vector<PenStroke> snapToLines(const std::vector<PenStroke>& contours, const
         for (int dz = -1; dz <= 1; ++dz)
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
-                    auto it = grid.find(cellKey(p, dx, dy, dz));
-                    if (it == grid.end()) continue;
+                    auto it = grid_.find(key(p, dx, dy, dz));
+                    if (it == grid_.end()) continue;
                     for (uint32_t e : it->second) {
-                        const Entry& l = entries[e];
+                        const Entry& l = entries_[e];
                         const float d2 = (l.p - p).squaredNorm();
                         if (d2 < bestD2 && l.n.dot(s.normals[i]) > 0 && std::abs(l.t.dot(t)) > parallel)
                             best = e, bestD2 = d2;
@@ -265,7 +269,7 @@ std::vector<PenStroke> snapToLines(const std::vector<PenStroke>& contours, const
             }
         };
         for (size_t i = 0; i < m; ++i)
-            if (target[i] >= 0) s.points[i] = entries[size_t(target[i])].p;
+            if (target[i] >= 0) s.points[i] = entries_[size_t(target[i])].p;
         if (count < m) {
             size_t first = 0;
             while (!along[first]) ++first;

@@ -8,6 +8,8 @@
 #include "lines/lines.h"
 #include "surface/surface.h"
 
+#include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 namespace ink {
@@ -58,6 +60,24 @@ FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, 
 // `snapped` counts the points moved.
 std::vector<PenStroke> snapToLines(const std::vector<PenStroke>& contours, const std::vector<PenStroke>& lines,
                                    double radius, double minRun, size_t* snapped = nullptr);
+
+// The same with the lines' points indexed once (a grid of cells of `radius`), for a contour traced every view.
+class LineSnap {
+public:
+    LineSnap() = default;
+    LineSnap(const std::vector<PenStroke>& lines, double radius);
+    std::vector<PenStroke> apply(const std::vector<PenStroke>& contours, double minRun,
+                                 size_t* snapped = nullptr) const;
+
+private:
+    struct Entry {
+        Eigen::Vector3f p, n, t;  // position, unit normal, unit tangent
+    };
+    uint64_t key(const Eigen::Vector3f& p, int dx, int dy, int dz) const;
+    std::vector<Entry> entries_;
+    std::unordered_map<uint64_t, std::vector<uint32_t>> grid_;
+    double radius_ = 0, inverse_ = 0;
+};
 
 // Moves x onto f = 0 by Newton steps along ∇f and returns the unit normal there in `normal`; false when it does
 // not converge or moves farther than `reach`.
