@@ -11,6 +11,13 @@
 
 namespace ink {
 
+// A grid cell's hash key: its three coordinates, 21 bits each (cells wrap every 2²¹ along an axis, far beyond the
+// unit-diagonal models the grids hold). The one packing every hashed grid of the CPU code uses.
+inline uint64_t cellKey(int x, int y, int z) {
+    return (uint64_t(uint32_t(x) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(y) & 0x1FFFFF) << 21) |
+           uint64_t(uint32_t(z) & 0x1FFFFF);
+}
+
 // Points of strokes in a uniform grid hashed by cell, for "is any point of another stroke within r" queries
 // with r at most the cell side (27 cells a query).
 class PointHash {
@@ -80,10 +87,7 @@ public:
 
 private:
     Eigen::Array3i cellOf(const Vector3d& p) const { return (p.array() * inv_).floor().cast<int>(); }
-    static uint64_t key(const Eigen::Array3i& c) {
-        return (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
-               uint64_t(uint32_t(c.z()) & 0x1FFFFF);
-    }
+    static uint64_t key(const Eigen::Array3i& c) { return cellKey(c.x(), c.y(), c.z()); }
     double inv_;
     std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
     std::vector<Entry> entries_;

@@ -1,5 +1,6 @@
 // The cross field of the hatching (cross_field.h).
 #include "lines/cross_field.h"
+#include "base/point_hash.h"
 #include "base/point_tree.h"
 
 #include <Eigen/Geometry>
@@ -160,8 +161,7 @@ CrossField::CrossField(const Surface& surface, const std::vector<SurfaceSample>&
         last.parent.resize(last.p.size());
         for (size_t i = 0; i < last.p.size(); ++i) {
             const Eigen::Array3i c = (last.p[i].array() / cell).floor().cast<int>();
-            const uint64_t key = (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) |
-                                 (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) | uint64_t(uint32_t(c.z()) & 0x1FFFFF);
+            const uint64_t key = cellKey(c.x(), c.y(), c.z());
             // The two sides of a thin part share cells: points facing away from the cell's first get their own.
             auto found = index.find(key);
             const uint64_t side = found != index.end() && up.n[found->second].dot(last.n[i]) < 0.0 ? 1ull << 63 : 0;
@@ -245,8 +245,7 @@ CrossField::CrossField(const Surface& surface, const std::vector<SurfaceSample>&
     inverseCell_ = 1.0 / radius_;
     for (uint32_t i = 0; i < m; ++i) {
         const Eigen::Array3i c = (positions_[i].array() * inverseCell_).floor().cast<int>();
-        const uint64_t key = (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) |
-                             (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) | uint64_t(uint32_t(c.z()) & 0x1FFFFF);
+        const uint64_t key = cellKey(c.x(), c.y(), c.z());
         cells_[key].push_back(i);
     }
 }
@@ -275,9 +274,7 @@ bool CrossField::lookup(const Vector3d& x, const Vector3d& n, const Vector3d& re
         for (int dy = -1; dy <= 1; ++dy)
             for (int dx = -1; dx <= 1; ++dx) {
                 const Eigen::Array3i q = c + Eigen::Array3i(dx, dy, dz);
-                const uint64_t key = (uint64_t(uint32_t(q.x()) & 0x1FFFFF) << 42) |
-                                     (uint64_t(uint32_t(q.y()) & 0x1FFFFF) << 21) |
-                                     uint64_t(uint32_t(q.z()) & 0x1FFFFF);
+                const uint64_t key = cellKey(q.x(), q.y(), q.z());
                 auto it = cells_.find(key);
                 if (it == cells_.end()) continue;
                 for (uint32_t j : it->second) {

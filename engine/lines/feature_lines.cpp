@@ -1,6 +1,7 @@
 #include "lines/feature_lines.h"
 
 #include "base/parallel.h"
+#include "base/point_hash.h"
 #include "base/point_tree.h"
 #include "surface/surface_sampling.h"
 
@@ -205,8 +206,7 @@ Eigen::Vector3f tangentAt(const PenStroke& s, size_t i) {
 
 uint64_t LineSnap::key(const Eigen::Vector3f& p, int dx, int dy, int dz) const {
     const Eigen::Array3i c = (p.cast<double>().array() * inverse_).floor().cast<int>() + Eigen::Array3i(dx, dy, dz);
-    return (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
-           uint64_t(uint32_t(c.z()) & 0x1FFFFF);
+    return cellKey(c.x(), c.y(), c.z());
 }
 
 LineSnap::LineSnap(const std::vector<PenStroke>& lines, double radius)
@@ -448,8 +448,7 @@ FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, 
         for (size_t i = 0; i < m; ++i) {
             if (!edge[i]) continue;
             const Eigen::Array3i c = (at[i].array() / spacing).floor().cast<int>();
-            const uint64_t key = (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) |
-                                 (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) | uint64_t(uint32_t(c.z()) & 0x1FFFFF);
+            const uint64_t key = cellKey(c.x(), c.y(), c.z());
             auto [it, added] = cell.emplace(key, uint32_t(x.size()));
             if (added) {
                 x.push_back(Eigen::Vector3d::Zero()), e.push_back(Eigen::Vector3d::Zero()), count.push_back(0);

@@ -1,5 +1,7 @@
 #include "refine/spacing.h"
 
+#include "base/point_hash.h"
+
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
@@ -59,10 +61,7 @@ public:
 
 private:
     Eigen::Vector3i cellOf(const Eigen::Vector3f& p) const { return ((p - lo_) / cell_).array().floor().cast<int>(); }
-    static uint64_t key(const Eigen::Vector3i& c) {
-        return (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
-               uint64_t(uint32_t(c.z()) & 0x1FFFFF);
-    }
+    static uint64_t key(const Eigen::Vector3i& c) { return cellKey(c.x(), c.y(), c.z()); }
 
     std::vector<Eigen::Vector3f> points_;
     Eigen::Vector3f lo_;
