@@ -33,9 +33,10 @@ if ! dpkg-query -W -f='${Status}' g++-aarch64-linux-gnu 2>/dev/null | grep -q "i
   apt-get install -y -qq --no-install-recommends g++-aarch64-linux-gnu
 fi
 
-# The host configure: the shader headers, and the compile commands to reuse.
+# The host configure: the shader headers, and the compile commands to reuse (a command a source: no unity build,
+# so that each source is also checked to compile on its own).
 cmake -S . -B "$out/host" -DCMAKE_BUILD_TYPE=Release -DINKWELL_WERROR=ON -DCMAKE_EXPORT_COMPILE_COMMANDS=ON \
-  >/dev/null
+  -DINKWELL_UNITY_BUILD=OFF >/dev/null
 cmake --build "$out/host" --target shaders -j"$(nproc)" >/dev/null
 
 # One line a source: "FILE<TAB>COMMAND", COMMAND the host's, shell-quoted, run from the host build's directory

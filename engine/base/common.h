@@ -66,6 +66,11 @@ private:
     int lastPercent_ = -1;
 };
 
+// Wall-clock seconds since t.
+inline double secondsSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
 // Wall-clock milliseconds since it was made or last asked.
 struct Stopwatch {
     std::chrono::steady_clock::time_point mark = std::chrono::steady_clock::now();

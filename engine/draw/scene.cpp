@@ -60,7 +60,7 @@ void Scene::refine(DrawStyle style, const RefineOptions& options, const LineOpti
     sets.clear();  // before the new ones are made: the device holds one scene's points at a time
     auto start = std::chrono::steady_clock::now();
     Sets made = build(style, options);
-    replace(std::move(made), std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), l);
+    replace(std::move(made), secondsSince(start), l);
 }
 
 Scene::Sets Scene::build(DrawStyle style, const RefineOptions& options) const {
@@ -108,7 +108,7 @@ Scene::TracedLines Scene::traceLines(const Sets& from, const LineOptions& l) con
                              Eigen::Vector3d(p.normal[0], p.normal[1], p.normal[2])});
     if (l.hatching)
         t.hatching = trimStrokes(traceHatching(model.surface, t.samples, l.hatch, &t.hatchStats), model.support);
-    t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    t.seconds = secondsSince(start);
     return t;
 }
 
@@ -136,7 +136,7 @@ void Scene::setLines(TracedLines traced) {
     if (lines.boundaries) drawn.insert(drawn.end(), model.features.boundaries.begin(), model.features.boundaries.end());
     snap_ = LineSnap(drawn, 2 * lines.contour.step);
     strokes->set(StrokeBuffers::Boundaries, lines.boundaries ? model.features.boundaries : std::vector<PenStroke>{});
-    hatchSeconds = traced.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    hatchSeconds = traced.seconds + secondsSince(start);
 }
 
 void Scene::traceContours(const Camera& camera) {

@@ -162,7 +162,7 @@ private:
     size_t pos_ = 0, number_ = 0;
 };
 
-std::string readFile(const std::string& path) {
+std::string readHrbfFile(const std::string& path) {
     return readFileCapped(path, kMaxHrbfBytes,
                           "file is larger than " + std::to_string(kMaxHrbfBytes >> 30) +
                               " GiB, the limit for an HRBF model (docs/hrbf-format.md)");
@@ -726,7 +726,7 @@ void saveHrbf(const std::string& path, const Surface& model, HrbfFormat format) 
     });
 }
 
-Surface loadHrbf(const std::string& path, FitStats* measured) { return parseHrbf(readFile(path), path, measured); }
+Surface loadHrbf(const std::string& path, FitStats* measured) { return parseHrbf(readHrbfFile(path), path, measured); }
 
 Surface parseHrbf(const std::string& bytes, const std::string& name, FitStats* measured) {
     if (bytes.compare(0, kHrbf3Magic.size(), kHrbf3Magic) == 0) return decode3(bytes, name, true, measured);

@@ -16,7 +16,7 @@ namespace {
 
 const char* const kSupported = ".obj .ply .pts .xyzn .txt .xyz .pwn .off .stl .gltf .glb";
 
-std::string readFile(const std::string& path) {
+std::string readModelFile(const std::string& path) {
     namespace fs = std::filesystem;
     std::error_code ec;
     fs::file_status status = fs::status(path, ec);
@@ -51,7 +51,7 @@ OrientedPoints loadPoints(const std::string& path) {
     else
         io::fail(path, (ext.empty() ? std::string("no file extension") : "unsupported file extension '." + ext + "'") +
                            "; supported: " + kSupported);
-    return parsePoints(readFile(path), format, path);
+    return parsePoints(readModelFile(path), format, path);
 }
 
 OrientedPoints parsePoints(const std::string& bytes, const std::string& format, const std::string& name) {

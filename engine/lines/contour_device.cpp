@@ -435,7 +435,7 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
         splitAtCusps(c.points, c.normals, c.closed, eye, options_, curveId++, pieces, s);
     }
     s.pieces = pieces.size();
-    s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    s.seconds = secondsSince(start);
     if (stats) *stats = s;
     return pieces;
 }

@@ -16,10 +16,6 @@ using Eigen::Vector3d;
 
 namespace {
 
-double secondsSince(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
 // Newton steps along ∇f onto f = 0; n is the unit normal there.
 bool projectToSurface(const Surface& hrbf, Vector3d& x, Vector3d& n) {
     for (int i = 0; i < 8; ++i) {

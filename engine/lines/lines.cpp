@@ -31,10 +31,6 @@ double PenStroke::length() const {
 
 namespace {
 
-double secondsSince(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
 // ---- Contours ---------------------------------------------------------------------------------------------------
 
 struct ContourEval {

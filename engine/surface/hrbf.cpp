@@ -165,7 +165,7 @@ Hrbf fitHrbf(const std::vector<Vector3d>& points, const std::vector<Vector3d>& n
         *stats = measureFit(model);
         stats->phases = std::move(phases);
         stats->relativeResidual = residual;
-        stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        stats->seconds = secondsSince(start);
     }
     return model;
 }

@@ -362,7 +362,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     } else if (options.trim)
         model.support = mesh.triangles.empty() ? Support(inputs.positions) : Support(mesh, 2 * model.inputMaxDistance);
     phases.lap("support");
-    model.fit.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    model.fit.seconds = secondsSince(start);
     return model;
 }
 
@@ -386,7 +386,7 @@ Model loadModel(const std::string& path, const ModelOptions& options) {
         if (options.controlPoints)
             note("--control-points is ignored for '" + path + "': a .hrbf model is already fitted");
         model.inputPoints = model.surface.size();
-        model.loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        model.loadSeconds = secondsSince(start);
         model.fit = measured;  // measureFit's figures; relativeResidual and seconds stay 0: nothing was solved
         if (model.surface.method == FitMethod::PartitionOfUnity) {  // the inputs are the centres: measured already
             model.inputMaxDistance = measured.maxDistance;
@@ -398,7 +398,7 @@ Model loadModel(const std::string& path, const ModelOptions& options) {
         return model;
     }
     OrientedPoints points = loadPoints(path);
-    double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    double load = secondsSince(start);
     Model model;
     try {
         model = fitModel(std::move(points), options);

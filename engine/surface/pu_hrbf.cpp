@@ -287,7 +287,8 @@ double tangentNorm(const Matrix3d& A, const Vector3d& n) {
     return std::abs(0.5 * (a + c)) + std::sqrt(0.25 * (a - c) * (a - c) + b * b);
 }
 
-double percentile(std::vector<double> v, double q) {
+// The value of rank ⌊q·n⌋ (the fidelity's percentile ranks ⌊q·(n − 1)⌋).
+double rankPercentile(std::vector<double> v, double q) {
     if (v.empty()) return 0;
     const size_t k = std::min(v.size() - 1, size_t(q * double(v.size())));
     std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
@@ -370,12 +371,12 @@ PuSeams measureSeams(const PuHrbf& model, size_t maxSamples) {
     for (const auto& [t, r, g, given] : figures)
         if (given == 1) tilt.push_back(t), ratio.push_back(r), rough.push_back(g);
     out.samples = tilt.size();
-    out.normalDegMedian = percentile(tilt, 0.5);
-    out.normalDegP95 = percentile(tilt, 0.95);
-    out.curvatureRatioMedian = percentile(ratio, 0.5);
-    out.curvatureRatioP95 = percentile(ratio, 0.95);
-    out.roughnessMedian = percentile(rough, 0.5);
-    out.roughnessP95 = percentile(rough, 0.95);
+    out.normalDegMedian = rankPercentile(tilt, 0.5);
+    out.normalDegP95 = rankPercentile(tilt, 0.95);
+    out.curvatureRatioMedian = rankPercentile(ratio, 0.5);
+    out.curvatureRatioP95 = rankPercentile(ratio, 0.95);
+    out.roughnessMedian = rankPercentile(rough, 0.5);
+    out.roughnessP95 = rankPercentile(rough, 0.95);
     return out;
 }
 
