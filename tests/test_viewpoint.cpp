@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <string>
 
 namespace {
 
@@ -184,6 +185,45 @@ TEST_CASE("viewpoint: a sphere with detail on one side is seen from that side, a
             even += d[i], ++nEven;
     CHECK(even / double(nEven) < 0.01);
     CHECK(cap / double(nCap) > 10 * even / double(nEven));
+}
+
+TEST_CASE("viewpoint: a one-sided scan is seen from the side it was scanned from, not into its open back" *
+          doctest::test_suite("unit")) {
+    // A scan from +z keeps only the surface that faced the scanner. From behind, an open surface shows its
+    // back, which hides the few front-facing samples behind it: that is not the shape hiding itself (a front),
+    // and such views must not be chosen. CGAL's hippo1.ply was drawn from its open back this way.
+    const auto scanned = [](const ink::ViewSamples& all) {
+        ink::ViewSamples s;
+        for (size_t i = 0; i < all.positions.size(); ++i)
+            if (all.normals[i].z > -0.3f) s.positions.push_back(all.positions[i]), s.normals.push_back(all.normals[i]);
+        return s;
+    };
+    ink::ViewSamples ball;  // a Fibonacci sphere
+    for (int i = 0, n = 6000; i < n; ++i) {
+        const float y = 1.0f - 2.0f * (float(i) + 0.5f) / float(n), r = std::sqrt(1.0f - y * y),
+                    a = 2.39996323f * float(i);
+        const glm::vec3 p(r * std::cos(a), y, r * std::sin(a));
+        ball.positions.push_back(0.4f * p);
+        ball.normals.push_back(p);
+    }
+    for (const auto& [name, samples] :
+         {std::pair{std::string("figure"), scanned(boxes(figure()))}, std::pair{std::string("ball"), scanned(ball)}}) {
+        CAPTURE(name);
+        const ink::ViewChoice v = ink::chooseView(samples, ink::UpAxis::PosY);
+        CAPTURE(v.azimuthDeg);
+        CAPTURE(v.frontDeg);
+        CHECK(std::abs(std::remainder(v.azimuthDeg, 360.0f)) < 90.0f);
+        const float az = glm::radians(v.azimuthDeg), el = glm::radians(v.elevationDeg);
+        const glm::vec3 eye(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+        CHECK(ink::scoreView(samples, eye).facing > 0.9f);
+        // From straight behind, most of what shows is the back.
+        CHECK(ink::scoreView(samples, glm::vec3(0, 0, -1)).facing < 0.5f);
+    }
+    // A closed surface faces the eye from every side.
+    for (float azDeg : {30.0f, 120.0f, 210.0f, 300.0f}) {
+        const glm::vec3 eye(std::sin(glm::radians(azDeg)), 0, std::cos(glm::radians(azDeg)));
+        CHECK(ink::scoreView(boxes(figure()), eye).facing > 0.9f);
+    }
 }
 
 TEST_CASE("viewpoint: framing puts the projected extent at 85% of the frame, centred" * doctest::test_suite("unit")) {

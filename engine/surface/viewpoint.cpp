@@ -163,13 +163,21 @@ ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye, con
     if (!(radius > 0)) return {};
     const float pixel = 2 * radius / G;
     std::vector<float> nearest(G * G, -std::numeric_limits<float>::max());
+    // The nearest sample of each 3×3 block of pixels (several samples a block: a closed surface's nearest one
+    // faces the eye but at its outline).
+    constexpr int B = G / 3;
+    std::vector<float> blockNearest(B * B, -std::numeric_limits<float>::max());
+    std::vector<size_t> blockSample(B * B, n);
     std::vector<int> cell(n);
     for (size_t i = 0; i < n; ++i) {
         const glm::vec3& p = samples.positions[i];
         const int x = std::clamp(int((glm::dot(p, right) + radius) / pixel), 0, G - 1);
         const int y = std::clamp(int((glm::dot(p, upInImage) + radius) / pixel), 0, G - 1);
         cell[i] = y * G + x;
-        nearest[cell[i]] = std::max(nearest[cell[i]], glm::dot(p, towardsEye));
+        const float depth = glm::dot(p, towardsEye);
+        nearest[cell[i]] = std::max(nearest[cell[i]], depth);
+        const int block = (y / 3) * B + x / 3;
+        if (depth > blockNearest[block]) blockNearest[block] = depth, blockSample[block] = i;
     }
     // A visible sample faces the eye and lies within two pixels of the nearest surface in its pixel. Each
     // sample stands for the same area, which is the covered pixels' area over the visible samples' Σ n·v.
@@ -189,8 +197,13 @@ ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye, con
         facing += c;
         if (detail) seen += (*detail)[i];
     }
-    size_t covered = 0;
+    size_t covered = 0, blocks = 0, blocksFacing = 0;
     for (float d : nearest) covered += d > -std::numeric_limits<float>::max();
+    for (size_t i : blockSample) {
+        if (i == n) continue;
+        ++blocks;
+        blocksFacing += glm::dot(samples.normals[i], towardsEye) > 0;
+    }
     if (facing <= 0) return {};
     // Areas relative to the image square's: the covered part split over the visible samples, the rest
     // background. The entropy of that split, in bits.
@@ -202,7 +215,7 @@ ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye, con
     }
     const double background = 1.0 - double(covered) / total;
     if (background > 0) h -= background * std::log2(background);
-    return {float(h), float(double(hidden) / double(front)), float(seen)};
+    return {float(h), float(double(hidden) / double(front)), float(seen), float(double(blocksFacing) / double(blocks))};
 }
 
 static float candidateAzimuth(int k) { return std::fmod(30.0f + 360.0f * float(k) / kViewAzimuths, 360.0f); }
@@ -225,13 +238,21 @@ ViewChoice chooseView(const ViewSamples& samples, UpAxis up) {
     ViewScore scores[E][kViewAzimuths];
     glm::vec2 front(0), detailed(0);
     double detailSum = 0;
+    float mostFacing = 0;
     for (int e = 0; e < E; ++e)
         for (int k = 0; k < kViewAzimuths; ++k) {
             const float az = glm::radians(candidateAzimuth(k)), el = glm::radians(kViewElevations[e]);
             scores[e][k] = scoreView(
                 local, glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)), &detail);
+            mostFacing = std::max(mostFacing, scores[e][k].facing);
+        }
+    for (int e = 0; e < E; ++e)
+        for (int k = 0; k < kViewAzimuths; ++k) {
+            const float az = glm::radians(candidateAzimuth(k));
             const glm::vec2 towards(std::sin(az), std::cos(az));
-            front += scores[e][k].hidden * towards;
+            // What an open surface's back hides behind it is not the shape hiding itself: only the share of
+            // the view that sees the front counts.
+            front += scores[e][k].hidden * scores[e][k].facing * towards;
             detailed += scores[e][k].detail * towards;
             detailSum += scores[e][k].detail;
         }
@@ -267,7 +288,7 @@ ViewChoice chooseView(const ViewSamples& samples, UpAxis up) {
             const float off = std::abs(std::remainder(azimuth - best.frontDeg, 360.0f));
             if (sided && (off < kThreeQuarterMinDeg || off > kThreeQuarterMaxDeg)) continue;
             const ViewScore& score = scores[e][k];
-            if (!(score.entropy > 0)) continue;
+            if (!(score.entropy > 0) || score.facing < kLeastFacingShare * mostFacing) continue;
             const float merit = score.entropy + (faced ? std::log2(std::max(score.detail, 1e-3f * mean) / mean) : 0.0f);
             if (merit > bestMerit + 1e-4f) {
                 bestMerit = merit;

@@ -50,14 +50,19 @@ constexpr float kViewElevations[] = {15.0f, 30.0f};
 // A three-quarter view: where a front is clear, the candidates lie this far from it in azimuth (the canonical
 // views of Palmer et al. 1981 and Blanz et al. 1999: the front and a side at once, neither face-on nor profile).
 constexpr float kThreeQuarterMinDeg = 20.0f, kThreeQuarterMaxDeg = 60.0f;
+// A candidate view competes when the share of its covered pixels that see the surface's front is at least this
+// much of the best view's (ViewScore::facing).
+constexpr float kLeastFacingShare = 0.75f;
 // The view of `samples` about `up` among the three-quarter views of its front, by viewpoint entropy (Vázquez
 // et al. 2001) and the detail it shows: the samples are drawn into a small depth buffer from each candidate
 // direction, and a visible sample counts with its projected area |n·v|; the entropy of those areas (and the
 // background's) is larger the more surface is seen and the more evenly it faces the eye. Views along the
 // principal axes of the silhouette, that flatten the shape, score low. The front is the side from which the
-// shape hides the most of itself, turned towards the side that shows the most detail where the two agree (or
+// shape hides the most of itself (counted in the views that see the surface's front, not an open surface's
+// back), turned towards the side that shows the most detail where the two agree (or
 // that side alone, on a nearly convex shape); where detail helped, a view's merit is its entropy + log₂(the
 // detail it shows / a candidate's mean), else its entropy (docs/usage.md, "The first picture").
+// Views that see much less of the surface's front than the best one (an open scan from behind) do not compete.
 // Ties (a symmetric shape) keep the first of the candidate order, which starts at azimuth 30°, elevation 15°.
 ViewChoice chooseView(const ViewSamples& samples, UpAxis up);
 // How much the surface turns around each sample: 1 − |the mean of the unit normals of its 16 nearest
@@ -65,10 +70,12 @@ ViewChoice chooseView(const ViewSamples& samples, UpAxis up);
 // and paws score high, a smooth back low).
 std::vector<float> sampleDetail(const ViewSamples& samples);
 // One view direction (unit, from the model towards the eye; samples in the y-up frame): its viewpoint entropy
-// in bits, the fraction of the samples facing the eye that something nearer hides, and the sum of `detail`
-// (one value a sample, or none) over the visible samples.
+// in bits, the fraction of the samples facing the eye that something nearer hides, the sum of `detail`
+// (one value a sample, or none) over the visible samples, and the share of the covered pixels whose nearest
+// sample faces the eye (1 on a closed surface but at its outline; small where an open surface, a one-sided
+// scan, shows its back).
 struct ViewScore {
-    float entropy = 0, hidden = 0, detail = 0;
+    float entropy = 0, hidden = 0, detail = 0, facing = 0;
 };
 ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye,
                     const std::vector<float>* detail = nullptr);
