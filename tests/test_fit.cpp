@@ -1,6 +1,7 @@
 #include "base/common.h"
 #include "io/hrbf_io.h"
 #include "io/points.h"
+#include "surface/clean.h"
 #include "surface/hrbf.h"
 #include "surface/model.h"
 
@@ -98,6 +99,28 @@ TEST_CASE("fit: a point cloud's normals pointing every way are oriented; consist
                 plate.normals.push_back({0, 0, side});
             }
     CHECK(ink::fitModel(plate, {}).flippedNormals == 0);
+}
+
+TEST_CASE("fit: a large cloud's normals are screened on a sample first, and still oriented where they disagree" *
+          doctest::test_suite("unit")) {
+    // Over 40,000 points orientNormals looks at a sample first; a cloud that needs orienting must still get the
+    // full pass, a consistent one none.
+    std::vector<Vector3d> positions, normals;
+    const int n = 50000;
+    for (int i = 0; i < n; ++i) {  // a Fibonacci sphere
+        const double y = 1 - 2 * (i + 0.5) / n, r = std::sqrt(1 - y * y), a = 2.399963229728653 * i;
+        positions.push_back({r * std::cos(a), y, r * std::sin(a)});
+        normals.push_back(positions.back());
+    }
+    std::vector<Vector3d> consistent = normals;
+    CHECK(ink::orientNormals(positions, consistent) == 0);
+    std::vector<Vector3d> mixed = normals;
+    size_t turned = 0;
+    for (size_t i = 0; i < mixed.size(); i += 3, ++turned) mixed[i] = -mixed[i];
+    CHECK(ink::orientNormals(positions, mixed) == turned);
+    size_t outward = 0;
+    for (size_t i = 0; i < mixed.size(); ++i) outward += mixed[i].dot(positions[i]) > 0;
+    CHECK(outward == mixed.size());
 }
 
 TEST_CASE("fit: farthest-point sampling through fitModel picks the same centres every time" *

@@ -413,35 +413,46 @@ std::vector<size_t> farthestPointSample(const std::vector<Vector3d>& positions, 
 
 size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals) {
     const size_t m = positions.size();
-    constexpr size_t kNeighbours = 8;
+    constexpr size_t kNeighbours = 8, kScreenPoints = 20000;
     if (m <= kNeighbours + 1) return 0;
     const PointCloud cloud{positions};
     const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    // Point i's neighbours along the surface, up to kNeighbours into `out`; counts its pairs and opposed ones.
+    const auto along = [&](size_t i, uint32_t* out, size_t& pairs, size_t& opposed) {
+        std::array<uint32_t, kNeighbours + 1> index{};
+        std::array<double, kNeighbours + 1> squared{};
+        const size_t found = tree.knnSearch(positions[i].data(), kNeighbours + 1, index.data(), squared.data());
+        size_t used = 0;
+        for (size_t k = 0; k < found && used < kNeighbours; ++k) {
+            if (index[k] == i) continue;
+            // Only neighbours along the surface, not across it: the two sides of a thin part face apart
+            // rightly (each lies behind the other's tangent plane: a = nᵢ·d̂ and b = nⱼ·d̂ of opposite signs,
+            // both clear of 0; the walls of a narrow gap face each other, the same), and the tree must not
+            // turn one to agree with the other. A flipped normal on one sheet gives a and b the same sign.
+            const Eigen::Vector3d d = positions[index[k]] - positions[i];
+            const double length = d.norm();
+            if (!(length > 0)) continue;
+            const double a = normals[i].dot(d) / length, b = normals[index[k]].dot(d) / length;
+            if (std::abs(a) > 0.5 || std::abs(b) > 0.5 || (a * b < 0 && std::abs(a) > 0.05 && std::abs(b) > 0.05))
+                continue;
+            if (out) out[used] = index[k];
+            ++used;
+            ++pairs;
+            opposed += normals[i].dot(normals[index[k]]) < -0.5;
+        }
+    };
+    // A large cloud is screened first on every stride-th point: where under half the share that decides is
+    // opposed there (a scan with consistent normals), the full pass is not needed (1M points: 2.4 → 0.5 s).
+    if (m > 2 * kScreenPoints) {
+        const size_t stride = m / kScreenPoints;
+        size_t pairs = 0, opposed = 0;
+        for (size_t i = 0; i < m; i += stride) along(i, nullptr, pairs, opposed);
+        if (opposed * 40 <= pairs) return 0;
+    }
     std::vector<uint32_t> neighbours(m * kNeighbours, UINT32_MAX);
     std::vector<size_t> opposedIn(64, 0), pairsIn(64, 0);
     const size_t chunks = parallelChunks(m, 1024, [&](size_t begin, size_t end, size_t chunk) {
-        std::array<uint32_t, kNeighbours + 1> index{};
-        std::array<double, kNeighbours + 1> squared{};
-        for (size_t i = begin; i < end; ++i) {
-            const size_t found = tree.knnSearch(positions[i].data(), kNeighbours + 1, index.data(), squared.data());
-            size_t used = 0;
-            for (size_t k = 0; k < found && used < kNeighbours; ++k) {
-                if (index[k] == i) continue;
-                // Only neighbours along the surface, not across it: the two sides of a thin part face apart
-                // rightly (each lies behind the other's tangent plane: a = nᵢ·d̂ and b = nⱼ·d̂ of opposite signs,
-                // both clear of 0; the walls of a narrow gap face each other, the same), and the tree must not
-                // turn one to agree with the other. A flipped normal on one sheet gives a and b the same sign.
-                const Eigen::Vector3d d = positions[index[k]] - positions[i];
-                const double length = d.norm();
-                if (!(length > 0)) continue;
-                const double a = normals[i].dot(d) / length, b = normals[index[k]].dot(d) / length;
-                if (std::abs(a) > 0.5 || std::abs(b) > 0.5 || (a * b < 0 && std::abs(a) > 0.05 && std::abs(b) > 0.05))
-                    continue;
-                neighbours[i * kNeighbours + used++] = index[k];
-                ++pairsIn[chunk];
-                opposedIn[chunk] += normals[i].dot(normals[index[k]]) < -0.5;
-            }
-        }
+        for (size_t i = begin; i < end; ++i) along(i, &neighbours[i * kNeighbours], pairsIn[chunk], opposedIn[chunk]);
     });
     size_t opposed = 0, pairs = 0;
     for (size_t c = 0; c < chunks; ++c) opposed += opposedIn[c], pairs += pairsIn[c];

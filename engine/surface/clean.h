@@ -32,7 +32,9 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance);
 // et al. (1992) do: from the extreme point along x, its normal
 // turned outward (+x), along a minimum spanning tree of the neighbour graph weighted 1 − |nᵢ·nⱼ| (Prim's, ties by
 // index: deterministic), each point's normal turned to agree with the one it is reached from; each connected
-// part starts again from its own extreme point. Returns the normals flipped (0 when consistent already).
+// part starts again from its own extreme point. Returns the normals flipped (0 when consistent already). Over
+// 40,000 points, every (m / 20,000)-th point is screened first, and the full pass runs only where over 2.5% of
+// its pairs are opposed.
 size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals);
 
 // Deterministic farthest-point sampling: starts at the point with the smallest (x, y, z) in
