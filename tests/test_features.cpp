@@ -11,6 +11,7 @@
 
 #include <doctest/doctest.h>
 #include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -428,6 +429,27 @@ TEST_CASE("cli: a cube's SVG has its creases on a pen of their own, an open hemi
     const std::string open((std::istreambuf_iterator<char>(hemi)), std::istreambuf_iterator<char>());
     CHECK(open.find(" boundaries\"") != std::string::npos);
     CHECK(open.find("creases") == std::string::npos);
+}
+
+TEST_CASE("cli: the feature lines are found where they are drawn, not for dots alone" * doctest::test_suite("cli")) {
+    // A 10⁶-point scan's creases take seconds to find: a render of dots does not look for them (nor do fit and
+    // sample), and its stats say so instead of counting none.
+    TempDir dir;
+    const std::string cube = dir / "cube.obj";
+    writeObj(cube, cubeMesh(6));
+    auto creases = [&](const std::string& style) {
+        const std::string stats = dir / (style + ".json");
+        Run r = runInkwell("render " + cube + " --style " + style + " --size 128 128 --stats " + stats + " -o " +
+                           dir / (style + ".png"));
+        REQUIRE_MESSAGE(r.status == 0, r.output);
+        std::ifstream in(stats);
+        return nlohmann::json::parse(in)["lines"]["creases"];
+    };
+    const nlohmann::json dots = creases("stipple"), lines = creases("contours");
+    CHECK(dots == nlohmann::json{{"drawn", false}});
+    CHECK(lines["drawn"] == true);
+    CHECK(lines["strokes"].get<size_t>() >= 1);
+    CHECK(lines["length"].get<double>() > 0.9 * 12 / std::sqrt(3.0));  // the twelve edges, in diagonals
 }
 
 // A fit of few control points misses its mesh by far more than a triangle's reach: it is not trimmed (its

@@ -23,8 +23,12 @@ static CLI::Range countRange(const inkwell::Range& range) { return CLI::Range(ui
 static CLI::Range numberRange(const inkwell::Range& range) { return CLI::Range(float(range.lo), float(range.hi)); }
 
 ink::ModelOptions modelOptions(const Options& o) {
-    return {o.controlPoints, o.fit == "global" ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity,
-            o.creaseAngle, o.trim};
+    ink::ModelOptions m{o.controlPoints, o.fit == "global" ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity,
+                        o.creaseAngle, o.trim};
+    // The feature lines only where they may be drawn: by the style's pen lines, or in the viewer, whose panel
+    // turns them on (fit, sample and a render of dots alone skip them).
+    m.features = o.lines.creases || o.lines.boundaries || (o.command && o.command->get_name() == "view");
+    return m;
 }
 
 void addModelOptions(CLI::App* cmd, Options& o) {
@@ -714,6 +718,7 @@ void printPlot(const ink::Plot& plot) {
 
 // A mesh's feature lines: how many, how long (normalized units), and whether they were drawn.
 static json featureJson(const std::vector<ink::PenStroke>& strokes, bool drawn) {
+    if (!drawn) return {{"drawn", false}};  // not looked for unless drawn (modelOptions)
     double length = 0;
     for (const ink::PenStroke& s : strokes) length += s.length();
     return {{"strokes", strokes.size()}, {"length", length}, {"drawn", drawn}};

@@ -347,8 +347,9 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     phases.lap("measure");
     measureInputs(model, inputs.positions, inputs.normals, global || !atInputs.empty() ? atInputs : atCentres);
     phases.lap("measure_inputs");
-    model.features = mesh.triangles.empty() ? pointFeatures(inputs, surface, {options.creaseAngleDeg})
-                                            : meshFeatures(mesh, surface, {options.creaseAngleDeg});
+    if (options.features)
+        model.features = mesh.triangles.empty() ? pointFeatures(inputs, surface, {options.creaseAngleDeg})
+                                                : meshFeatures(mesh, surface, {options.creaseAngleDeg});
     phases.lap("features");
     // A mesh supports the surface near its triangles, by twice what the fit misses its vertices by where that is
     // more (a fit of fewer control points); points near themselves.

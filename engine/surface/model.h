@@ -22,6 +22,8 @@ struct ModelOptions {
     FitMethod method = FitMethod::PartitionOfUnity;
     double creaseAngleDeg = kCreaseAngleDeg;  // a mesh's feature lines (feature_lines.h), in (0, 180)
     bool trim = true;  // drop what the input does not support (support.h): an open scan's extrapolated caps
+    // Find the feature lines (Model::features; a 10⁶-point scan's creases take 2 s): off where none will be drawn.
+    bool features = true;
 };
 
 struct Model {
