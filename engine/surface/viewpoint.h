@@ -71,9 +71,9 @@ ViewChoice chooseView(const ViewSamples& samples, UpAxis up);
 std::vector<float> sampleDetail(const ViewSamples& samples);
 // One view direction (unit, from the model towards the eye; samples in the y-up frame): its viewpoint entropy
 // in bits, the fraction of the samples facing the eye that something nearer hides, the sum of `detail`
-// (one value a sample, or none) over the visible samples, and the share of the covered pixels whose nearest
-// sample faces the eye (1 on a closed surface but at its outline; small where an open surface, a one-sided
-// scan, shows its back).
+// (one value a sample, or none) over the visible samples, and the share of the covered 3×3-pixel blocks whose
+// nearest sample faces the eye (near 1 on a closed surface, short of it at the outline; small where an open
+// surface, a one-sided scan, shows its back).
 struct ViewScore {
     float entropy = 0, hidden = 0, detail = 0, facing = 0;
 };
