@@ -88,7 +88,7 @@ TEST_CASE("fit: a point cloud's normals pointing every way are oriented; consist
     CHECK(fixed.inputMaxAngleDeg < 5);  // against the input's normals, as oriented
     Vector3d g;
     CHECK(fixed.surface.eval(fixed.surface.frame.toNormalized(Vector3d::Zero()), g) < 0);  // inside
-    // Consistent already: untouched, the same fit as without the step.
+    // Consistent already: nothing turned.
     CHECK(ink::fitModel(cloud, {}).flippedNormals == 0);
     // A thin plate's two sides face apart rightly: 0.02 thick, points 0.05 apart, each side's normals outward.
     ink::OrientedPoints plate;

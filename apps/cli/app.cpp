@@ -716,12 +716,13 @@ void printPlot(const ink::Plot& plot) {
             duration(l.plotSeconds).c_str());
 }
 
-// A mesh's feature lines: how many, how long (normalized units), and whether they were drawn.
+// A model's feature lines: whether they were drawn and, if so, how many and how long (normalized units). Not
+// drawn, they may not have been looked for (modelOptions).
 static json featureJson(const std::vector<ink::PenStroke>& strokes, bool drawn) {
-    if (!drawn) return {{"drawn", false}};  // not looked for unless drawn (modelOptions)
+    if (!drawn) return {{"drawn", false}};
     double length = 0;
     for (const ink::PenStroke& s : strokes) length += s.length();
-    return {{"strokes", strokes.size()}, {"length", length}, {"drawn", drawn}};
+    return {{"strokes", strokes.size()}, {"length", length}, {"drawn", true}};
 }
 
 json linesJson(const ink::Scene& scene) {

@@ -22,7 +22,7 @@ namespace app {
 
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
-inline double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+using ink::secondsSince;
 
 using ink::DrawStyle;
 

@@ -787,7 +787,7 @@ void Viewer::record(Frame& f, uint32_t index, bool capture) {
     if (scene_.lines.contours && camera_.eye() != tracedEye_ && (!moving || traceSeconds_ < kTraceBudget)) {
         const auto start = std::chrono::steady_clock::now();
         scene_.traceContours(camera_);
-        traceSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        traceSeconds_ = secondsSince(start);
         tracedEye_ = camera_.eye();
     }
     previousEye_ = camera_.eye();

@@ -26,7 +26,7 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance);
 
 // Points whose normals are not consistently oriented (a scan's normals estimated without a viewpoint: some point
 // in, some out) give a fit that turns inside out in places. Neighbours along the surface are those of each point's
-// 8 nearest that lie within 60° of both tangent planes, and not each behind the other's (the two sides of a thin
+// 8 nearest that lie within 30° of both tangent planes, and not each behind the other's (the two sides of a thin
 // part, the walls of a narrow gap: rightly opposed). When more
 // than 5% of those pairs have normals opposed (a dot product under −½), the normals are oriented over them as Hoppe
 // et al. (1992) do: from the extreme point along x, its normal

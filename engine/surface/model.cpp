@@ -118,6 +118,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         inputs.positions.push_back(frame.toNormalized(points.positions[i]));
         inputs.normals.push_back(points.normals[i]);
     }
+    phases.lap("normalize");
     if (points.triangles.empty()) {  // a mesh's winding orients its normals; a point cloud's may point every way
         model.flippedNormals = orientNormals(inputs.positions, inputs.normals);
         if (model.flippedNormals) {
@@ -134,7 +135,6 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     OrientedPoints samples;
     std::vector<bool> onRim;  // the sample lies on a triangle with an open edge
     OrientedPoints mesh;      // welded, normalized: its feature lines
-    phases.lap("normalize");
     if (!points.triangles.empty()) {
         // Welded by position first: a file that repeats a vertex at a seam (for its texture or its normals) has
         // open edges there that are no rim, and corners whose neighbours the patches would not see (the Wuson's

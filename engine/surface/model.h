@@ -20,7 +20,7 @@ struct ModelOptions {
     // 0: every input point for the partition of unity, up to kDefaultControlPoints for the global fit.
     size_t controlPoints = 0;
     FitMethod method = FitMethod::PartitionOfUnity;
-    double creaseAngleDeg = kCreaseAngleDeg;  // a mesh's feature lines (feature_lines.h), in (0, 180)
+    double creaseAngleDeg = kCreaseAngleDeg;  // the feature lines' creases (feature_lines.h), in (0, 180)
     bool trim = true;  // drop what the input does not support (support.h): an open scan's extrapolated caps
     // Find the feature lines (Model::features; a 10⁶-point scan's creases take 2 s): off where none will be drawn.
     bool features = true;

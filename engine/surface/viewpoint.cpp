@@ -245,10 +245,6 @@ ViewChoice chooseView(const ViewSamples& samples, UpAxis up) {
             scores[e][k] = scoreView(
                 local, glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)), &detail);
             mostFacing = std::max(mostFacing, scores[e][k].facing);
-        }
-    for (int e = 0; e < E; ++e)
-        for (int k = 0; k < kViewAzimuths; ++k) {
-            const float az = glm::radians(candidateAzimuth(k));
             const glm::vec2 towards(std::sin(az), std::cos(az));
             // What an open surface's back hides behind it is not the shape hiding itself: only the share of
             // the view that sees the front counts.

@@ -50,8 +50,8 @@ constexpr float kViewElevations[] = {15.0f, 30.0f};
 // A three-quarter view: where a front is clear, the candidates lie this far from it in azimuth (the canonical
 // views of Palmer et al. 1981 and Blanz et al. 1999: the front and a side at once, neither face-on nor profile).
 constexpr float kThreeQuarterMinDeg = 20.0f, kThreeQuarterMaxDeg = 60.0f;
-// A candidate view competes when the share of its covered pixels that see the surface's front is at least this
-// much of the best view's (ViewScore::facing).
+// A candidate view competes when its share of covered 3×3-pixel blocks that see the surface's front
+// (ViewScore::facing) is at least this much of the best view's.
 constexpr float kLeastFacingShare = 0.75f;
 // The view of `samples` about `up` among the three-quarter views of its front, by viewpoint entropy (Vázquez
 // et al. 2001) and the detail it shows: the samples are drawn into a small depth buffer from each candidate
