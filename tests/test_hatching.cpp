@@ -1,6 +1,8 @@
 // Hatching (hatching.h) and its cross field (cross_field.h) on a fitted torus, whose principal directions are known:
 // around the axis (the smaller curvature) and around the tube.
+#include "gpu_fixture.h"
 #include "lines/cross_field.h"
+#include "lines/cross_field_device.h"
 #include "lines/hatching.h"
 #include "surface/model.h"
 #include "surface/shapes.h"
@@ -127,4 +129,74 @@ TEST_CASE("hatching: on a torus the strokes are long, evenly spaced rings along 
     // Diagonal strokes wind round the tube and the axis at once: longer than a tube ring's quarter.
     CHECK(quantile(lengths[2], 0.5) > 0.3);
     CHECK(stats.strokes == strokes.size());
+}
+
+TEST_CASE("cross field: the device solves the torus's field as its CPU twin does, on the same graph" *
+          doctest::test_suite("gpu")) {
+    const ink::Model& m = torus();
+    std::vector<Vector3d> around;
+    const std::vector<ink::SurfaceSample> samples = torusSamples(m, 96, 32, &around);
+    const ink::CrossFieldOptions options;
+    const ink::CrossFieldGraph graph = ink::buildCrossFieldGraph(samples, options.neighbours);
+    // The hierarchy: the samples, then at least one coarser level whose points stand for every sample once.
+    REQUIRE(graph.levels() >= 2);
+    REQUIRE(graph.levelStart[1] == samples.size());
+    for (uint32_t r = graph.levelStart[1]; r < graph.levelStart[2]; ++r)
+        for (uint32_t c = graph.childStart[r]; c < graph.childStart[r + 1]; ++c)
+            CHECK(graph.parent[graph.children[c]] == r);
+    CHECK(graph.childStart[graph.levelStart[2]] - graph.childStart[graph.levelStart[1]] == samples.size());
+
+    GpuFixture gpu;
+    ink::RefineOptions refine;
+    refine.levels = 1;
+    Refinement refined(gpu.ctx, m.surface, refine);  // its surface's buffers
+    REQUIRE(ink::solvesCrossFieldOnDevice(refined.r));
+    const ink::CrossFieldSolution cpu = ink::solveCrossField(m.surface, samples, graph, options);
+    double deviceMs = -1;
+    const ink::CrossFieldSolution device =
+        ink::solveCrossFieldOnDevice(gpu.ctx, refined.r, samples, graph, options, &deviceMs);
+    REQUIRE(device.directions.size() == samples.size());
+    REQUIRE(device.principal.size() == samples.size());
+    CHECK(deviceMs >= 0);
+
+    // The same field up to float: normals, confidences, seeds where the curvature gives them, and the smoothed
+    // crosses; both along the torus's principal directions.
+    std::vector<double> seedDiff, fieldDiff, toAround;
+    size_t normalsAgree = 0, confidenceAgrees = 0;
+    for (size_t i = 0; i < samples.size(); ++i) {
+        const Vector3d& n = cpu.normals[i];
+        normalsAgree += device.normals[i].dot(n) > 1 - 1e-6;
+        confidenceAgrees += std::abs(device.confidence[i] - cpu.confidence[i]) < 1e-3;
+        if (cpu.confidence[i] > 0.05) seedDiff.push_back(crossAngle(device.principal[i], n, cpu.principal[i]));
+        fieldDiff.push_back(crossAngle(device.directions[i], n, cpu.directions[i]));
+        toAround.push_back(crossAngle(device.directions[i], n, around[i]));
+        CHECK(std::abs(device.directions[i].norm() - 1) < 1e-5);
+        CHECK(std::abs(device.directions[i].dot(n)) < 1e-3);
+    }
+    MESSAGE("cross field on the device ("
+            << deviceMs << " ms): against the CPU, seeds median " << quantile(seedDiff, 0.5) << "°, max "
+            << quantile(seedDiff, 1.0) << "°; field median " << quantile(fieldDiff, 0.5) << "°, 99% "
+            << quantile(fieldDiff, 0.99) << "°; to the principal directions median " << quantile(toAround, 0.5) << "°");
+    CHECK(normalsAgree == samples.size());
+    CHECK(confidenceAgrees == samples.size());
+    REQUIRE(seedDiff.size() > samples.size() / 2);
+    CHECK(quantile(seedDiff, 0.99) < 0.5);
+    CHECK(quantile(fieldDiff, 0.99) < 0.5);
+    CHECK(quantile(toAround, 0.5) < 2.0);
+    CHECK(quantile(toAround, 0.95) < 5.0);
+
+    // Hatched from either field: the same strokes, up to float.
+    ink::HatchOptions hatch;
+    ink::HatchStats cpuStats, deviceStats;
+    const std::vector<ink::PenStroke> fromCpu =
+        ink::traceHatching(m.surface, ink::CrossField(samples, graph, cpu), hatch, &cpuStats);
+    const std::vector<ink::PenStroke> fromDevice =
+        ink::traceHatching(m.surface, ink::CrossField(samples, graph, device), hatch, &deviceStats);
+    MESSAGE("torus hatching from the CPU's field: " << cpuStats.strokes << " strokes, length " << cpuStats.length
+                                                    << "; from the device's: " << deviceStats.strokes << ", "
+                                                    << deviceStats.length);
+    REQUIRE(cpuStats.strokes > 10);
+    CHECK(std::abs(double(deviceStats.strokes) - double(cpuStats.strokes)) <= 0.05 * double(cpuStats.strokes));
+    CHECK(std::abs(deviceStats.length - cpuStats.length) <= 0.02 * cpuStats.length);
+    gpu.requireNoValidationErrors();
 }

@@ -835,3 +835,40 @@ TEST_CASE("lines: --contour-tracer device draws the contour the CPU draws, and s
     CHECK(bad.status != 0);
     CHECK(bad.output.find("--contour-tracer") != std::string::npos);
 }
+
+TEST_CASE("lines: --hatch-field device solves the cross field on the device and hatches as the CPU does" *
+          doctest::test_suite("cli")) {
+    TempDir dir;
+    auto render = [&](const std::string& name, const std::string& extra) {
+        Run r = runInkwell("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --style hatching --size 256 256 -o " +
+                           (dir / (name + ".png")) + " --stats " + (dir / (name + ".json")) + " " + extra);
+        INFO(r.output);
+        REQUIRE(r.status == 0);
+        std::ifstream in(dir / (name + ".json"));
+        const nlohmann::json stats = nlohmann::json::parse(in);
+        return std::pair(stats.at("lines").at("hatching"), r.output);
+    };
+    const auto [device, deviceOutput] = render("device", "--hatch-field device");
+    const auto [cpu, cpuOutput] = render("cpu", "--hatch-field cpu");
+    CHECK(device.at("field_on") == "device");
+    CHECK(cpu.at("field_on") == "cpu");
+    CHECK(device.at("field_device_ms").get<double>() > 0);
+    CHECK(cpu.at("field_device_ms").get<double>() == 0);
+    // The same strokes up to float (the field agrees to about 1e-5 degrees on the torus, test_hatching.cpp).
+    const double strokes = cpu.at("strokes").get<double>(), length = cpu.at("length").get<double>();
+    REQUIRE(strokes > 100);
+    CHECK(std::abs(device.at("strokes").get<double>() - strokes) <= 0.03 * strokes);
+    CHECK(std::abs(device.at("length").get<double>() - length) <= 0.03 * length);
+    // A global fit is solved on the CPU, and says so.
+    Run global = runInkwell("render " INKWELL_SOURCE_DIR
+                            "/assets/bunny.obj --fit global --control-points 300 --style hatching --size 128 128 "
+                            "--hatch-field device -o " +
+                            (dir / "g.png"));
+    INFO(global.output);
+    CHECK(global.status == 0);
+    CHECK(global.output.find("the hatching's cross field is solved on the CPU") != std::string::npos);
+    Run bad = runInkwell("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --hatch-field gpu -o " + (dir / "x.png"));
+    CHECK(bad.status != 0);
+    CHECK(bad.output.find("--hatch-field") != std::string::npos);
+    CHECK(!std::filesystem::exists(dir / "x.png"));
+}

@@ -109,6 +109,12 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
                     "it is a GPU, else the CPU (docs/lines.md)")
         ->check(CLI::IsMember({"auto", "cpu", "device"}))
         ->capture_default_str();
+    cmd->add_option("--hatch-field", o.hatchField,
+                    "Where the hatching's cross field is solved: device (in float, one dispatch a pass; a "
+                    "partition-of-unity fit only), cpu (its twin, in double), or auto: the device where it is a "
+                    "GPU, else the CPU (docs/lines.md)")
+        ->check(CLI::IsMember({"auto", "cpu", "device"}))
+        ->capture_default_str();
     cmd->add_option("--hatch-width", s.hatchWidth, "Hatching pen width in pixels")->capture_default_str();
     cmd->add_option("--halo", s.haloWidth, "Paper kept clear each side of an interior contour, in pixels")
         ->capture_default_str();
@@ -281,6 +287,9 @@ static void parseStyle(Options& o) {
     o.lines.contourTracer = o.contourTracer == "device" ? ink::LineOptions::ContourTracer::Device
                             : o.contourTracer == "cpu"  ? ink::LineOptions::ContourTracer::Cpu
                                                         : ink::LineOptions::ContourTracer::Auto;
+    o.lines.fieldSolver = o.hatchField == "device" ? ink::LineOptions::FieldSolver::Device
+                          : o.hatchField == "cpu"  ? ink::LineOptions::FieldSolver::Cpu
+                                                   : ink::LineOptions::FieldSolver::Auto;
     o.style = dots == "direction" ? DrawStyle::Direction : dots == "both" ? DrawStyle::Both : DrawStyle::Stipple;
     // A mesh's creases and boundaries go with the pen lines unless asked for or against.
     const bool pen = o.lines.contours || o.lines.hatching;
@@ -733,6 +742,9 @@ json linesJson(const ink::Scene& scene) {
               {"vertices", h.vertices},
               {"length", h.length},
               {"field_seconds", h.fieldSeconds},
+              {"field_graph_seconds", h.fieldGraphSeconds},
+              {"field_on", h.fieldOnDevice ? "device" : "cpu"},
+              {"field_device_ms", h.fieldDeviceMs},
               {"seconds", h.seconds}}},
             {"creases", featureJson(scene.model.features.creases, scene.lines.creases)},
             {"boundaries", featureJson(scene.model.features.boundaries, scene.lines.boundaries)},

@@ -52,6 +52,7 @@ struct Options {
     // --creases, --boundaries: auto draws a mesh's crease and boundary lines with the pen-line styles
     std::string creases = "auto", boundaries = "auto";
     std::string contourTracer = "auto";  // --contour-tracer: auto, cpu or device
+    std::string hatchField = "auto";     // --hatch-field: auto, cpu or device
     double creaseAngle = ink::kCreaseAngleDeg;
     bool trim = true;
     std::vector<float> camera;  // azimuth, elevation, distance

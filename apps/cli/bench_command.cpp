@@ -23,7 +23,9 @@ struct Workload {
     uint32_t levels;
     bool lines = false;  // pen lines: contours and hatching over the stipple set's depth, no dots (docs/lines.md)
     ink::FitMethod method = ink::FitMethod::PartitionOfUnity;
-    bool contoursOnDevice = false;  // the contour traced on the device (--contour-tracer device), else the CPU
+    // The contour traced and the hatching's cross field solved on the device (--contour-tracer device, --hatch-field
+    // device), else on the CPU.
+    bool contoursOnDevice = false;
 };
 
 // The report's workloads (with the default fit), the bunny-684 one with the report's global fit for comparison,
@@ -78,6 +80,7 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
     lines.contours = lines.hatching = w.lines;
     lines.contourTracer =
         w.contoursOnDevice ? ink::LineOptions::ContourTracer::Device : ink::LineOptions::ContourTracer::Cpu;
+    lines.fieldSolver = w.contoursOnDevice ? ink::LineOptions::FieldSolver::Device : ink::LineOptions::FieldSolver::Cpu;
     const double loadSeconds = secondsSince(start);
     json out;
     {
@@ -177,6 +180,9 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
             out.update({{"hatch_seconds", scene.hatchSeconds},
                         {"hatch_strokes", scene.hatching.size()},
                         {"hatch_vertices", scene.hatchStats.vertices},
+                        {"hatch_field_seconds", scene.hatchStats.fieldSeconds},
+                        {"hatch_field_on", scene.hatchStats.fieldOnDevice ? "device" : "cpu"},
+                        {"hatch_field_device_ms", scene.hatchStats.fieldDeviceMs},
                         {"contour_seconds_first_view", contourSeconds},
                         {"contour_trace_ms_median", median(traceMs)},
                         {"contour_traced_on", scene.contourStats.onDevice ? "device" : "cpu"},
@@ -251,9 +257,12 @@ int runBench(Options& o, const std::vector<std::string>& names, const std::strin
             m["gpu_over_cpu_refine"].get<double>(), m["preprocess_seconds"].get<double>(),
             m["frame_ms_median"].get<double>(), m["fps"].get<double>());
         if (m.contains("hatch_seconds"))
-            std::printf("%-10s hatching %6.3f s (%llu strokes)  contours %6.3f s first view, %6.1f ms a view\n", "",
-                        m["hatch_seconds"].get<double>(), (unsigned long long)m["hatch_strokes"].get<uint64_t>(),
-                        m["contour_seconds_first_view"].get<double>(), m["contour_trace_ms_median"].get<double>());
+            std::printf(
+                "%-10s hatching %6.3f s (%llu strokes; field %.3f s on the %s)  contours %6.3f s first view, "
+                "%6.1f ms a view\n",
+                "", m["hatch_seconds"].get<double>(), (unsigned long long)m["hatch_strokes"].get<uint64_t>(),
+                m["hatch_field_seconds"].get<double>(), m["hatch_field_on"].get<std::string>().c_str(),
+                m["contour_seconds_first_view"].get<double>(), m["contour_trace_ms_median"].get<double>());
         results.push_back(m);
     }
     session.checkValidation();
@@ -273,7 +282,7 @@ void addBenchCommand(CLI::App& cli, Options& o, Commands& commands) {
     bench->add_option("--workload", *names,
                       "sphere, bunny-312, bunny-684, bunny-684-lines, bunny-684-lines-device, bunny-lines, "
                       "bunny-lines-device, bunny-684-global, torus-100k (default: all but torus-100k; -device: the "
-                      "contour traced on the device)");
+                      "contour traced and the hatching's cross field solved on the device)");
     bench->add_option("--model", o.model, "Also time this model (with --control-points and --levels)");
     bench->add_option("--control-points", o.controlPoints, "Control points for --model (default: as fit)")
         ->check(nonNegativeInteger());

@@ -1,6 +1,7 @@
 // Scene (scene.h): the model's point sets, made and replaced as one.
 #include "draw/scene.h"
 
+#include "lines/cross_field_device.h"
 #include "lines/feature_lines.h"
 
 #include "base/common.h"
@@ -106,8 +107,40 @@ Scene::TracedLines Scene::traceLines(const Sets& from, const LineOptions& l) con
     for (const PointRecord& p : readDrawnPoints(ctx, from.front()->gpu()))
         t.samples.push_back({Eigen::Vector3d(p.position[0], p.position[1], p.position[2]),
                              Eigen::Vector3d(p.normal[0], p.normal[1], p.normal[2])});
-    if (l.hatching)
-        t.hatching = trimStrokes(traceHatching(model.surface, t.samples, l.hatch, &t.hatchStats), model.support);
+    if (l.hatching) {
+        const GpuRefinement& first = from.front()->gpu();
+        using Solver = LineOptions::FieldSolver;
+        const bool device =
+            (l.fieldSolver == Solver::Device ||
+             (l.fieldSolver == Solver::Auto && ctx.properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU)) &&
+            solvesCrossFieldOnDevice(first);
+        if (l.fieldSolver == Solver::Device && !device && !notedCpuField_) {
+            note(
+                "the hatching's cross field is solved on the CPU: the device solves a partition-of-unity fit only "
+                "(not --fit global)");
+            notedCpuField_ = true;
+        }
+        // The graph on the host, the field solved where chosen; the comb and the look-up grid on the host.
+        const auto fieldStart = std::chrono::steady_clock::now();
+        const CrossFieldOptions& f = l.hatch.field;
+        const CrossFieldGraph graph = buildCrossFieldGraph(t.samples, f.neighbours, f.threads);
+        const double graphSeconds = secondsSince(fieldStart);
+        const bool fits = !device || crossFieldFitsDevice(ctx, graph);
+        if (!fits)
+            note("the hatching's cross field is solved on the CPU: its " + std::to_string(t.samples.size()) +
+                 " samples pass the device's largest storage buffer");
+        double deviceMs = 0;
+        CrossFieldSolution solved = device && fits ? solveCrossFieldOnDevice(ctx, first, t.samples, graph, f, &deviceMs)
+                                                   : solveCrossField(model.surface, t.samples, graph, f);
+        const CrossField field(t.samples, graph, std::move(solved));
+        const double fieldSeconds = secondsSince(fieldStart);
+        t.hatching = trimStrokes(traceHatching(model.surface, field, l.hatch, &t.hatchStats), model.support);
+        t.hatchStats.fieldSeconds = fieldSeconds;
+        t.hatchStats.fieldGraphSeconds = graphSeconds;
+        t.hatchStats.fieldOnDevice = device && fits;
+        t.hatchStats.fieldDeviceMs = deviceMs;
+        t.hatchStats.seconds += fieldSeconds;
+    }
     t.seconds = secondsSince(start);
     return t;
 }

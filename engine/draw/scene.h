@@ -30,6 +30,10 @@ struct LineOptions {
     // where it is a GPU and the fit a partition of unity (docs/lines.md); on a CPU driver (lavapipe) the CPU's
     // tracer is the faster.
     enum class ContourTracer { Auto, Cpu, Device } contourTracer = ContourTracer::Auto;
+    // Where the hatching's cross field is solved: on the device (cross_field_device.h) or the CPU, its twin
+    // (solveCrossField). Auto: on the device where it is a GPU and the fit a partition of unity; on a CPU driver
+    // (lavapipe) the CPU's solve is the faster (docs/lines.md).
+    enum class FieldSolver { Auto, Cpu, Device } fieldSolver = FieldSolver::Auto;
     ContourOptions contour;
     HatchOptions hatch;
     bool any() const { return contours || hatching || creases || boundaries; }
@@ -94,6 +98,7 @@ private:
     std::unique_ptr<DeviceContours> deviceContours_;  // for the first set; dropped whenever the sets change
     LineSnap snap_;  // the drawn crease and boundary lines, for the contour to be laid onto (setLines)
     bool notedCpuContours_ = false;
+    mutable bool notedCpuField_ = false;
 };
 
 }  // namespace ink

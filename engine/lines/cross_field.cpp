@@ -1,5 +1,6 @@
 // The cross field of the hatching (cross_field.h).
 #include "lines/cross_field.h"
+#include "base/common.h"
 #include "base/point_hash.h"
 #include "base/point_tree.h"
 
@@ -48,19 +49,18 @@ Vector3d atAngle(const Vector3d& t1, const Vector3d& n, double theta) {
     return std::cos(theta) * t1 + std::sin(theta) * n.cross(t1);
 }
 
-// One level of the hierarchy: points, their seeds and the current field, and the k nearest neighbours on the
-// same side of the surface (UINT32_MAX where fewer).
-struct Level {
-    std::vector<Vector3d> p, n, seed, d;
-    std::vector<double> confidence;
-    std::vector<uint32_t> neighbours;  // k per point
-    std::vector<uint32_t> parent;      // the point of the next coarser level standing for this one
-    std::vector<double> nearest;       // distance to the nearest neighbour
+// Points of one level while the graph is built: positions, normals, the k nearest neighbours on the same side of
+// the surface (local indices, kNone where fewer) and the distance to the nearest.
+struct GraphLevel {
+    std::vector<Vector3d> p, n;
+    std::vector<uint32_t> neighbours, parent;    // parent: local, in the next level
+    std::vector<uint32_t> childStart, children;  // local, in the previous level
+    std::vector<double> nearest;
 };
 
-void findNeighbours(Level& level, uint32_t k, unsigned threads) {
+void findNeighbours(GraphLevel& level, uint32_t k, unsigned threads) {
     const size_t m = level.p.size();
-    level.neighbours.assign(m * k, UINT32_MAX);
+    level.neighbours.assign(m * k, CrossFieldGraph::kNone);
     level.nearest.assign(m, 0.0);
     if (m < 2) return;
     PointCloud cloud{level.p};
@@ -82,82 +82,39 @@ void findNeighbours(Level& level, uint32_t k, unsigned threads) {
     });
 }
 
-// Jacobi sweeps of the e^{4iθ} average (cross_field.h).
-void smooth(Level& level, uint32_t k, uint32_t sweeps, double fidelity, unsigned threads) {
-    const size_t m = level.p.size();
-    std::vector<Vector3d> next(m);
-    for (uint32_t sweep = 0; sweep < sweeps; ++sweep) {
-        parallelChunks(m, threads, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i) {
-                const Vector3d& n = level.n[i];
-                const Vector3d t1 = level.d[i], t2 = n.cross(t1);
-                Vector2d z(1.0, 0.0);  // itself: a damped step
-                for (uint32_t j = 0; j < k; ++j) {
-                    const uint32_t o = level.neighbours[i * k + j];
-                    if (o != UINT32_MAX) z += fourthPower(level.d[o], t1, t2);
-                }
-                z += fidelity * level.confidence[i] * fourthPower(level.seed[i], t1, t2);
-                next[i] = z.squaredNorm() > 1e-24 ? atAngle(t1, n, 0.25 * std::atan2(z.y(), z.x())) : t1;
-            }
-        });
-        level.d.swap(next);
-    }
+// Runs body(i) for i in [begin, end) in parallel chunks.
+template <class Body>
+void parallelRange(uint32_t begin, uint32_t end, unsigned threads, Body body) {
+    parallelChunks(end - begin, threads, [&](size_t b, size_t e) {
+        for (size_t i = b; i < e; ++i) body(uint32_t(begin + i));
+    });
 }
 
 }  // namespace
 
-CrossField::CrossField(const Surface& surface, const std::vector<SurfaceSample>& samples,
-                       const CrossFieldOptions& options) {
+CrossFieldGraph buildCrossFieldGraph(const std::vector<SurfaceSample>& samples, uint32_t k, unsigned threads) {
+    CrossFieldGraph graph;
+    graph.k = k = std::max(1u, k);
     const size_t m = samples.size();
-    const uint32_t k = std::max(1u, options.neighbours);
-    positions_.resize(m);
-    normals_.resize(m);
-    principal_.resize(m);
-    confidence_.resize(m);
-    std::vector<Level> levels(1);
-    Level& fine = levels[0];
-    fine.p.resize(m);
-    fine.n.resize(m);
-    fine.seed.resize(m);
-    fine.confidence.resize(m);
-    // The seeds: principal directions of the shape operator in a tangent frame (t1, t2).
-    parallelChunks(m, options.threads, [&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i) {
-            Vector3d x = samples[i].position, gradient;
-            Matrix3d hessian;
-            surface.eval(x, gradient, &hessian);
-            const double g = gradient.norm();
-            Vector3d n = g > 1e-12 && gradient.allFinite() ? Vector3d(gradient / g) : samples[i].normal.normalized();
-            if (n.dot(samples[i].normal) < 0) n = -n;
-            const Vector3d t1 = anyTangent(n), t2 = n.cross(t1);
-            double a = 0, b = 0, c = 0;
-            if (g > 1e-12 && hessian.allFinite()) {
-                a = t1.dot(hessian * t1) / g, b = t1.dot(hessian * t2) / g, c = t2.dot(hessian * t2) / g;
-            }
-            const double spread = std::sqrt((a - c) * (a - c) + 4 * b * b);  // |k1 − k2|
-            // The direction of the eigenvalue (a + c)/2 + spread/2; the other one has the larger |k| when a + c < 0.
-            const double psi = 0.5 * std::atan2(2 * b, a - c) + (a + c < 0 ? 0.5 * M_PI : 0.0);
-            const double s = spread * options.featureSize;
-            positions_[i] = fine.p[i] = x;
-            normals_[i] = fine.n[i] = n;
-            principal_[i] = fine.seed[i] = atAngle(t1, n, psi);
-            confidence_[i] = float(fine.confidence[i] = std::isfinite(s) ? s * s / (1 + s * s) : 0.0);
-        }
-    });
-    if (m == 0) return;
-    findNeighbours(fine, k, options.threads);
-    std::vector<double> nearest = fine.nearest;
-    std::nth_element(nearest.begin(), nearest.begin() + long(m / 2), nearest.end());
-    const double spacing = std::max(nearest[m / 2], 1e-6);
-
-    // Coarser levels: in each cell of a grid twice as coarse as the last, the first point stands for the others,
-    // its seed their confidence-weighted e^{4iψ} average.
-    for (double cell = 3 * spacing; levels.back().p.size() > 1500 && levels.size() < 12; cell *= 2) {
-        Level& last = levels.back();
-        Level up;
+    std::vector<GraphLevel> levels(1);
+    levels[0].p.resize(m);
+    levels[0].n.resize(m);
+    for (size_t i = 0; i < m; ++i) {
+        levels[0].p[i] = samples[i].position;
+        levels[0].n[i] = samples[i].normal.normalized();
+    }
+    findNeighbours(levels[0], k, threads);
+    if (m > 0) {
+        std::vector<double> nearest = levels[0].nearest;
+        std::nth_element(nearest.begin(), nearest.begin() + long(m / 2), nearest.end());
+        graph.spacing = std::max(nearest[m / 2], 1e-6);
+    }
+    // Coarser levels: in each cell of a grid twice as coarse as the last, the first point stands for the others.
+    for (double cell = 3 * graph.spacing; levels.back().p.size() > 1500 && levels.size() < 12; cell *= 2) {
+        GraphLevel& last = levels.back();
+        GraphLevel up;
         std::unordered_map<uint64_t, uint32_t> index;
-        std::vector<Vector2d> sum;
-        std::vector<double> count;
+        std::vector<std::vector<uint32_t>> kids;
         last.parent.resize(last.p.size());
         for (size_t i = 0; i < last.p.size(); ++i) {
             const Eigen::Array3i c = (last.p[i].array() / cell).floor().cast<int>();
@@ -169,45 +126,156 @@ CrossField::CrossField(const Surface& surface, const std::vector<SurfaceSample>&
             if (added) {
                 up.p.push_back(last.p[i]);
                 up.n.push_back(last.n[i]);
-                up.seed.push_back(last.seed[i]);
-                sum.push_back(Vector2d::Zero());
-                count.push_back(0);
+                kids.emplace_back();
             }
-            const uint32_t r = it->second;
-            last.parent[i] = r;
-            sum[r] += last.confidence[i] * fourthPower(last.seed[i], up.seed[r], up.n[r].cross(up.seed[r]));
-            count[r] += 1;
+            last.parent[i] = it->second;
+            kids[it->second].push_back(uint32_t(i));
         }
-        if (up.p.size() > last.p.size() * 0.8) break;  // no longer shrinking (scattered points)
-        up.confidence.resize(up.p.size());
-        for (size_t r = 0; r < up.p.size(); ++r) {
-            up.confidence[r] = sum[r].norm() / count[r];
-            up.seed[r] = atAngle(up.seed[r], up.n[r], 0.25 * std::atan2(sum[r].y(), sum[r].x()));
+        if (up.p.size() > last.p.size() * 0.8) {  // no longer shrinking (scattered points)
+            last.parent.clear();
+            break;
         }
-        findNeighbours(up, k, options.threads);
+        up.childStart.push_back(0);
+        for (const std::vector<uint32_t>& c : kids) {
+            up.children.insert(up.children.end(), c.begin(), c.end());
+            up.childStart.push_back(uint32_t(up.children.size()));
+        }
+        findNeighbours(up, k, threads);
         levels.push_back(std::move(up));
     }
 
-    // Coarse to fine: start from the seeds, smooth, hand each point's direction down to the points it stands for.
-    Level& coarsest = levels.back();
-    coarsest.d = coarsest.seed;
-    smooth(coarsest, k, options.coarseSweeps, options.fidelity, options.threads);
-    for (size_t l = levels.size() - 1; l-- > 0;) {
-        Level& level = levels[l];
-        const Level& up = levels[l + 1];
-        level.d.resize(level.p.size());
+    // One level after another, in global indices.
+    graph.levelStart.push_back(0);
+    for (const GraphLevel& level : levels)
+        graph.levelStart.push_back(graph.levelStart.back() + uint32_t(level.p.size()));
+    const uint32_t total = graph.points();
+    graph.neighbours.assign(size_t(total) * k, CrossFieldGraph::kNone);
+    graph.parent.assign(total, CrossFieldGraph::kNone);
+    graph.childStart.assign(size_t(total) + 1, 0);
+    for (size_t l = 0; l < levels.size(); ++l) {
+        const GraphLevel& level = levels[l];
+        const uint32_t at = graph.levelStart[l];
+        for (size_t j = 0; j < level.neighbours.size(); ++j)
+            if (level.neighbours[j] != CrossFieldGraph::kNone)
+                graph.neighbours[size_t(at) * k + j] = at + level.neighbours[j];
+        for (size_t i = 0; i < level.parent.size(); ++i)
+            graph.parent[at + i] = graph.levelStart[l + 1] + level.parent[i];
         for (size_t i = 0; i < level.p.size(); ++i) {
-            const Vector3d& d = up.d[level.parent[i]];
-            const Vector3d t = d - d.dot(level.n[i]) * level.n[i];
-            level.d[i] = t.norm() > 1e-6 ? Vector3d(t.normalized()) : level.seed[i];
+            graph.childStart[at + i] = uint32_t(graph.children.size());
+            if (l == 0) continue;
+            for (uint32_t c = level.childStart[i]; c < level.childStart[i + 1]; ++c)
+                graph.children.push_back(graph.levelStart[l - 1] + level.children[c]);
         }
-        smooth(level, k, options.fineSweeps, options.fidelity, options.threads);
     }
-    directions_ = std::move(levels[0].d);
+    graph.childStart[total] = uint32_t(graph.children.size());
+    return graph;
+}
+
+CrossFieldSolution solveCrossField(const Surface& surface, const std::vector<SurfaceSample>& samples,
+                                   const CrossFieldGraph& graph, const CrossFieldOptions& options) {
+    const uint32_t m = uint32_t(samples.size()), total = graph.points(), k = graph.k;
+    const unsigned threads = options.threads;
+    std::vector<Vector3d> n(total), seed(total), d(total), next(total);
+    std::vector<double> confidence(total, 0.0);
+    // The seeds: principal directions of the shape operator in a tangent frame (t1, t2).
+    parallelRange(0, m, threads, [&](uint32_t i) {
+        Vector3d x = samples[i].position, gradient;
+        Matrix3d hessian;
+        surface.eval(x, gradient, &hessian);
+        const double g = gradient.norm();
+        Vector3d normal = g > 1e-12 && gradient.allFinite() ? Vector3d(gradient / g) : samples[i].normal.normalized();
+        if (normal.dot(samples[i].normal) < 0) normal = -normal;
+        const Vector3d t1 = anyTangent(normal), t2 = normal.cross(t1);
+        double a = 0, b = 0, c = 0;
+        if (g > 1e-12 && hessian.allFinite()) {
+            a = t1.dot(hessian * t1) / g, b = t1.dot(hessian * t2) / g, c = t2.dot(hessian * t2) / g;
+        }
+        const double spread = std::sqrt((a - c) * (a - c) + 4 * b * b);  // |k1 − k2|
+        // The direction of the eigenvalue (a + c)/2 + spread/2; the other one has the larger |k| when a + c < 0.
+        const double psi = 0.5 * std::atan2(2 * b, a - c) + (a + c < 0 ? 0.5 * M_PI : 0.0);
+        const double s = spread * options.featureSize;
+        n[i] = normal;
+        seed[i] = atAngle(t1, normal, psi);
+        confidence[i] = std::isfinite(s) ? s * s / (1 + s * s) : 0.0;
+    });
+    // Restriction: a coarse point's seed is the confidence-weighted e^{4iψ} average of its children's, in the frame
+    // of the first (whose normal it has).
+    const size_t levels = graph.levels();
+    for (size_t l = 1; l < levels; ++l)
+        parallelRange(graph.levelStart[l], graph.levelStart[l + 1], threads, [&](uint32_t r) {
+            const uint32_t first = graph.childStart[r], last = graph.childStart[r + 1];
+            const uint32_t lead = graph.children[first];
+            n[r] = n[lead];
+            const Vector3d t1 = seed[lead], t2 = n[r].cross(t1);
+            Vector2d sum = Vector2d::Zero();
+            for (uint32_t c = first; c < last; ++c)
+                sum += confidence[graph.children[c]] * fourthPower(seed[graph.children[c]], t1, t2);
+            confidence[r] = sum.norm() / double(last - first);
+            seed[r] = atAngle(t1, n[r], 0.25 * std::atan2(sum.y(), sum.x()));
+        });
+    // Jacobi sweeps of the e^{4iθ} average on one level (cross_field.h): each reads the previous sweep only.
+    auto smooth = [&](size_t l, uint32_t sweeps) {
+        for (uint32_t sweep = 0; sweep < sweeps; ++sweep) {
+            parallelRange(graph.levelStart[l], graph.levelStart[l + 1], threads, [&](uint32_t i) {
+                const Vector3d& normal = n[i];
+                const Vector3d t1 = d[i], t2 = normal.cross(t1);
+                Vector2d z(1.0, 0.0);  // itself: a damped step
+                for (uint32_t j = 0; j < k; ++j) {
+                    const uint32_t o = graph.neighbours[size_t(i) * k + j];
+                    if (o != CrossFieldGraph::kNone) z += fourthPower(d[o], t1, t2);
+                }
+                z += options.fidelity * confidence[i] * fourthPower(seed[i], t1, t2);
+                next[i] = z.squaredNorm() > 1e-24 ? atAngle(t1, normal, 0.25 * std::atan2(z.y(), z.x())) : t1;
+            });
+            d.swap(next);  // (the other levels' entries of `next` are stale: only this level's are read again)
+        }
+    };
+    // Coarse to fine: start from the seeds, smooth, hand each point's direction down to the points it stands for.
+    if (levels > 0) {
+        const size_t coarsest = levels - 1;
+        for (uint32_t i = graph.levelStart[coarsest]; i < graph.levelStart[coarsest + 1]; ++i) d[i] = seed[i];
+        smooth(coarsest, options.coarseSweeps);
+        for (size_t l = coarsest; l-- > 0;) {
+            parallelRange(graph.levelStart[l], graph.levelStart[l + 1], threads, [&](uint32_t i) {
+                const Vector3d& up = d[graph.parent[i]];
+                const Vector3d t = up - up.dot(n[i]) * n[i];
+                d[i] = t.norm() > 1e-6 ? Vector3d(t.normalized()) : seed[i];
+            });
+            smooth(l, options.fineSweeps);
+        }
+    }
+    CrossFieldSolution solution;
+    solution.normals.assign(n.begin(), n.begin() + m);
+    solution.principal.assign(seed.begin(), seed.begin() + m);
+    solution.directions.assign(d.begin(), d.begin() + m);
+    solution.confidence.resize(m);
+    for (uint32_t i = 0; i < m; ++i) solution.confidence[i] = float(confidence[i]);
+    return solution;
+}
+
+CrossField::CrossField(const Surface& surface, const std::vector<SurfaceSample>& samples,
+                       const CrossFieldOptions& options) {
+    const CrossFieldGraph graph = buildCrossFieldGraph(samples, options.neighbours, options.threads);
+    *this = CrossField(samples, graph, solveCrossField(surface, samples, graph, options));
+}
+
+CrossField::CrossField(const std::vector<SurfaceSample>& samples, const CrossFieldGraph& graph,
+                       CrossFieldSolution solution)
+    : normals_(std::move(solution.normals)),
+      directions_(std::move(solution.directions)),
+      principal_(std::move(solution.principal)),
+      confidence_(std::move(solution.confidence)) {
+    const size_t m = samples.size();
+    if (normals_.size() != m || directions_.size() != m || principal_.size() != m || confidence_.size() != m ||
+        graph.levelStart.size() < 2 || graph.levelStart[1] != m)
+        throw Error("a cross field's solution does not match its samples");
+    positions_.resize(m);
+    for (size_t i = 0; i < m; ++i) positions_[i] = samples[i].position;
+    if (m == 0) return;
+    const uint32_t k = graph.k;
 
     // The comb: a maximum-confidence spanning forest of the neighbour graph, grown by a priority queue (ties by
     // index: deterministic).
-    const std::vector<uint32_t>& graph = levels[0].neighbours;  // (`fine` moved when levels grew)
     combed_.assign(m, Vector3d::Zero());
     std::vector<uint32_t> order(m);
     for (uint32_t i = 0; i < m; ++i) order[i] = i;
@@ -230,8 +298,8 @@ CrossField::CrossField(const Surface& surface, const std::vector<SurfaceSample>&
             const uint32_t i = queue.top().second;
             queue.pop();
             for (uint32_t j = 0; j < k; ++j) {
-                const uint32_t o = graph[size_t(i) * k + j];
-                if (o == UINT32_MAX || reached[o]) continue;
+                const uint32_t o = graph.neighbours[size_t(i) * k + j];
+                if (o == CrossFieldGraph::kNone || reached[o]) continue;
                 reached[o] = 1;
                 combed_[o] = directions_[o];
                 if (CrossField::nearestOf(directions_[o], normals_[o], combed_[i], matched)) combed_[o] = matched;
@@ -241,7 +309,7 @@ CrossField::CrossField(const Surface& surface, const std::vector<SurfaceSample>&
     }
 
     // The lookup grid.
-    radius_ = 2.5 * spacing;
+    radius_ = 2.5 * graph.spacing;
     inverseCell_ = 1.0 / radius_;
     for (uint32_t i = 0; i < m; ++i) {
         const Eigen::Array3i c = (positions_[i].array() * inverseCell_).floor().cast<int>();

@@ -1,7 +1,8 @@
 // A 4-symmetric direction field (a cross field) on points of the HRBF surface, for hatching (hatching.h,
 // docs/lines.md): the principal curvature directions of the fit where the surface is clearly anisotropic, smoothly
-// interpolated through umbilic and flat regions. Computed on the CPU, in parallel, with the same result for any
-// number of threads. No Vulkan here.
+// interpolated through umbilic and flat regions. Solved on the device (cross_field_device.h) or on the CPU, its twin,
+// in parallel, with the same result for any number of threads; the graph both solve on, the comb and the look-up
+// are the host's. No Vulkan here.
 //
 // Each point holds one unit tangent d; the cross is {±d, ±n × d}. Seeds: the direction of the largest principal
 // curvature, from the shape operator of the fit's analytic Hessian (S = P H P / |∇f|), with a confidence
@@ -36,11 +37,44 @@ struct CrossFieldOptions {
     unsigned threads = 0;  // 0: all hardware threads
 };
 
+// The points the field is smoothed on: the samples (level 0), then coarser subsets, each level's points one
+// stand-in per cell of a grid twice as coarse as the last (each side of a thin part its own), stored one level
+// after another. Built on the host from the samples' positions and normals; the CPU solve and the device's
+// (cross_field_device.h) both run on it, so that they differ only by their arithmetic.
+struct CrossFieldGraph {
+    uint32_t k = 0;                    // neighbours a point
+    std::vector<uint32_t> levelStart;  // level l is [levelStart[l], levelStart[l + 1]); level 0 the samples
+    std::vector<uint32_t> neighbours;  // k a point: the nearest on the same side of the surface (kNone where fewer)
+    std::vector<uint32_t> parent;      // its stand-in on the next coarser level (kNone on the coarsest)
+    // The points a coarse point stands for: children[childStart[i], childStart[i + 1]), the first of them the one
+    // whose position and normal it has (none for the samples).
+    std::vector<uint32_t> childStart, children;
+    double spacing = 0;  // the samples' median distance to their nearest neighbour
+    static constexpr uint32_t kNone = UINT32_MAX;
+
+    size_t levels() const { return levelStart.empty() ? 0 : levelStart.size() - 1; }
+    uint32_t points() const { return levelStart.empty() ? 0 : levelStart.back(); }
+};
+CrossFieldGraph buildCrossFieldGraph(const std::vector<SurfaceSample>& samples, uint32_t k, unsigned threads = 0);
+
+// The field solved on a graph, at the samples: the unit normal (the fit's ∇f, its sign the sample's), the seed (the
+// direction of the largest |k|) and its confidence, and one of the four directions of the smoothed cross.
+struct CrossFieldSolution {
+    std::vector<Eigen::Vector3d> normals, principal, directions;
+    std::vector<float> confidence;
+};
+// On the CPU, in double, in parallel (the same result for any number of threads).
+CrossFieldSolution solveCrossField(const Surface& surface, const std::vector<SurfaceSample>& samples,
+                                   const CrossFieldGraph& graph, const CrossFieldOptions& options = {});
+
 class CrossField {
 public:
     CrossField() = default;
+    // The graph built and the field solved on the CPU.
     CrossField(const Surface& surface, const std::vector<SurfaceSample>& samples,
                const CrossFieldOptions& options = {});
+    // From a solution on `graph` (either solve's): the comb and the look-up grid.
+    CrossField(const std::vector<SurfaceSample>& samples, const CrossFieldGraph& graph, CrossFieldSolution solution);
 
     size_t size() const { return positions_.size(); }
     const std::vector<Eigen::Vector3d>& positions() const { return positions_; }

@@ -32,9 +32,12 @@ struct HatchOptions {
 
 struct HatchStats {
     size_t strokes = 0, vertices = 0;
-    double length = 0;        // normalized units
-    double fieldSeconds = 0;  // the cross field
-    double seconds = 0;       // all of it
+    double length = 0;             // normalized units
+    double fieldSeconds = 0;       // the cross field: its graph, solve, comb and look-up grid
+    double fieldGraphSeconds = 0;  // of which the graph (buildCrossFieldGraph)
+    bool fieldOnDevice = false;    // solved on the device (cross_field_device.h), else on the CPU
+    double fieldDeviceMs = 0;      // the device's passes (timestamps)
+    double seconds = 0;            // all of it
 };
 
 // Streamlines of the cross field on f = 0, seeded à la Jobard & Lefer (1997): beside every accepted stroke at the
