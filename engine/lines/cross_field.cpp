@@ -3,6 +3,7 @@
 #include "base/common.h"
 #include "base/point_hash.h"
 #include "base/point_tree.h"
+#include "shared/cross_field.h"
 
 #include <Eigen/Geometry>
 
@@ -41,6 +42,13 @@ void parallelChunks(size_t n, unsigned threads, Body body) {
 // A unit tangent at n: any (the same for the same n).
 Vector3d anyTangent(const Vector3d& n) {
     Vector3d a = std::abs(n.x()) < 0.6 ? Vector3d::UnitX() : Vector3d::UnitY();
+    return (a - a.dot(n) * n).normalized();
+}
+
+// Where the curvature gives no direction, the coarsest level starts from this (shared/cross_field.h,
+// FIELD_START_CONFIDENCE): the tangent of the y axis, or of the x axis where the normal is near ±y.
+Vector3d axisTangent(const Vector3d& n) {
+    const Vector3d a = std::abs(n.y()) < 0.95 ? Vector3d::UnitY() : Vector3d::UnitX();
     return (a - a.dot(n) * n).normalized();
 }
 
@@ -233,7 +241,8 @@ CrossFieldSolution solveCrossField(const Surface& surface, const std::vector<Sur
     // Coarse to fine: start from the seeds, smooth, hand each point's direction down to the points it stands for.
     if (levels > 0) {
         const size_t coarsest = levels - 1;
-        for (uint32_t i = graph.levelStart[coarsest]; i < graph.levelStart[coarsest + 1]; ++i) d[i] = seed[i];
+        for (uint32_t i = graph.levelStart[coarsest]; i < graph.levelStart[coarsest + 1]; ++i)
+            d[i] = confidence[i] >= gpu::FIELD_START_CONFIDENCE ? seed[i] : axisTangent(n[i]);
         smooth(coarsest, options.coarseSweeps);
         for (size_t l = coarsest; l-- > 0;) {
             parallelRange(graph.levelStart[l], graph.levelStart[l + 1], threads, [&](uint32_t i) {
@@ -274,26 +283,26 @@ CrossField::CrossField(const std::vector<SurfaceSample>& samples, const CrossFie
     if (m == 0) return;
     const uint32_t k = graph.k;
 
-    // The comb: a maximum-confidence spanning forest of the neighbour graph, grown by a priority queue (ties by
-    // index: deterministic).
+    // The comb. Where the curvature is clear (confidence ≥ kAnchorConfidence) each point picks, of its four
+    // directions, the one nearest its own smaller principal curvature: a choice made from the point alone, so
+    // that a device's float and the CPU's double make the same one. The rest is reached over the neighbour graph
+    // from those anchors (or, in a part with none, from its most confident point), most confident first (ties by
+    // index: deterministic), each point matched to the one it was reached from.
     combed_.assign(m, Vector3d::Zero());
-    std::vector<uint32_t> order(m);
-    for (uint32_t i = 0; i < m; ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](uint32_t a, uint32_t b) { return confidence_[a] > confidence_[b]; });
     std::vector<char> reached(m, 0);
     using Item = std::pair<float, uint32_t>;
     auto lower = [](const Item& a, const Item& b) {
         return a.first < b.first || (a.first == b.first && a.second > b.second);
     };
     std::priority_queue<Item, std::vector<Item>, decltype(lower)> queue(lower);
-    for (uint32_t root : order) {
-        if (reached[root]) continue;
-        reached[root] = 1;
-        combed_[root] = normals_[root].cross(principal_[root]);  // the smaller principal curvature's direction
+    auto anchor = [&](uint32_t i) {
+        reached[i] = 1;
+        combed_[i] = normals_[i].cross(principal_[i]);  // the smaller principal curvature's direction
         Vector3d matched;
-        if (CrossField::nearestOf(directions_[root], normals_[root], combed_[root], matched)) combed_[root] = matched;
-        queue.push({confidence_[root], root});
+        if (CrossField::nearestOf(directions_[i], normals_[i], combed_[i], matched)) combed_[i] = matched;
+        queue.push({confidence_[i], i});
+    };
+    auto grow = [&] {
         while (!queue.empty()) {
             const uint32_t i = queue.top().second;
             queue.pop();
@@ -302,11 +311,24 @@ CrossField::CrossField(const std::vector<SurfaceSample>& samples, const CrossFie
                 if (o == CrossFieldGraph::kNone || reached[o]) continue;
                 reached[o] = 1;
                 combed_[o] = directions_[o];
+                Vector3d matched;
                 if (CrossField::nearestOf(directions_[o], normals_[o], combed_[i], matched)) combed_[o] = matched;
                 queue.push({confidence_[o], o});
             }
         }
-    }
+    };
+    for (uint32_t i = 0; i < m; ++i)
+        if (confidence_[i] >= kAnchorConfidence) anchor(i);
+    grow();
+    std::vector<uint32_t> order(m);
+    for (uint32_t i = 0; i < m; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t a, uint32_t b) { return confidence_[a] > confidence_[b]; });
+    for (uint32_t root : order)
+        if (!reached[root]) {
+            anchor(root);
+            grow();
+        }
 
     // The lookup grid.
     radius_ = 2.5 * graph.spacing;

@@ -81,10 +81,12 @@ public:
     const std::vector<Eigen::Vector3d>& normals() const { return normals_; }
     const std::vector<Eigen::Vector3d>& directions() const { return directions_; }  // one of each point's four
     const std::vector<Eigen::Vector3d>& principal() const { return principal_; }    // largest |k|, the seed
-    // One of each point's four directions chosen consistently over the surface (a comb): grown from the most
-    // confident point along its smaller principal curvature, over the neighbour graph, most confident first, each
-    // point matched to the one it was reached from. The choices disagree only across a few cuts, in the least
-    // anisotropic regions (a 4-symmetric field with singularities cannot be combed everywhere).
+    // One of each point's four directions chosen consistently over the surface (a comb): where the curvature is
+    // clear (confidence ≥ kAnchorConfidence), the one nearest the point's own smaller principal curvature; elsewhere
+    // grown from those over the neighbour graph, most confident first, each point matched to the one it was reached
+    // from. The choices disagree only across a few cuts, in the least anisotropic regions (a 4-symmetric field with
+    // singularities cannot be combed everywhere).
+    static constexpr float kAnchorConfidence = 0.5f;  // |k1 − k2| · featureSize ≥ 1
     const std::vector<Eigen::Vector3d>& combed() const { return combed_; }
     const std::vector<float>& confidence() const { return confidence_; }
     double radius() const { return radius_; }  // of an interpolation (lookup)

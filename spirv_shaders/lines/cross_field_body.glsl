@@ -45,6 +45,12 @@ vec3 anyTangent(vec3 n) {
     return normalize(a - dot(a, n) * n);
 }
 
+// The start of a coarsest point whose curvature gives no direction (FIELD_START_CONFIDENCE).
+vec3 axisTangent(vec3 n) {
+    vec3 a = abs(n.y) < 0.95 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
+    return normalize(a - dot(a, n) * n);
+}
+
 void seed(uint i) {
     vec3 x = samples[2u * i].xyz, given = samples[2u * i + 1u].xyz;
     vec3 grad;
@@ -110,7 +116,10 @@ void main() {
     switch (pc.range.z) {
         case FIELD_PASS_SEED: seed(i); break;
         case FIELD_PASS_RESTRICT: restrictSeed(i); break;
-        case FIELD_PASS_START: directions[pc.range.w * points() + i] = vec4(seedOf(i), 0.0); break;
+        case FIELD_PASS_START:
+            directions[pc.range.w * points() + i] =
+                vec4(confidenceOf(i) >= FIELD_START_CONFIDENCE ? seedOf(i) : axisTangent(normalOf(i)), 0.0);
+            break;
         case FIELD_PASS_SMOOTH: sweep(i); break;
         case FIELD_PASS_PROLONG: prolong(i); break;
     }

@@ -16,9 +16,16 @@ INK_CONST uint FIELD_NONE = 0xFFFFFFFFu;  // no neighbour, no parent (CrossField
 // Passes (FieldParams::range.z), each over the points [range.x, range.y) of one level, one invocation a point.
 INK_CONST uint FIELD_PASS_SEED = 0u;      // the samples: normal, principal direction and confidence from ∇f and HF
 INK_CONST uint FIELD_PASS_RESTRICT = 1u;  // a coarse level: each point's seed from its children's
-INK_CONST uint FIELD_PASS_START = 2u;     // the coarsest level: the direction is the seed
+INK_CONST uint FIELD_PASS_START = 2u;     // the coarsest level: the direction is the seed, or where the curvature
+                                          // gives none (FIELD_START_CONFIDENCE) the tangent of a fixed axis
 INK_CONST uint FIELD_PASS_SMOOTH = 3u;    // a Jacobi sweep: FIELD_DIRECTIONS half range.w read, the other written
 INK_CONST uint FIELD_PASS_PROLONG = 4u;   // a finer level: its parent's direction in its tangent plane
+
+// Below this confidence a coarsest point starts from the tangent plane's projection of the model's y axis (its
+// x axis where the normal lies within 18° of ±y) instead of its seed: where the surface is flat or umbilic the
+// seed's direction is the Hessian's rounding noise, different in float and double, and the sweeps would smooth
+// that noise instead of growing the field in from the curved parts.
+INK_CONST float FIELD_START_CONFIDENCE = 0.02;
 
 // The push constants (std430).
 struct FieldParams {
