@@ -192,6 +192,12 @@ TEST_CASE("cli: bench runs the sphere workload and reports the documented keys" 
           "\"driver\"", "\"level_gpu_ms\"", "\"frame_passes_ms_median\"", "\"stamp\"", "\"dots_drawn_first_frame\"",
           "\"screen_spacing\": false"})
         CHECK_MESSAGE(text.find(key) != std::string::npos, key);
+    // An unknown workload is refused with the names of all the known ones.
+    Run bad = run("bench --workload bunny-lines,bunny-lines-device --repeat 1");
+    CHECK(bad.status != 0);
+    CHECK(bad.output.find("unknown workload 'bunny-lines,bunny-lines-device'") != std::string::npos);
+    for (const char* name : {"bunny-684-lines-device", "bunny-lines-device", "torus-100k"})
+        CHECK_MESSAGE(bad.output.find(name) != std::string::npos, name);
 }
 
 namespace {

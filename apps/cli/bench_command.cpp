@@ -222,9 +222,11 @@ int runBench(Options& o, const std::vector<std::string>& names, const std::strin
     for (const std::string& name : names) {
         auto it = std::find_if(builtinWorkloads().begin(), builtinWorkloads().end(),
                                [&](const Workload& w) { return w.name == name; });
-        if (it == builtinWorkloads().end())
-            throw ink::Error("unknown workload '" + name +
-                             "': use sphere, bunny-312, bunny-684, bunny-684-lines, bunny-684-global or torus-100k");
+        if (it == builtinWorkloads().end()) {
+            std::string known;
+            for (const Workload& w : builtinWorkloads()) known += (known.empty() ? "" : ", ") + w.name;
+            throw ink::Error("unknown workload '" + name + "': use one of " + known);
+        }
         workloads.push_back(*it);
     }
     if (!o.model.empty())

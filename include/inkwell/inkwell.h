@@ -166,8 +166,9 @@ enum class Distribution {
 
 struct DrawingOptions {
     Style style = Style::Stipple;  // the dots (Look::dots turns them off, e.g. for pen lines alone)
-    // Pen lines (docs/lines.md), traced on the CPU: the occluding contour for each view a renderer draws (re-traced
-    // when the eye moves: about 20–60 ms for the 684-point bunny), and hatching strokes once, along the surface.
+    // Pen lines (docs/lines.md): the occluding contour for each view a renderer draws (re-traced when the eye moves;
+    // on the device where it is a GPU, else on the CPU: about 20–60 ms for the 684-point bunny on 2 cores), and
+    // hatching strokes once, along the surface (their cross field solved on the device where it is a GPU).
     bool contours = false;
     bool hatching = false;
     // A model's crease lines (sharp edges: a mesh's, or a point cloud's where its normals turn sharply) and a mesh's
