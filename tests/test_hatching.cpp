@@ -186,6 +186,14 @@ TEST_CASE("cross field: the device solves the torus's field as its CPU twin does
     CHECK(quantile(toAround, 0.5) < 2.0);
     CHECK(quantile(toAround, 0.95) < 5.0);
 
+    // A model whose nodes outgrow a storage buffer reads them by address (cross_field_large.comp): the same field.
+    refine.nodesByAddress = true;
+    Refinement byAddress(gpu.ctx, m.surface, refine);
+    REQUIRE(byAddress.r.nodesByAddress);
+    const ink::CrossFieldSolution large = ink::solveCrossFieldOnDevice(gpu.ctx, byAddress.r, samples, graph, options);
+    CHECK(large.directions == device.directions);
+    CHECK(large.confidence == device.confidence);
+
     // Hatched from either field: the same strokes, up to float.
     ink::HatchOptions hatch;
     ink::HatchStats cpuStats, deviceStats;
