@@ -1,6 +1,9 @@
 // Crease and boundary lines of a mesh (engine/lines/feature_lines.h), the trimming of what the input does not support
 // (engine/surface/support.h), and their options, pens and layers (docs/lines.md, Creases and boundaries).
 #include "base/image.h"
+#include "draw/renderer.h"
+#include "draw/scene.h"
+#include "gpu_fixture.h"
 #include "io/points.h"
 #include "lines/feature_lines.h"
 #include "run_command.h"
@@ -463,4 +466,83 @@ TEST_CASE("features: a fit far from its mesh (few control points) is not trimmed
     CHECK(model.support.supports(Eigen::Vector3d(0.45, 0.45, 0.45)));  // a corner of the box, far from the mesh
     const ink::Model fine = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {});
     CHECK_FALSE(fine.support.supports(Eigen::Vector3d(0.45, 0.45, 0.45)));
+}
+
+TEST_CASE("features: a cube's hidden edges stay hidden where its splat disks span many depth cells" *
+          doctest::test_suite("gpu")) {
+    // Two levels (a drawing of lines alone) give large disks, and 4× supersampling many depth cells a disk: sampled
+    // every few cells, the depth grid had holes, and the three edges behind the cube showed through its faces.
+    GpuFixture gpu;
+    ink::LineOptions lines;
+    lines.creases = true;
+    ink::RefineOptions refine;
+    refine.levels = 2;
+    ink::Scene scene(gpu.ctx, ink::fitModel(cubeMesh(8), {}), ink::DrawStyle::Stipple, refine, lines);
+    REQUIRE(scene.model.features.creases.size() == 12);
+    ink::RenderStyle style;
+    style.drawDots = false;
+    style.supersample = 4;
+    const uint32_t size = 512;
+    ink::OffscreenRenderer renderer(gpu.ctx, size, size, style, scene.pointers(), scene.strokes.get());
+    ink::Camera camera;
+    camera.azimuthDeg = 30;
+    camera.elevationDeg = 25;
+    camera.distance = 1.8f;
+    const ink::RgbaImage image = renderer.render(camera);
+    const glm::mat4 clip = camera.projection(1.0f) * camera.view();
+    auto pixel = [&](const Vector3d& input) {
+        const Vector3d x = scene.model.surface.frame.toNormalized(input);
+        const glm::vec4 c = clip * glm::vec4(float(x.x()), float(x.y()), float(x.z()), 1.0f);
+        return Eigen::Vector2d((c.x / c.w * 0.5 + 0.5) * size, (c.y / c.w * 0.5 + 0.5) * size);
+    };
+    auto inkNear = [&](const Eigen::Vector2d& p) {
+        int found = 0;
+        for (int dy = -2; dy <= 2; ++dy)
+            for (int dx = -2; dx <= 2; ++dx) {
+                const int x = int(p.x()) + dx, y = int(p.y()) + dy;
+                if (x >= 0 && y >= 0 && x < int(size) && y < int(size))
+                    found += image.pixels[(size_t(y) * size + size_t(x)) * 4] < 128;
+            }
+        return found;
+    };
+    // The corners ±½; the edges of the one farthest from the eye are hidden, those of the nearest visible.
+    const glm::vec3 e = camera.eye();
+    const Vector3d eye = scene.model.surface.frame.toInput(Vector3d(e.x, e.y, e.z));
+    std::vector<Vector3d> corners;
+    for (int k = 0; k < 8; ++k) corners.push_back(Vector3d(k & 1 ? 0.5 : -0.5, k & 2 ? 0.5 : -0.5, k & 4 ? 0.5 : -0.5));
+    auto byDistance = [&](const Vector3d& a, const Vector3d& b) { return (a - eye).norm() < (b - eye).norm(); };
+    const Vector3d nearest = *std::min_element(corners.begin(), corners.end(), byDistance),
+                   farthest = *std::max_element(corners.begin(), corners.end(), byDistance);
+    // Points along an edge of `corner`, away from where other edges cross it in the image.
+    auto alongEdges = [&](const Vector3d& corner, auto&& visit) {
+        for (int axis = 0; axis < 3; ++axis) {
+            Vector3d other = corner;
+            other[axis] = -other[axis];
+            for (double t = 0.3; t <= 0.71; t += 0.1) {
+                const Vector3d x = corner + t * (other - corner);
+                const Eigen::Vector2d p = pixel(x);
+                bool crossed = false;  // within 8 px of another edge's image
+                for (int k = 0; k < 8; ++k)
+                    for (int a = 0; a < 3; ++a) {
+                        Vector3d b = corners[k];
+                        b[a] = -b[a];
+                        if ((corners[k] == corner && b == other) || (corners[k] == other && b == corner)) continue;
+                        const Eigen::Vector2d u = pixel(corners[k]), v = pixel(b);
+                        const double s = std::clamp((p - u).dot(v - u) / (v - u).squaredNorm(), 0.0, 1.0);
+                        crossed = crossed || (u + s * (v - u) - p).norm() < 8;
+                    }
+                if (!crossed) visit(p);
+            }
+        }
+    };
+    int hiddenSamples = 0, hiddenInked = 0, visibleSamples = 0, visibleInked = 0;
+    alongEdges(farthest, [&](const Eigen::Vector2d& p) { ++hiddenSamples, hiddenInked += inkNear(p) > 0; });
+    alongEdges(nearest, [&](const Eigen::Vector2d& p) { ++visibleSamples, visibleInked += inkNear(p) > 0; });
+    MESSAGE("cube edges: " << hiddenInked << " of " << hiddenSamples << " hidden samples inked, " << visibleInked
+                           << " of " << visibleSamples << " visible ones");
+    REQUIRE(hiddenSamples >= 6);
+    REQUIRE(visibleSamples >= 6);
+    CHECK(visibleInked == visibleSamples);
+    CHECK(hiddenInked == 0);
+    gpu.requireNoValidationErrors();
 }

@@ -86,9 +86,9 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
             viewInfo.buffer = r->drawnPoints().buffer;
             viewInfo.format = VK_FORMAT_R32G32B32A32_SFLOAT;
             viewInfo.range = VK_WHOLE_SIZE;
-            sets_.push_back({VK_NULL_HANDLE, splatSpacing(*r), draw[0], draw[2],
-                             r->options.style == SampleStyle::Direction ? "direction" : "stipple",
-                             r->selection ? float(r->selection->plan.areaEstimate) : 0.0f});
+            const bool direction = r->options.style == SampleStyle::Direction;
+            sets_.push_back({VK_NULL_HANDLE, splatSpacing(*r), draw[0], draw[2], direction ? "direction" : "stipple",
+                             r->selection ? float(r->selection->plan.areaEstimate) : 0.0f, direction});
             VK_CHECK(vkCreateBufferView(ctx.device, &viewInfo, nullptr, &sets_.back().texels));
         }
         const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -188,10 +188,13 @@ PointRenderer::Push PointRenderer::push(const Set& s, const Camera& camera, VkEx
     float k =
         spacing_.x > 0 ? kSupply * kCoverage / (dotPixels * lambda) : std::min(1.0f, 0.9f / (sphereLambda * dotPixels));
     float radius = style_.occlusion ? style_.splatScale * s.splatRadius : 0.0f;
-    return Push{camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]),
-                glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
-                glm::vec4(radius, radius, k, camera.distance * camera.distance),
-                glm::uvec4(s.points, style_.hiddenLines ? 1u : 0u, s.first, gpu::PASS_VISIBILITY)};
+    return Push{
+        camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]),
+        glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
+        glm::vec4(radius, radius, k, camera.distance * camera.distance),
+        glm::uvec4(s.points,
+                   (style_.hiddenLines ? gpu::CAMERA_HIDDEN : 0u) | (s.sparseSplats ? gpu::CAMERA_SPARSE_SPLATS : 0u),
+                   s.first, gpu::PASS_VISIBILITY)};
 }
 
 void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent, uint32_t frame) {

@@ -91,6 +91,7 @@ private:
         uint32_t first = 0;            // its first point: not 0 when only the last level is kept
         const char* name = "stipple";  // its vector layer's
         float area = 0;                // the surface's, normalized units (the selection's estimate); 0: unknown
+        bool sparseSplats = false;     // its large disks sampled sparsely (gpu::CAMERA_SPARSE_SPLATS)
     };
     // What one frame in flight writes.
     struct Frame {

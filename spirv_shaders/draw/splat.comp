@@ -12,7 +12,12 @@
 
 layout(local_size_x = GROUP_SIZE) in;
 
-const int MAX_CELLS = 9;  // a disk spans at most this many cells a side; larger disks are sampled sparsely
+// A disk is tested cell by cell up to this many cells a side. A larger one (a sparse set drawn large, a view zoomed
+// in) is sampled every `step` cells, and each sample inside the disk writes its depth to its whole step × step block:
+// sampled alone, the cells between were left without the disk's depth, and what lies behind showed through the
+// holes (a cube's back edges through its faces, with 2 levels at 1024²). With CAMERA_SPARSE_SPLATS (direction
+// sampling) a sample writes its own cell only, beyond MAX_SPARSE_CELLS a side.
+const int MAX_CELLS = 24, MAX_SPARSE_CELLS = 9;
 
 void splat(vec3 c, vec3 n) {
     vec4 clip = project(c);
@@ -26,11 +31,14 @@ void splat(vec3 c, vec3 n) {
     vec2 radius = min(f * cam.splat.x * (1.0 + abs(c.xy) / z) / max(z - cam.splat.x, 1e-6), grid);
     ivec2 lo = max(ivec2(ceil(center - radius - 0.5)), ivec2(0));
     ivec2 hi = min(ivec2(floor(center + radius - 0.5)), ivec2(grid) - 1);
-    int step = max(1, (max(hi.x - lo.x, hi.y - lo.y) + MAX_CELLS) / MAX_CELLS);
+    bool sparse = (cam.counts.y & CAMERA_SPARSE_SPLATS) != 0u;
+    int most = sparse ? MAX_SPARSE_CELLS : MAX_CELLS;
+    int step = max(1, (max(hi.x - lo.x, hi.y - lo.y) + most) / most), block = sparse ? 1 : step;
     float planeD = dot(c, n);
     for (int y = lo.y; y <= hi.y; y += step) {
         for (int x = lo.x; x <= hi.x; x += step) {
-            vec2 ndc = (vec2(x, y) + 0.5) / grid * 2.0 - 1.0;
+            // The block's middle cell stands for it.
+            vec2 ndc = (vec2(min(x + block / 2, hi.x), min(y + block / 2, hi.y)) + 0.5) / grid * 2.0 - 1.0;
             vec3 ray = vec3(ndc.x / cam.projection.x, ndc.y / cam.projection.y, -1.0);
             float denom = dot(ray, n);
             vec3 hit;
@@ -42,9 +50,17 @@ void splat(vec3 c, vec3 n) {
             } else {
                 continue;
             }
-            hit += normalize(hit) * cam.splat.y;
+            // Pushed back by the radius, and (filled disks) by as far as a sphere of the disk's radius curves away
+            // from the disk at the hit, seen along the ray (d² / 2R over |cos| of the ray to the normal, |cos| taken
+            // as at least ½: at most one radius more at the rim): at grazing angles a flat disk stands in front of
+            // its own curved surface. Measured against ray casting (docs/algorithm.md §6).
+            vec3 along = normalize(hit);
+            float curve = sparse ? 0.0 : dot(hit - c, hit - c) / (2.0 * cam.splat.x) / max(abs(dot(along, n)), 0.5);
+            hit += along * (cam.splat.y + curve);
             vec4 h = project(hit);
-            atomicMin(depth[y * int(grid.x) + x], floatBitsToUint(max(h.z / h.w, 0.0)));
+            uint cellDepth = floatBitsToUint(max(h.z / h.w, 0.0));
+            for (int by = y; by < min(y + block, hi.y + 1); ++by)
+                for (int bx = x; bx < min(x + block, hi.x + 1); ++bx) atomicMin(depth[by * int(grid.x) + bx], cellDepth);
         }
     }
 }

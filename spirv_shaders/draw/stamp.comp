@@ -38,7 +38,7 @@ uint visibleClass(Dot d) {
     vec2 grid = cam.viewport.zw;
     ivec2 cell = clamp(ivec2(d.pixel / cam.viewport.xy * grid), ivec2(0), ivec2(grid) - 1);
     if (d.z <= uintBitsToFloat(depth[cell.y * int(grid.x) + cell.x])) return cls;
-    return cls == SILHOUETTE && (cam.counts.y & 1u) != 0u ? HIDDEN : BACK;
+    return cls == SILHOUETTE && (cam.counts.y & CAMERA_HIDDEN) != 0u ? HIDDEN : BACK;
 }
 
 void main() {

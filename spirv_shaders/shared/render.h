@@ -79,6 +79,13 @@ struct DrawnCounts {
 INK_ASSERT_SIZE(DrawnCounts, 32);
 INK_ASSERT_OFFSET(DrawnCounts, bounds, 16);
 
+// Camera::counts.y's bits.
+INK_CONST uint CAMERA_HIDDEN = 1u;  // draw hidden silhouettes
+// Sample a disk that spans many depth cells only every few cells, each sample its own cell (splat.comp): for direction
+// sampling, whose disks (ρ₀, to bridge the gaps between its lines) are larger than a thin part's curvature. Filled
+// completely they hid more of the bunny's visible dots than the holes let through (ray cast, bunny from behind).
+INK_CONST uint CAMERA_SPARSE_SPLATS = 2u;
+
 // The push constants (std430), within the guaranteed 128 bytes.
 struct Camera {
     mat4 view;        // model → view (rigid)
@@ -86,7 +93,7 @@ struct Camera {
     vec4 viewport;    // width, height of the target in pixels; width, height of the depth grid
     vec4 splat;       // x: splat radius, y: push-back (model units), 0: no occlusion; z: tone scale k; w: the
                       // squared distance of the model's centre from the eye (the depth the tone scale is for)
-    uvec4 counts;     // x: points in the set; y: 1 = draw hidden silhouettes; z: the set's first point; w: PASS_*
+    uvec4 counts;     // x: points in the set; y: CAMERA_* bits; z: the set's first point; w: PASS_*
 };
 INK_ASSERT_SIZE(Camera, 128);
 INK_ASSERT_OFFSET(Camera, projection, 64);
