@@ -184,19 +184,15 @@ DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t sa
         readback_ =
             createBuffer(ctx, nodes_.size + vertices_.size + sizeof(gpu::ContourCounters), dst, MemoryUse::Readback);
 
-        const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, ub = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-        std::vector<DescriptorBinding> bindings = {{gpu::REFINE_SURFACE_HEADER, ub, r.hrbfHeader.buffer},
-                                                   {gpu::REFINE_PU_PATCHES, sb, r.puPatches.buffer},
-                                                   {gpu::REFINE_PU_CELLS, sb, r.puCells.buffer},
-                                                   {gpu::REFINE_PU_COARSE, sb, r.puCoarse.buffer},
-                                                   {gpu::CONTOUR_SAMPLES, sb, r.drawnPoints().buffer},
-                                                   {gpu::CONTOUR_SEEDS, sb, seedTable_.buffer},
-                                                   {gpu::CONTOUR_NODES, sb, nodes_.buffer},
-                                                   {gpu::CONTOUR_GRID, sb, grid_.buffer},
-                                                   {gpu::CONTOUR_VERTICES, sb, vertices_.buffer},
-                                                   {gpu::CONTOUR_COUNTERS, sb, counters_.buffer},
-                                                   {gpu::CONTOUR_LIST, sb, list_.buffer}};
-        if (!r.nodesByAddress) bindings.push_back({gpu::REFINE_PU_NODES, sb, r.puNodes.buffer});
+        const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        std::vector<DescriptorBinding> bindings = puSurfaceBindings(r);
+        bindings.insert(bindings.end(), {{gpu::CONTOUR_SAMPLES, sb, r.drawnPoints().buffer},
+                                         {gpu::CONTOUR_SEEDS, sb, seedTable_.buffer},
+                                         {gpu::CONTOUR_NODES, sb, nodes_.buffer},
+                                         {gpu::CONTOUR_GRID, sb, grid_.buffer},
+                                         {gpu::CONTOUR_VERTICES, sb, vertices_.buffer},
+                                         {gpu::CONTOUR_COUNTERS, sb, counters_.buffer},
+                                         {gpu::CONTOUR_LIST, sb, list_.buffer}});
         descriptors_ = createDescriptorSet(ctx, bindings, VK_SHADER_STAGE_COMPUTE_BIT);
         layout_ =
             createPipelineLayout(ctx, descriptors_.layout, sizeof(gpu::ContourParams), VK_SHADER_STAGE_COMPUTE_BIT);

@@ -101,16 +101,12 @@ CrossFieldSolution solveCrossFieldOnDevice(Context& ctx, const GpuRefinement& r,
     upload.add(res.graph, words.data(), graphSize);
     upload.submit();
 
-    const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, ub = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    std::vector<DescriptorBinding> bindings = {{gpu::REFINE_SURFACE_HEADER, ub, r.hrbfHeader.buffer},
-                                               {gpu::REFINE_PU_PATCHES, sb, r.puPatches.buffer},
-                                               {gpu::REFINE_PU_CELLS, sb, r.puCells.buffer},
-                                               {gpu::REFINE_PU_COARSE, sb, r.puCoarse.buffer},
-                                               {gpu::FIELD_SAMPLES, sb, res.samples.buffer},
-                                               {gpu::FIELD_GRAPH, sb, res.graph.buffer},
-                                               {gpu::FIELD_STATE, sb, res.state.buffer},
-                                               {gpu::FIELD_DIRECTIONS, sb, res.directions.buffer}};
-    if (!r.nodesByAddress) bindings.push_back({gpu::REFINE_PU_NODES, sb, r.puNodes.buffer});
+    const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    std::vector<DescriptorBinding> bindings = puSurfaceBindings(r);
+    bindings.insert(bindings.end(), {{gpu::FIELD_SAMPLES, sb, res.samples.buffer},
+                                     {gpu::FIELD_GRAPH, sb, res.graph.buffer},
+                                     {gpu::FIELD_STATE, sb, res.state.buffer},
+                                     {gpu::FIELD_DIRECTIONS, sb, res.directions.buffer}});
     res.descriptors = createDescriptorSet(ctx, bindings, VK_SHADER_STAGE_COMPUTE_BIT);
     res.layout =
         createPipelineLayout(ctx, res.descriptors.layout, sizeof(gpu::FieldParams), VK_SHADER_STAGE_COMPUTE_BIT);

@@ -106,6 +106,17 @@ static Buffer deviceArray(Context& ctx, UploadBatch& uploads, const std::vector<
     return b;
 }
 
+std::vector<DescriptorBinding> puSurfaceBindings(const GpuRefinement& r) {
+    const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    std::vector<DescriptorBinding> bindings = {
+        {gpu::REFINE_SURFACE_HEADER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, r.hrbfHeader.buffer},
+        {gpu::REFINE_PU_PATCHES, sb, r.puPatches.buffer},
+        {gpu::REFINE_PU_CELLS, sb, r.puCells.buffer},
+        {gpu::REFINE_PU_COARSE, sb, r.puCoarse.buffer}};
+    if (!r.nodesByAddress) bindings.push_back({gpu::REFINE_PU_NODES, sb, r.puNodes.buffer});
+    return bindings;
+}
+
 void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const RefineOptions& options) {
     const uint64_t range = ctx.properties.limits.maxStorageBufferRange;
     const uint64_t groups = ctx.properties.limits.maxComputeWorkGroupCount[0];

@@ -42,6 +42,9 @@ struct GpuRefinement {
 };
 
 void createRefinement(Context& ctx, GpuRefinement& r, const Surface& hrbf, const RefineOptions& options);
+// The partition of unity's bindings (shared/refine.h: the header, REFINE_PU_*; the nodes unless read by address),
+// for the passes that evaluate a refinement's surface in their own descriptor sets (the contour, the cross field).
+std::vector<DescriptorBinding> puSurfaceBindings(const GpuRefinement& r);
 void destroyRefinement(Context& ctx, GpuRefinement& r);
 
 // Owns one GpuRefinement: created in the constructor (what was made is released when that throws), destroyed
