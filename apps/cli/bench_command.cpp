@@ -25,7 +25,7 @@ struct Workload {
     ink::FitMethod method = ink::FitMethod::PartitionOfUnity;
     // The contour traced and the hatching's cross field solved on the device (--contour-tracer device, --hatch-field
     // device), else on the CPU.
-    bool contoursOnDevice = false;
+    bool linesOnDevice = false;
 };
 
 // The report's workloads (with the default fit), the bunny-684 one with the report's global fit for comparison,
@@ -79,8 +79,8 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
     ink::LineOptions lines;
     lines.contours = lines.hatching = w.lines;
     lines.contourTracer =
-        w.contoursOnDevice ? ink::LineOptions::ContourTracer::Device : ink::LineOptions::ContourTracer::Cpu;
-    lines.fieldSolver = w.contoursOnDevice ? ink::LineOptions::FieldSolver::Device : ink::LineOptions::FieldSolver::Cpu;
+        w.linesOnDevice ? ink::LineOptions::ContourTracer::Device : ink::LineOptions::ContourTracer::Cpu;
+    lines.fieldSolver = w.linesOnDevice ? ink::LineOptions::FieldSolver::Device : ink::LineOptions::FieldSolver::Cpu;
     const double loadSeconds = secondsSince(start);
     json out;
     {

@@ -14,6 +14,10 @@ namespace ink {
 
 namespace {
 
+// Where `auto` puts the pen lines' device passes (the contour, the cross field): on a GPU. On a CPU driver
+// (lavapipe) their CPU twins are the faster (docs/lines.md).
+bool autoOnDevice(const Context& ctx) { return ctx.properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU; }
+
 // Drops the drawn points of `r` that `support` does not hold, keeping the others in order (a stipple keeps its
 // rank); returns how many went, and how many there were in `total`.
 size_t trimRefinement(Context& ctx, GpuRefinement& r, const Support& support, size_t& total) {
@@ -110,10 +114,8 @@ Scene::TracedLines Scene::traceLines(const Sets& from, const LineOptions& l) con
     if (l.hatching) {
         const GpuRefinement& first = from.front()->gpu();
         using Solver = LineOptions::FieldSolver;
-        const bool device =
-            (l.fieldSolver == Solver::Device ||
-             (l.fieldSolver == Solver::Auto && ctx.properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU)) &&
-            solvesCrossFieldOnDevice(first);
+        const bool device = (l.fieldSolver == Solver::Device || (l.fieldSolver == Solver::Auto && autoOnDevice(ctx))) &&
+                            solvesCrossFieldOnDevice(first);
         if (l.fieldSolver == Solver::Device && !device && !notedCpuField_) {
             note(
                 "the hatching's cross field is solved on the CPU: the device solves a partition-of-unity fit only "
@@ -179,8 +181,7 @@ void Scene::traceContours(const Camera& camera) {
     const GpuRefinement* first = sets.empty() ? nullptr : &sets.front()->gpu();
     using Tracer = LineOptions::ContourTracer;
     const bool onDevice =
-        lines.contourTracer == Tracer::Device ||
-        (lines.contourTracer == Tracer::Auto && ctx.properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU);
+        lines.contourTracer == Tracer::Device || (lines.contourTracer == Tracer::Auto && autoOnDevice(ctx));
     if (onDevice && first && DeviceContours::supports(*first) && !samples.empty()) {
         if (!deviceContours_)
             deviceContours_ = std::make_unique<DeviceContours>(ctx, *first, uint32_t(samples.size()), lines.contour);

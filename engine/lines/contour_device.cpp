@@ -156,7 +156,7 @@ static_assert(kCellSteps >= gpu::CONTOUR_LONGEST_STEP + gpu::CONTOUR_MEET_STEPS,
 
 }  // namespace
 
-bool DeviceContours::supports(const GpuRefinement& r) { return r.puPatches.buffer != VK_NULL_HANDLE; }
+bool DeviceContours::supports(const GpuRefinement& r) { return r.partitionOfUnity(); }
 
 DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t samples, const ContourOptions& options)
     : ctx_(ctx), refinement_(r), samples_(samples), options_(options) {

@@ -18,7 +18,7 @@ namespace ink {
 
 using Eigen::Vector3d;
 
-bool solvesCrossFieldOnDevice(const GpuRefinement& r) { return r.puPatches.buffer != VK_NULL_HANDLE; }
+bool solvesCrossFieldOnDevice(const GpuRefinement& r) { return r.partitionOfUnity(); }
 
 namespace {
 

@@ -38,6 +38,9 @@ struct GpuRefinement {
 
     // The points drawn: the selected stipples (rank in `tone`), or the refined points.
     const Buffer& drawnPoints() const;
+    // The surface is the partition of unity (evaluated in float, on the device by the passes that take
+    // puSurfaceBindings), not the global fit (in double).
+    bool partitionOfUnity() const { return puPatches.buffer != VK_NULL_HANDLE; }
     VkDeviceSize drawOffset() const { return selection ? kSelectedDrawOffset : kDrawOffset; }
 };
 
