@@ -79,6 +79,7 @@ ink::RenderStyle toStyle(const Look& look) {
     s.lightFollowsCamera = look.lightFollowsCamera;
     s.supersample = look.supersample;
     s.drawDots = look.dots;
+    s.screenSpacing = look.screenSpacing;
     s.penWidth = look.penWidth;
     s.hatchWidth = look.hatchWidth;
     s.hiddenPenWidth = look.hiddenPenWidth;

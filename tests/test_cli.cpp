@@ -190,7 +190,7 @@ TEST_CASE("cli: bench runs the sphere workload and reports the documented keys" 
           "\"distribution\": \"blue-noise\"", "\"stipples\"", "\"select_ms\"", "\"refine_seconds\"",
           "\"preprocess_seconds\"", "\"frame_ms_median\"", "\"cpu_refine_seconds\"", "\"peak_memory_mb\"", "\"device\"",
           "\"driver\"", "\"level_gpu_ms\"", "\"frame_passes_ms_median\"", "\"stamp\"", "\"dots_drawn_first_frame\"",
-          "\"screen_spacing\": false"})
+          "\"screen_spacing\": true"})
         CHECK_MESSAGE(text.find(key) != std::string::npos, key);
     // An unknown workload is refused with the names of all the known ones.
     Run bad = run("bench --workload bunny-lines,bunny-lines-device --repeat 1");

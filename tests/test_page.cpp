@@ -52,7 +52,8 @@ struct Window {
 
 // Square windows of `side` target pixels, a quarter side apart, that hold no silhouette dot and only spaced front
 // dots, at least 20: each one's mean nearest-neighbour distance over r_max, its share of dots closer than
-// r_max / 2 to another (neighbours searched among all drawn dots) and its ink coverage (dots × dot area / area).
+// r_max / 2 to another (neighbours searched among all drawn dots) and its ink coverage (the dots' areas, each
+// `dotArea` times its scale², over the window's).
 std::vector<Window> windows(const std::vector<ink::gpu::Dot>& list, uint32_t extent, double side, double dotArea) {
     std::vector<const ink::gpu::Dot*> drawn, outline;
     for (const auto& d : list) {
@@ -76,8 +77,10 @@ std::vector<Window> windows(const std::vector<ink::gpu::Dot>& list, uint32_t ext
                 }))
                 continue;
             std::vector<double> nearest;
+            double ink = 0;
             for (const ink::gpu::Dot* d : drawn) {
                 if (!inside(d)) continue;
+                ink += dotArea * double(d->scale) * double(d->scale);
                 double best = INFINITY;
                 for (const ink::gpu::Dot* e : drawn)
                     if (e != d)
@@ -92,7 +95,7 @@ std::vector<Window> windows(const std::vector<ink::gpu::Dot>& list, uint32_t ext
                 w.meanNearest += d / rMax / double(w.dots);
                 w.clumped += (d < 0.5 * rMax) / double(w.dots);
             }
-            w.coverage = double(w.dots) * dotArea / (side * side);
+            w.coverage = ink / (side * side);
             out.push_back(w);
         }
     return out;

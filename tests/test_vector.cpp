@@ -435,15 +435,14 @@ TEST_CASE("vector: the layout fits the view in the margins, sizes circles to the
     CHECK(layer.pen == 1);
     // 267 mm for 200 pixels: 1.335 mm a pixel; the view's top at (210 − 133.5) / 2.
     const double scale = 267.0 / 200.0, top = (210 - 100 * scale) / 2;
-    size_t circles = 0;
+    std::vector<double> big, small;  // the circles' radii (sorted outermost first below: the order is the plot's)
     for (const ink::PlotPath& p : layer.paths) {
         if (p.circle()) {
-            ++circles;
             if (p.points[0].y == doctest::Approx(top + 50 * scale)) {
                 CHECK(p.points[0].x == doctest::Approx(15 + 100 * scale));
-                CHECK(p.radius == doctest::Approx((4 * scale - 0.3) / 2));
+                big.push_back(p.radius);
             } else {
-                CHECK(p.radius == doctest::Approx((0.5 * scale - 0.3) / 2));  // the small one, 1 px from the top
+                small.push_back(p.radius);  // the small one, 1 px from the top
             }
         } else {
             // The line clipped to the view, half a pen inside.
@@ -451,8 +450,20 @@ TEST_CASE("vector: the layout fits the view in the margins, sizes circles to the
             CHECK(p.points.back().x == doctest::Approx(282 - 0.15));
         }
     }
-    CHECK(circles == 2);      // the dot on the left edge would ink outside the view
-    CHECK(layer.rings == 2);  // 5.3 and 0.67 mm wide with a 0.3 mm pen: rings
+    // 5.3 and 0.67 mm wide with a 0.3 mm pen: the outer circle's stroke covers the rim, and circles 0.27 mm
+    // (0.9 pens) apart fill the inside down to one within half a pen of the centre. The dot on the left edge
+    // would ink outside the view.
+    std::sort(big.rbegin(), big.rend());
+    std::sort(small.rbegin(), small.rend());
+    REQUIRE(big.size() == 10);
+    CHECK(big[0] == doctest::Approx((4 * scale - 0.3) / 2));
+    for (size_t i = 1; i < big.size(); ++i) CHECK(big[i - 1] - big[i] == doctest::Approx(0.27));
+    CHECK(big.back() <= 0.15);
+    CHECK(big[big.size() - 2] > 0.15);
+    REQUIRE(small.size() == 2);
+    CHECK(small[0] == doctest::Approx((0.5 * scale - 0.3) / 2));
+    CHECK(small[1] == ink::kMinRadius);
+    CHECK(layer.fillCircles == 10);
     CHECK(layer.widestDot == doctest::Approx(4 * scale));
     // A pen wider than the dots: the smallest circle.
     o.penWidth = 6;

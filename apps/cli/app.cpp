@@ -174,6 +174,9 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
                     "With --hidden-lines: how much of the ink the hidden lines take, 0-1 (over the paper)")
         ->capture_default_str();
     cmd->add_flag("!--no-occlusion", s.occlusion, "Skip the splat depth pre-pass (dots behind the surface show)");
+    cmd->add_flag("!--no-screen-spacing", s.screenSpacing,
+                  "Draw the tone's stipples as ranked on the surface, without spacing them on the page (they crowd "
+                  "where the surface turns away)");
     cmd->add_option("--supersample", s.supersample, "Render this many times larger and filter down (1-4)")
         ->check(countRange(inkwell::ranges::supersample))
         ->capture_default_str();
@@ -239,6 +242,7 @@ static void applyPreset(Options& o) {
     set(o.render.toneGamma, p.tone, "--tone");
     set(o.render.inkDensity, p.inkDensity, "--ink-density");
     set(o.render.hiddenLines, p.hiddenLines, "--hidden-lines");
+    set(o.render.screenSpacing, p.screenSpacing, "--no-screen-spacing");
     set(o.render.hiddenSize, p.hiddenDotSize, "--hidden-dot-size");
     set(o.render.hiddenPenWidth, p.hiddenContourWidth, "--hidden-contour-width");
     set(o.render.hiddenInk.a, p.hiddenOpacity, "--hidden-opacity");
@@ -454,6 +458,7 @@ Preset presetFrom(const Options& o) {
     p.tone = o.render.toneGamma;
     p.inkDensity = o.render.inkDensity;
     p.hiddenLines = o.render.hiddenLines;
+    p.screenSpacing = o.render.screenSpacing;
     p.hiddenDotSize = o.render.hiddenSize;
     p.hiddenContourWidth = o.render.hiddenPenWidth;
     p.hiddenOpacity = o.render.hiddenInk.a;
@@ -653,21 +658,8 @@ json levelsJson(const std::vector<ink::LevelStats>& levels) {
 ink::Plot writeVectorView(const ink::PointRenderer& renderer, uint32_t frame, const std::string& path,
                           const ink::PageOptions& page) {
     ink::Plot plot = ink::layoutPlot(renderer.vectorDrawing(frame), page);
-    noteRings(plot);
     ink::writePlot(path, plot);
     return plot;
-}
-
-void noteRings(const ink::Plot& plot) {
-    for (const ink::PlotLayer& l : plot.layers)
-        if (l.rings) {
-            char text[256];
-            std::snprintf(text, sizeof text,
-                          "%zu of the %s dots (up to %.2f mm) are wider than two pen widths and plot as rings: a "
-                          "--pen-width of about half the dot size fills them",
-                          l.rings, l.name.c_str(), l.widestDot);
-            ink::note(text);
-        }
 }
 
 json plotJson(const ink::Plot& plot) {
@@ -687,6 +679,7 @@ json plotJson(const ink::Plot& plot) {
                           {"travel_after_mm", l.travelAfter},
                           {"pen_down_mm", l.penDown},
                           {"lifts", l.lifts},
+                          {"fill_circles", l.fillCircles},
                           {"plot_seconds", l.plotSeconds}});
         seconds += l.plotSeconds;
         if (std::find(inks.begin(), inks.end(), l.color) == inks.end()) inks.push_back(l.color);

@@ -132,11 +132,9 @@ json hostMsJson(const ink::HostMs& h);
 json levelsJson(const std::vector<ink::LevelStats>& levels);
 json deviceJson(const ink::Context& ctx);
 // The marks of `renderer`'s frame `frame` (drawn and submitted) laid out on `page` and written as SVG or PDF by
-// the extension of `path`: what the viewer's V key and `view --vector` save. Notes dots that plot as rings.
+// the extension of `path`: what the viewer's V key and `view --vector` save.
 ink::Plot writeVectorView(const ink::PointRenderer& renderer, uint32_t frame, const std::string& path,
                           const ink::PageOptions& page);
-// Notes the layers whose dots are wider than two pen widths (they plot as rings).
-void noteRings(const ink::Plot& plot);
 // A plot's layers: pen, name, paths and vertices before and after simplifying and merging, pen-up travel
 // before and after ordering, pen-down length in mm, lifts and the estimated plot time; the pens and the time
 // model.

@@ -279,7 +279,7 @@ void addBenchCommand(CLI::App& cli, Options& o, Commands& commands) {
     auto jsonPath = std::make_shared<std::string>();
     auto repeat = std::make_shared<uint32_t>(3);
     auto frames = std::make_shared<uint32_t>(30);
-    auto screenSpacing = std::make_shared<bool>(false);
+    auto screenSpacing = std::make_shared<bool>(true);
     CLI::App* bench = cli.add_subcommand("bench", "Time the report's workloads (preprocessing, frames, CPU reference)");
     bench->add_option("--workload", *names,
                       "sphere, bunny-312, bunny-684, bunny-684-lines, bunny-684-lines-device, bunny-lines, "
@@ -303,9 +303,9 @@ void addBenchCommand(CLI::App& cli, Options& o, Commands& commands) {
                      "(the report's look and workload)")
         ->check(CLI::IsMember({"blue-noise", "refinement"}))
         ->capture_default_str();
-    bench->add_flag(
-        "--screen-spacing", *screenSpacing,
-        "Space the stipples on the screen every frame (off by default; its cost: frame_passes_ms_median.space)");
+    bench->add_flag("--screen-spacing,!--no-screen-spacing", *screenSpacing,
+                    "Space the stipples on the page every frame, as render does (on by default; its cost: "
+                    "frame_passes_ms_median.space)");
     addDeviceOptions(bench, o);
     commands.emplace_back(bench, [&o, names, jsonPath, repeat, frames, screenSpacing] {
         return runBench(o, *names, *jsonPath, *repeat, *frames, *screenSpacing);

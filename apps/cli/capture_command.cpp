@@ -81,6 +81,7 @@ ordered parametersJson(const Options& o, const Scene& scene, const CaptureOption
             {"silhouette_size", shortest(s.silhouetteSize)},
             {"hidden_lines", s.hiddenLines},
             {"occlusion", s.occlusion},
+            {"screen_spacing", s.screenSpacing},
             {"ink", o.ink},
             {"paper", o.paper},
             {"light", vec3Json(s.light)},

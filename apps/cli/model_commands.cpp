@@ -173,7 +173,6 @@ static int runRender(Options& o, const std::vector<std::string>& outputs) {
         plot = ink::layoutPlot(marks, o.page);
         layoutSeconds = secondsSince(layoutStart);
     }
-    if (plot) noteRings(*plot);
     ink::OutputBatch batch;  // the image, the drawings and the stats, all or none
     for (const std::string& out : outputs) {
         if (ink::isVectorPath(out))

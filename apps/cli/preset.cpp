@@ -132,6 +132,9 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
         } else if (key == "hidden_lines") {
             if (!value.is_boolean()) fail(name, key, "must be true or false");
             p.hiddenLines = value.get<bool>();
+        } else if (key == "screen_spacing") {
+            if (!value.is_boolean()) fail(name, key, "must be true or false");
+            p.screenSpacing = value.get<bool>();
         } else if (key == "hidden_dot_size")
             p.hiddenDotSize = ranged(value, name, key, inkwell::ranges::dotSize);
         else if (key == "hidden_contour_width")
@@ -181,6 +184,7 @@ std::string presetJson(const Preset& p) {
     putNumber("tone", p.tone);
     putNumber("ink_density", p.inkDensity);
     put("hidden_lines", p.hiddenLines);
+    put("screen_spacing", p.screenSpacing);
     put("light_fixed", p.lightFixed);
     putNumber("hidden_dot_size", p.hiddenDotSize);
     putNumber("hidden_contour_width", p.hiddenContourWidth);

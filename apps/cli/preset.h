@@ -19,7 +19,8 @@ struct Preset {
     std::optional<float> creaseWidth, boundaryWidth;
     std::optional<uint32_t> hatchFamilies;
     std::optional<bool> hiddenLines;
-    std::optional<bool> lightFixed;  // the light fixed to the model (default: it follows the camera)
+    std::optional<bool> screenSpacing;  // the stipples spaced on the page (default: true)
+    std::optional<bool> lightFixed;     // the light fixed to the model (default: it follows the camera)
     std::optional<float> hiddenDotSize, hiddenContourWidth, hiddenOpacity;
     std::optional<std::vector<float>> light;  // three finite numbers, not all zero
     std::optional<uint32_t> levels, passes;

@@ -417,6 +417,10 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
         changed |= ImGui::Checkbox("hidden lines", &s.hiddenLines);
         ImGui::SameLine();
         changed |= ImGui::Checkbox("occlusion", &s.occlusion);
+        if (s.drawDots && s.toneGamma > 0.0f) {
+            ImGui::SameLine();
+            changed |= ImGui::Checkbox("spacing", &s.screenSpacing);
+        }
         if (s.hiddenLines) {
             if (s.drawDots)
                 changed |= ImGui::SliderFloat("hidden dots (px)", &s.hiddenSize, kHiddenDotSpan.lo, kHiddenDotSpan.hi,

@@ -31,10 +31,9 @@ struct RenderStyle {
     float toneGamma = 1.5f;  // 0: no tone, every front dot is drawn
     float inkDensity = 1.0f;
     float ambient = 0.04f;
-    // Screen spacing (docs/algorithm.md): the candidates of a tone are spaced on the page, no two closer than a
+    // Screen spacing (docs/algorithm.md §4): the candidates of a tone are spaced on the page, no two closer than a
     // radius the tone sets, so that tone is even however the surface turns away; off: the rank prefix alone.
-    // Off by default until its per-frame cost fits the frame budget (178 ms a frame on lavapipe, docs).
-    bool screenSpacing = false;
+    bool screenSpacing = true;
     float splatScale = 2.0f;  // splat radius in units of the finest level's ρ
     bool drawDots = true;     // off: the point sets only give the depth the pen lines are tested against
     // Pen lines (strokes.h, docs/lines.md), widths in output pixels.

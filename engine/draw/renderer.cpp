@@ -35,13 +35,14 @@ constexpr uint32_t kTimestamps = 5;             // start, splat, visibility and 
 constexpr float kMaxDotPixels = 64.0f;          // dot diameters are clamped to this (times the pixel scale)
 // The tone curve with screen spacing (docs/algorithm.md): at darkness d the dots are spread to an ink coverage of
 // kCoverage·d (dots of area a, a density of kCoverage·d / a on the page), each kept at least its radius
-// kSpaceRadius / √(density) from every other: with the ranked candidates that leaves about the density asked for
-// (random sequential adsorption, radius r: a maximal density of about 0.70 / r²).
+// kSpaceRadius / √(density) from every other: with SPACE_SUPPLY ranked candidates a dot that leaves about the
+// density asked for (random sequential adsorption, radius r: a maximal density of about 0.70 / r²; 0.72 centres
+// the coverage of a torus of one tone on the asked, tests/test_page.cpp).
 constexpr float kCoverage = 0.5f;
-constexpr float kSpaceRadius = 0.71f;
+constexpr float kSpaceRadius = 0.72f;
 // Candidates per dot asked for: the point set's own density on the screen is only estimated (its surface area
 // over the projected area, n·v and depth), and the spacing needs more candidates than it keeps.
-constexpr float kSupply = 3.0f;
+constexpr float kSupply = gpu::SPACE_SUPPLY;
 // The screen spacing's radius at darkness 1 and its grid's cell (a side of at most the smallest radius over
 // √2, so that a cell holds at most one accepted dot), in target pixels; (0, 0) without spacing.
 glm::vec2 spacingRadius(const RenderStyle& s, float pixelScale) {
@@ -88,7 +89,8 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
             viewInfo.range = VK_WHOLE_SIZE;
             const bool direction = r->options.style == SampleStyle::Direction;
             sets_.push_back({VK_NULL_HANDLE, splatSpacing(*r), draw[0], draw[2], direction ? "direction" : "stipple",
-                             r->selection ? float(r->selection->plan.areaEstimate) : 0.0f, direction});
+                             r->selection ? float(r->selection->plan.areaEstimate) : 0.0f, direction,
+                             r->selection != nullptr && !direction});
             VK_CHECK(vkCreateBufferView(ctx.device, &viewInfo, nullptr, &sets_.back().texels));
         }
         const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -185,16 +187,16 @@ PointRenderer::Push PointRenderer::push(const Set& s, const Camera& camera, VkEx
     float dotPixels = float(M_PI) * 0.25f * std::pow(style_.frontSize * pixelScale_, 2.0f);
     // k: with screen spacing, kSupply times the candidates the tone asks for (splat.comp corrects for n·v and
     // depth); without, λ·(dot area)·k ≈ 0.9, so a fully dark region is about 60% ink at any zoom and point count.
-    float k =
-        spacing_.x > 0 ? kSupply * kCoverage / (dotPixels * lambda) : std::min(1.0f, 0.9f / (sphereLambda * dotPixels));
+    const bool spaced = spacing_.x > 0 && s.spaced;
+    float k = spaced ? kSupply * kCoverage / (dotPixels * lambda) : std::min(1.0f, 0.9f / (sphereLambda * dotPixels));
     float radius = style_.occlusion ? style_.splatScale * s.splatRadius : 0.0f;
-    return Push{
-        camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]),
-        glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
-        glm::vec4(radius, radius, k, camera.distance * camera.distance),
-        glm::uvec4(s.points,
-                   (style_.hiddenLines ? gpu::CAMERA_HIDDEN : 0u) | (s.sparseSplats ? gpu::CAMERA_SPARSE_SPLATS : 0u),
-                   s.first, gpu::PASS_VISIBILITY)};
+    return Push{camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]),
+                glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
+                glm::vec4(radius, radius, k, camera.distance * camera.distance),
+                glm::uvec4(s.points,
+                           (style_.hiddenLines ? gpu::CAMERA_HIDDEN : 0u) |
+                               (s.sparseSplats ? gpu::CAMERA_SPARSE_SPLATS : 0u) | (spaced ? gpu::CAMERA_SPACED : 0u),
+                           s.first, gpu::PASS_VISIBILITY)};
 }
 
 void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent, uint32_t frame) {
@@ -276,6 +278,7 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
         };
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, space_);
         for (size_t k = 0; k < sets_.size(); ++k) {
+            if (!sets_[k].spaced) continue;
             clear(4 * plane);
             for (uint32_t round = 0; round < gpu::SPACE_ROUNDS; ++round) {
                 if (round > 0) clear(2 * plane);
@@ -443,7 +446,7 @@ VectorDrawing PointRenderer::vectorDrawing(uint32_t frame) const {
     out.height = f.extent.height;
     out.paper = style_.paper;
     // The classes (gpu::SILHOUETTE, FRONT, BACK, HIDDEN) and stamp.comp's sizes: a dot's diameter is its class's
-    // size clamped to [tone.z, tone.w] (setStyle).
+    // size times its scale, clamped to [tone.z, tone.w] (setStyle).
     const float sizes[4] = {style_.silhouetteSize, style_.frontSize, 0.0f, style_.hiddenSize};
     const float maxDiameter = kMaxDotPixels * pixelScale_;
     for (size_t k = 0; k < sets_.size(); ++k) {
@@ -455,17 +458,18 @@ VectorDrawing PointRenderer::vectorDrawing(uint32_t frame) const {
         struct Mark {
             uint32_t point, cls;
             glm::vec2 pixel;
+            float scale;
         };
         std::vector<Mark> marks;
         for (const gpu::Dot& d : dots) {
             uint32_t cls = (d.cls >> 2) & 3u;
-            if (cls != gpu::BACK) marks.push_back({d.cls >> 4, cls, d.pixel});
+            if (cls != gpu::BACK) marks.push_back({d.cls >> 4, cls, d.pixel, d.scale});
         }
         std::sort(marks.begin(), marks.end(), [](const Mark& a, const Mark& b) { return a.point < b.point; });
         VectorLayer& shown = out.layer(sets_[k].name, style_.ink);
         std::vector<VectorLayer::Dot> hidden;
         for (const Mark& m : marks) {
-            VectorLayer::Dot dot{m.pixel, std::clamp(sizes[m.cls] * pixelScale_, 1.0f, maxDiameter)};
+            VectorLayer::Dot dot{m.pixel, std::clamp(sizes[m.cls] * pixelScale_ * m.scale, 1.0f, maxDiameter)};
             (m.cls == gpu::HIDDEN ? hidden : shown.dots).push_back(dot);
         }
         if (!hidden.empty()) {

@@ -1,7 +1,7 @@
-// The screen spacing of stipples (spacing.comp; docs/algorithm.md §3): the dots a tone asks for, chosen among
-// about three times as many candidates from the surface's ranked blue-noise set, so that on the page no two lie
-// closer than a radius the tone sets, whatever the foreshortening. Conflicts go to the lower key (the point's
-// rank, a property of the surface point, so that the choice is stable as the camera moves): a parallel greedy
+// The screen spacing of stipples (spacing.comp; docs/algorithm.md §4): the dots a tone asks for, chosen among
+// about SPACE_SUPPLY (6) times as many candidates from the surface's ranked blue-noise set, so that on the page
+// no two lie closer than a radius the tone sets, whatever the foreshortening. Conflicts go to the lower key (the
+// point's rank, a property of the surface point, so that the choice is stable as the camera moves): a parallel greedy
 // in rank order, in rounds over a grid of cells that each hold at most one accepted dot.
 //
 // This file is the CPU twin of spacing.comp: from the same dots it accepts the same ones, bit for bit.

@@ -223,22 +223,26 @@ Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& o) {
             glm::dvec2 c = lo + glm::dvec2(dot.center) * scale;
             const double diameter = double(dot.diameter) * scale;
             double half = std::max((diameter - w) * 0.5, kMinRadius);
-            PlotPath p;
-            glm::dvec2 reach;
-            if (o.dotStyle == DotStyle::Circle) {
-                p.points = {c};
-                p.radius = half;
-                reach = glm::dvec2(half + 0.5 * w);
-            } else {
-                glm::dvec2 d = glm::dvec2(1.0, -1.0) * (half / std::sqrt(2.0));  // "/" on a page, y down
-                p.points = {c - d, c + d};
-                reach = glm::abs(d) + 0.5 * w;
-            }
+            glm::dvec2 reach = o.dotStyle == DotStyle::Circle ? glm::dvec2(half + 0.5 * w)
+                                                              : glm::dvec2(half / std::sqrt(2.0)) + 0.5 * w;
             if (glm::any(glm::lessThan(c - reach, lo - eps)) || glm::any(glm::greaterThan(c + reach, hi + eps)))
                 continue;
-            out.rings += p.circle() && half > 0.5 * w + 1e-9;
             out.widestDot = std::max(out.widestDot, diameter);
-            out.paths.push_back(std::move(p));
+            if (o.dotStyle == DotStyle::Tick) {
+                glm::dvec2 d = glm::dvec2(1.0, -1.0) * (half / std::sqrt(2.0));  // "/" on a page, y down
+                out.paths.push_back({{c - d, c + d}});
+                continue;
+            }
+            // A circle whose stroke covers the dot's rim; inside one wider than two pens, concentric circles
+            // kDotFillStep pens apart, the last within half a pen of the centre, fill it.
+            for (double r = half;; r -= kDotFillStep * w) {
+                PlotPath p;
+                p.points = {c};
+                p.radius = std::max(r, kMinRadius);
+                out.paths.push_back(std::move(p));
+                if (r <= 0.5 * w + 1e-9) break;
+                ++out.fillCircles;
+            }
         }
         const glm::dvec2 inset(std::min(0.5 * w, 0.5 * (hi.x - lo.x)), std::min(0.5 * w, 0.5 * (hi.y - lo.y)));
         std::vector<PlotPath> lines;

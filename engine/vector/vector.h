@@ -83,9 +83,9 @@ struct PlotLayer {
     double retraced = 0;     // pen-down length dropped as retraced, mm
     size_t lifts = 0;        // pen lifts: one a path
     double plotSeconds = 0;  // penDown / drawSpeed + travelAfter / travelSpeed + lifts · liftSeconds
-    // Circles more than two pen widths across: the pen leaves paper inside them (a ring, not a dot); and the
-    // widest dot, mm.
-    size_t rings = 0;
+    // The circles inside dots more than two pen widths across that fill them (PlotPath circles too); the widest
+    // dot, mm.
+    size_t fillCircles = 0;
     double widestDot = 0;
 };
 
@@ -97,15 +97,17 @@ struct Plot {
 };
 
 // Lays `drawing` out on the page: a dot becomes a circle whose stroke covers the dot (radius (d − w)/2 for a
-// dot d mm wide and a pen w mm wide, at least kMinRadius) or a tick (a 45° stroke (d − w) long, at least
-// 2·kMinRadius); polylines are clipped to the view; marks whose ink would leave the view are dropped; each
-// layer's polylines are simplified, their retraced stretches dropped and (options.order) their ends merged
+// dot d mm wide and a pen w mm wide, at least kMinRadius; more than two pens wide, concentric circles
+// kDotFillStep pens apart inside it too, down to one within half a pen of its centre) or a tick (a 45° stroke (d − w)
+// long, at least 2·kMinRadius); polylines are clipped to the view; marks whose ink would leave the view are dropped;
+// each layer's polylines are simplified, their retraced stretches dropped and (options.order) their ends merged
 // (PageOptions::simplify, retrace, merge), then the layer's paths are ordered (options.order), touching
 // polylines joined and the plot time estimated. Throws ink::Error for a
 // page whose margins leave no room for the pen (the view, scaled into the margins, must be wider and taller
 // than the pen) or a pen width outside [kMinPenWidth, kMaxPenWidth] mm.
 Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& options);
-constexpr double kMinRadius = 0.05;  // mm: the smallest circle or half tick drawn
+constexpr double kMinRadius = 0.05;   // mm: the smallest circle or half tick drawn
+constexpr double kDotFillStep = 0.9;  // pens between a wide dot's concentric circles (a little overlap)
 // The pen widths a page takes, mm: numbers are written with 3 decimals (a micrometre), so a thinner pen would
 // be written as 0 (SVG: no stroke; PDF: the thinnest line the device can draw).
 constexpr double kMinPenWidth = 0.001, kMaxPenWidth = 10;

@@ -276,11 +276,14 @@ struct Look {
     float inkDensity = 1.0f;      // scales how many dots the tone draws, [0, 100]
     bool hiddenLines = false;     // occluded silhouettes and contours drawn faint
     bool dots = true;             // off: only pen lines are drawn (the dots still hide what is behind the surface)
-    float penWidth = 2.0f;        // contour pen width in output pixels, (0, 32]
-    float hatchWidth = 1.0f;      // hatching pen width, tapering at the strokes' ends, (0, 32]
-    float creaseWidth = 1.5f;     // crease lines' pen width, (0, 32]
-    float boundaryWidth = 2.0f;   // boundary lines' pen width, (0, 32]
-    float halo = 4.0f;            // paper kept clear each side of an interior contour (Brazil et al. 2011), [0, 32]
+    // The tone's stipples spaced evenly on the page, larger where the points cannot supply the tone's count (docs/
+    // algorithm.md §4); off: the surface's ranked prefix, which crowds where the surface turns away.
+    bool screenSpacing = true;
+    float penWidth = 2.0f;       // contour pen width in output pixels, (0, 32]
+    float hatchWidth = 1.0f;     // hatching pen width, tapering at the strokes' ends, (0, 32]
+    float creaseWidth = 1.5f;    // crease lines' pen width, (0, 32]
+    float boundaryWidth = 2.0f;  // boundary lines' pen width, (0, 32]
+    float halo = 4.0f;           // paper kept clear each side of an interior contour (Brazil et al. 2011), [0, 32]
     // With hiddenLines: the hidden silhouette dots' diameter (0, 64] and the hidden contours' pen width (0, 32] in
     // output pixels, and how much of the ink they take over the paper, [0, 1] (0.45: a grey; --hidden-dot-size,
     // --hidden-contour-width, --hidden-opacity).

@@ -73,7 +73,7 @@ bool selectDot(Point p, uint index, vec3 c, vec3 n, float nv, out Dot d) {
     d.radius = 0.0;
     d.key = floatBitsToUint(p.tone);
     d.state = SPACE_FIXED;
-    d.pad = 0u;
+    d.scale = 1.0;
     if (cls == BACK) return false;
     if (cls == FRONT && style.light.w > 0.0) {
         // Drawn when its rank (or, for the report's look, its fixed random value) is below the darkness: the
@@ -82,11 +82,17 @@ bool selectDot(Point p, uint index, vec3 c, vec3 n, float nv, out Dot d) {
         float lit = max(0.0, dot(style.options.x != 0.0 ? p.normal : n, style.light.xyz));
         float darkness = (style.tone.y + pow(1.0 - lit, style.light.w)) * style.tone.x;
         float threshold = darkness * cam.splat.z;
-        if (style.options.z > 0.0) {
+        if (style.options.z > 0.0 && (cam.counts.y & CAMERA_SPACED) != 0u) {
             // Screen spacing (spacing.comp): the candidates of a tone, about SPACE_SUPPLY times the dots it asks
             // for, on the page, where the surface turns away (n·v) and recedes (depth²) they crowd on the screen.
             threshold *= nv * (c.z * c.z) / cam.splat.w;
-            d.radius = min(style.options.z / sqrt(max(darkness, 1e-3)), SPACE_MAX_CELLS / style.options.w);
+            // Where the point set gives fewer than SPACE_SUPPLY_KEPT candidates a dot (threshold past
+            // SPACE_SUPPLY / SPACE_SUPPLY_KEPT), the dots are spaced for `fewer` times less density, each larger to
+            // carry `fewer` times the ink, up to SPACE_MAX_SCALE in diameter (past that the dots are not thinned
+            // further: the tone's ink goes before its evenness).
+            float fewer = clamp(threshold * (SPACE_SUPPLY_KEPT / SPACE_SUPPLY), 1.0, SPACE_MAX_SCALE * SPACE_MAX_SCALE);
+            d.radius = min(style.options.z * sqrt(fewer / max(darkness, 1e-3)), SPACE_MAX_CELLS / style.options.w);
+            d.scale = sqrt(fewer);
             d.state = SPACE_OPEN;
         }
         if (p.tone >= threshold) return false;

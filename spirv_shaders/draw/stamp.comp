@@ -56,7 +56,7 @@ void main() {
     ivec4 box = ivec4(0x7FFFFFFF, 0x7FFFFFFF, -1, -1);
     if (visible) {
         uint sizeSlot = cls == HIDDEN ? 2u : cls;
-        box = stamp(d.pixel, clamp(style.size[sizeSlot], style.tone.z, style.tone.w),
+        box = stamp(d.pixel, clamp(style.size[sizeSlot] * d.scale, style.tone.z, style.tone.w),
                     cls == HIDDEN ? HIDDEN_BIT : INK_BIT);
     } else if (i < list.dispatch.w && cls != BACK) {
         list.dots[i].cls = d.cls & ~12u | BACK << 2u;  // spaced out: not drawn

@@ -33,13 +33,15 @@ struct Dot {
     float radius;  // the screen spacing's radius, pixels: no two spaced dots closer than the smaller radius
     uint key;      // the point's rank's bits: the lower key wins a conflict (then the lower point index)
     uint state;    // SPACE_* below
-    uint pad;
+    float scale;   // the dot's diameter over its class's: above 1 where the screen spacing keeps fewer dots than
+                   // the tone asks, for want of candidates (SPACE_SUPPLY_KEPT), so that they carry its ink
 };
 INK_ASSERT_SIZE(Dot, 32);
 INK_ASSERT_OFFSET(Dot, z, 8);
 INK_ASSERT_OFFSET(Dot, cls, 12);
 INK_ASSERT_OFFSET(Dot, radius, 16);
 INK_ASSERT_OFFSET(Dot, state, 24);
+INK_ASSERT_OFFSET(Dot, scale, 28);
 
 // A dot's state in the screen spacing (spacing.comp, engine/draw/screen_spacing.h): FIXED dots take no part
 // (silhouettes, hidden ones, dots drawn without tone), the others start OPEN and end ACCEPTED (drawn) or REJECTED; a
@@ -49,10 +51,13 @@ INK_CONST uint SPACE_OPEN = 1u;
 INK_CONST uint SPACE_ACCEPTED = 2u;
 INK_CONST uint SPACE_REJECTED = 3u;
 // Rounds of the spacing: each accepts every open dot that no open dot of a lower key within its radius blocks.
-// The radii of round k are scaled by 1 + SPACE_SHRINK · max(0, SPACE_ROUNDS − 2 − k): coarse first, then the
-// holes filled, as farthest-point sampling does, which spaces the dots more evenly than one radius throughout.
 INK_CONST uint SPACE_ROUNDS = 10u;
-INK_CONST float SPACE_SHRINK = 0.22;
+// The screen spacing's supply: the tone asks for SPACE_SUPPLY candidates a dot (renderer.cpp's k), and where the
+// point set cannot give SPACE_SUPPLY_KEPT a dot (a dark tone, a surface turned away), the dots are spaced for the
+// density it can give, each larger by up to SPACE_MAX_SCALE in diameter to carry the tone's ink.
+INK_CONST float SPACE_SUPPLY = 6.0;
+INK_CONST float SPACE_SUPPLY_KEPT = 5.0;
+INK_CONST float SPACE_MAX_SCALE = 2.0;
 // A dot's spacing radius is at most this many grid cells (the lightest tones), which bounds its search.
 INK_CONST float SPACE_MAX_CELLS = 8.0;
 // What the push constants' counts.w asks of stamp.comp and spacing.comp (the pass).
@@ -85,6 +90,9 @@ INK_CONST uint CAMERA_HIDDEN = 1u;  // draw hidden silhouettes
 // sampling, whose disks (ρ₀, to bridge the gaps between its lines) are larger than a thin part's curvature. Filled
 // completely they hid more of the bunny's visible dots than the holes let through (ray cast, bunny from behind).
 INK_CONST uint CAMERA_SPARSE_SPLATS = 2u;
+// The set's toned dots are spaced on the page (DotStyle::options.z, spacing.comp): blue-noise stipples only;
+// direction sampling's dots lie on lines, the report's look draws every point of a random tone value.
+INK_CONST uint CAMERA_SPACED = 4u;
 
 // The push constants (std430), within the guaranteed 128 bytes.
 struct Camera {
