@@ -142,3 +142,28 @@ TEST_CASE("first picture: --up auto, --light-fixed and light_fixed are checked" 
               .status == 0);
     CHECK(fs::exists(dir / "x.png"));
 }
+
+TEST_CASE("first picture: the stipples are spaced on the page unless --no-screen-spacing or screen_spacing false" *
+          doctest::test_suite("cli")) {
+    TempDir tmp;
+    const fs::path dir = tmp.path;
+    auto render = [&](const std::string& options, const char* name) {
+        const fs::path png = dir / name;
+        Run r = runInkwell("render " INKWELL_SOURCE_DIR "/tests/golden/torus.pts" + kQuick + " --size 256 256" +
+                           options + " -o " + png.string());
+        REQUIRE_MESSAGE(r.status == 0, r.output);
+        return ink::readPng(png.string());
+    };
+    const ink::RgbaImage spaced = render("", "spaced.png");
+    const ink::RgbaImage off = render(" --no-screen-spacing", "off.png");
+    CHECK(spaced.pixels != off.pixels);
+    std::ofstream(dir / "off.json") << R"({"screen_spacing": false})";
+    CHECK(render(" --preset " + (dir / "off.json").string(), "preset.png").pixels == off.pixels);
+    std::ofstream(dir / "bad.json") << R"({"screen_spacing": 1})";
+    Run bad = runInkwell("render " INKWELL_SOURCE_DIR "/tests/golden/torus.pts --preset " +
+                         (dir / "bad.json").string() + " -o " + (dir / "bad.png").string());
+    CHECK(bad.status == 1);
+    CHECK(bad.output.find("screen_spacing") != std::string::npos);
+    CHECK(bad.output.find("must be true or false") != std::string::npos);
+    CHECK(!fs::exists(dir / "bad.png"));
+}
