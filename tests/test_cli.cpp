@@ -185,12 +185,27 @@ TEST_CASE("cli: bench runs the sphere workload and reports the documented keys" 
     std::ifstream js(json);
     std::string text((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
     // The sphere's 6 seeds, 6 levels of 4 children, one pass: 6·(1 + 4 + … + 4⁶) candidates, stipples selected.
-    for (const char* key :
-         {"\"workload\": \"sphere\"", "\"candidates\": 32766", "\"points\"", "\"fit_seconds\"",
-          "\"distribution\": \"blue-noise\"", "\"stipples\"", "\"select_ms\"", "\"refine_seconds\"",
-          "\"preprocess_seconds\"", "\"frame_ms_median\"", "\"cpu_refine_seconds\"", "\"peak_memory_mb\"", "\"device\"",
-          "\"driver\"", "\"level_gpu_ms\"", "\"frame_passes_ms_median\"", "\"stamp\"", "\"dots_drawn_first_frame\"",
-          "\"screen_spacing\": true"})
+    for (const char* key : {"\"workload\": \"sphere\"",
+                            "\"candidates\": 32766",
+                            "\"points\"",
+                            "\"fit_seconds\"",
+                            "\"distribution\": \"blue-noise\"",
+                            "\"stipples\"",
+                            "\"select_ms\"",
+                            "\"refine_seconds\"",
+                            "\"preprocess_seconds\"",
+                            "\"frame_ms_median\"",
+                            "\"cpu_refine_seconds\"",
+                            "\"peak_memory_mb\"",
+                            "\"device\"",
+                            "\"driver\"",
+                            "\"level_gpu_ms\"",
+                            "\"frame_passes_ms_median\"",
+                            "\"stamp\"",
+                            "\"dots_drawn_first_frame\"",
+                            "\"screen_spacing\": true",
+                            "\"page\"",
+                            "\"mean_nn_over_r_max\""})
         CHECK_MESSAGE(text.find(key) != std::string::npos, key);
     // An unknown workload is refused with the names of all the known ones.
     Run bad = run("bench --workload bunny-lines,bunny-lines-device --repeat 1");

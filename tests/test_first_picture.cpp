@@ -166,4 +166,24 @@ TEST_CASE("first picture: the stipples are spaced on the page unless --no-screen
     CHECK(bad.output.find("screen_spacing") != std::string::npos);
     CHECK(bad.output.find("must be true or false") != std::string::npos);
     CHECK(!fs::exists(dir / "bad.png"));
+
+    // --stats says how the dots lie on the page: spaced, the bunny's windows are more even and clump less.
+    auto page = [&](const std::string& options) {
+        const std::string json = (dir / "s.json").string();
+        Run r = runInkwell("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --camera 30,15,1.6 -q" + options + " -o " +
+                           (dir / "b.png").string() + " --stats " + json);
+        REQUIRE_MESSAGE(r.status == 0, r.output);
+        return nlohmann::json::parse(std::ifstream(json))["stipples"][0];
+    };
+    const nlohmann::json on = page(""), without = page(" --no-screen-spacing");
+    INFO(on.dump() << "\n" << without.dump());
+    CHECK(on["screen_spacing"] == true);
+    CHECK(without["screen_spacing"] == false);
+    CHECK(on["larger_dots"].get<size_t>() > 0);
+    CHECK(without["larger_dots"].get<size_t>() == 0);
+    REQUIRE(on["page"]["windows"].get<size_t>() >= 10);
+    REQUIRE(without["page"]["windows"].get<size_t>() >= 10);
+    // Measured on lavapipe: 0.747 against 0.730 mean, 19% against 45% clumped in the worst window.
+    CHECK(on["page"]["mean_nn_over_r_max"].get<double>() > without["page"]["mean_nn_over_r_max"].get<double>());
+    CHECK(on["page"]["worst_clumped"].get<double>() < 0.75 * without["page"]["worst_clumped"].get<double>());
 }

@@ -2,6 +2,7 @@
 
 #include "base/files.h"
 #include "base/image.h"
+#include "draw/page_metrics.h"
 #include "inkwell/ranges.h"
 #include "preset.h"
 #include "refine/spacing.h"
@@ -725,6 +726,33 @@ static json featureJson(const std::vector<ink::PenStroke>& strokes, bool drawn) 
     double length = 0;
     for (const ink::PenStroke& s : strokes) length += s.length();
     return {{"strokes", strokes.size()}, {"length", length}, {"drawn", true}};
+}
+
+json pageJson(const ink::OffscreenRenderer& renderer, size_t sets, const ink::RenderStyle& style, uint32_t width,
+              uint32_t height) {
+    json out = json::array();
+    const double factor = renderer.supersample();
+    for (size_t k = 0; k < sets; ++k) {
+        const ink::PageMetrics m =
+            ink::measurePage(renderer.dotList(k), uint32_t(width * factor), uint32_t(height * factor), 128.0 * factor,
+                             style.frontSize * factor, 8.0 * factor);
+        double lo = 0, hi = 0;
+        for (size_t i = 0; i < m.windows.size(); ++i) {
+            lo = i ? std::min(lo, m.windows[i].coverage) : m.windows[i].coverage;
+            hi = std::max(hi, m.windows[i].coverage);
+        }
+        out.push_back({{"front_dots", m.frontDots},
+                       {"larger_dots", m.largerDots},
+                       {"outline_dots", m.outlineDots},
+                       {"screen_spacing", style.screenSpacing},
+                       {"page",
+                        {{"windows", m.windows.size()},
+                         {"mean_nn_over_r_max", m.meanNearest},
+                         {"worst_nn_over_r_max", m.worstNearest},
+                         {"worst_clumped", m.worstClumped},
+                         {"coverage", {lo, hi}}}}});
+    }
+    return out;
 }
 
 json linesJson(const ink::Scene& scene) {

@@ -143,6 +143,10 @@ json plotJson(const ink::Plot& plot);
 void printPlot(const ink::Plot& plot);
 // The pen lines traced: strokes, vertices, lengths and times.
 json linesJson(const ink::Scene& scene);
+// The last frame's stipples on the page, one object a point set (docs/usage.md, Stats JSON: `stipples`): the
+// front dots drawn, how many larger, the outline's dots, and ink::measurePage's windows of 128 output pixels.
+json pageJson(const ink::OffscreenRenderer& renderer, size_t sets, const ink::RenderStyle& style, uint32_t width,
+              uint32_t height);
 // Spacing of a ranked point set: the whole set and its prefixes 1/2, 1/4, 1/8, the area estimated from it.
 json spacingJson(const std::vector<ink::PointRecord>& points);
 // Writes JSON atomically; does nothing for an empty path.

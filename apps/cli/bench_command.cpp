@@ -136,6 +136,10 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
             if (i == 3) dots = renderer.drawnDots();
         }
 
+        // The stipples on the page, from the first camera (not timed).
+        renderer.render(first);
+        const json page = pageJson(renderer, scene.pointers().size(), style, 1024, 1024);
+
         auto cpuStart = Clock::now();
         ink::refineOnCpu(fitted.surface, options, r.plan);
         double cpuRefine = secondsSince(cpuStart);
@@ -172,6 +176,7 @@ json runWorkload(Session& session, const Workload& w, ink::Distribution distribu
                  {"ink", median(inkMs)}}},
                {"fps", 1000.0 / median(frameMs)},
                {"dots_drawn_first_frame", dots},
+               {"page", page},
                {"cpu_refine_seconds", cpuRefine},
                {"gpu_over_cpu_refine", cpuRefine / refineSeconds},
                {"level_gpu_ms", levelMs},

@@ -158,12 +158,15 @@ static int runRender(Options& o, const std::vector<std::string>& outputs) {
     }
     ink::RgbaImage image;
     ink::VectorDrawing marks;
+    json stipples;  // with --stats: the page's
     const bool vectors = std::any_of(outputs.begin(), outputs.end(), ink::isVectorPath);
     {
         ink::OffscreenRenderer renderer(session.ctx, o.size[0], o.size[1], o.render, scene.pointers(),
                                         scene.strokes.get());
         image = renderer.render(cameraFrom(o));
         if (vectors) marks = renderer.vectorDrawing();
+        if (!o.statsPath.empty())
+            stipples = pageJson(renderer, scene.pointers().size(), o.render, o.size[0], o.size[1]);
     }
     session.checkValidation();
     std::optional<ink::Plot> plot;
@@ -193,6 +196,7 @@ static int runRender(Options& o, const std::vector<std::string>& outputs) {
         {"refine",
          {{"seconds", scene.refineSeconds}, {"points", points}, {"sets", levels}, {"host_ms", hostMsJson(hostMs)}}},
         {"lines", linesJson(scene)},
+        {"stipples", stipples},
         {"view", viewJson(view)},
         {"seconds", secondsSince(start)}};
     if (plot) {

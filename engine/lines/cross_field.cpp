@@ -30,7 +30,7 @@ namespace {
 // Runs body(begin, end) over [0, n) in one chunk per thread. Every index is written by one thread only, from what
 // the previous pass left: the result does not depend on `threads`.
 template <class Body>
-void parallelChunks(size_t n, unsigned threads, Body body) {
+void threadChunks(size_t n, unsigned threads, Body body) {
     size_t t = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
     t = std::clamp<size_t>(std::min(t, n / 256 + 1), 1, 64);
     std::vector<std::thread> pool;
@@ -73,7 +73,7 @@ void findNeighbours(GraphLevel& level, uint32_t k, unsigned threads) {
     if (m < 2) return;
     PointCloud cloud{level.p};
     const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-    parallelChunks(m, threads, [&](size_t begin, size_t end) {
+    threadChunks(m, threads, [&](size_t begin, size_t end) {
         std::vector<uint32_t> index(k + 1);
         std::vector<double> squared(k + 1);
         for (size_t i = begin; i < end; ++i) {
@@ -93,7 +93,7 @@ void findNeighbours(GraphLevel& level, uint32_t k, unsigned threads) {
 // Runs body(i) for i in [begin, end) in parallel chunks.
 template <class Body>
 void parallelRange(uint32_t begin, uint32_t end, unsigned threads, Body body) {
-    parallelChunks(end - begin, threads, [&](size_t b, size_t e) {
+    threadChunks(end - begin, threads, [&](size_t b, size_t e) {
         for (size_t i = b; i < e; ++i) body(uint32_t(begin + i));
     });
 }
