@@ -191,3 +191,22 @@ TEST_CASE("page: direction sampling's dots stay on their lines: the screen spaci
     CHECK(stippleSpaced > 1000);
     t.gpu.requireNoValidationErrors();
 }
+
+TEST_CASE("page: on a very large target the spacing's grid grows coarser to fit, without a validation error" *
+          doctest::test_suite("gpu")) {
+    // 8192² at one sample a pixel: the grid of the style's cells would take 686 MB, past lavapipe's 128 MiB
+    // storage buffers and the 256 MiB any device is given; its cells grow until it fits (renderer.cpp,
+    // fitSpacing). Before, the descriptor's range passed the device's limit (VUID-VkWriteDescriptorSet-00333).
+    EvenTorus t;
+    t.style.supersample = 1;
+    ink::OffscreenRenderer renderer(t.gpu.ctx, 8192, 8192, t.style, {&t.refined.r});
+    renderer.render(tiltedCamera());
+    const glm::vec2 spacing = renderer.spacing();
+    const double cells = std::ceil(8192.0 * spacing.y) * std::ceil(8192.0 * spacing.y);
+    CHECK(cells * 16 <=
+          double(std::min<VkDeviceSize>(t.gpu.ctx.properties.limits.maxStorageBufferRange, VkDeviceSize(256) << 20)));
+    size_t accepted = 0;
+    for (const auto& d : renderer.dotList(0)) accepted += drawnFront(d);
+    CHECK(accepted > 1000);
+    t.gpu.requireNoValidationErrors();
+}

@@ -80,7 +80,8 @@ PageMetrics measurePage(const std::vector<gpu::Dot>& dots, uint32_t width, uint3
     for (size_t i = 0; i < fx.size(); ++i) nearest[i] = front.nearest(i);
     // Outline dots by grid cell of the windows' step, to skip windows near the outline.
     const double step = window / 4;
-    const int sx = std::max(1, int(std::ceil(double(width) / step))), sy = std::max(1, int(std::ceil(double(height) / step)));
+    const int sx = std::max(1, int(std::ceil(double(width) / step))),
+              sy = std::max(1, int(std::ceil(double(height) / step)));
     std::vector<uint8_t> outlineCell(size_t(sx) * size_t(sy), 0);
     auto markOutline = [&](double x0, double y0, double x1, double y1) {
         for (int gy = std::max(0, int(std::floor(y0 / step))); gy <= std::min(sy - 1, int(std::floor(y1 / step))); ++gy)

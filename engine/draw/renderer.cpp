@@ -61,6 +61,20 @@ uint32_t spacingCells(VkExtent2D extent, float inverseCell) {
     return uint32_t(std::ceil(float(extent.width) * inverseCell)) *
            uint32_t(std::ceil(float(extent.height) * inverseCell));
 }
+// The spacing for a target whose grid (16 bytes a cell) must fit in maxBytes: on a very large target the cells
+// grow, and with them the smallest radius (every radius scales: the darkest tones are spaced wider).
+glm::vec2 fitSpacing(glm::vec2 spacing, float maxDarkness, VkExtent2D extent, VkDeviceSize maxBytes) {
+    if (spacing.x <= 0.0f) return spacing;
+    while (VkDeviceSize(spacingCells(extent, spacing.y)) * 16 > maxBytes) {
+        spacing.y *= 0.97f;
+        spacing.x = std::max(spacing.x, std::sqrt(2.0f * maxDarkness) / spacing.y);
+    }
+    return spacing;
+}
+// The spacing grid's size at most: the device's storage buffer range, and 256 MiB on any device.
+VkDeviceSize spacingGridLimit(const Context& ctx) {
+    return std::min<VkDeviceSize>(ctx.properties.limits.maxStorageBufferRange, VkDeviceSize(256) << 20);
+}
 // The splat depth grid, a float for every 2×2 pixels, is one storage-buffer binding; coverage is smaller.
 VkDeviceSize depthGridBytes(VkExtent2D extent) {
     return VkDeviceSize((extent.width + 1) / 2) * ((extent.height + 1) / 2) * 4;
@@ -169,9 +183,11 @@ void PointRenderer::setStyle(VkCommandBuffer cmd, const RenderStyle& s, float pi
     b.color[1] = s.hiddenInk;
     b.size = glm::vec4(s.silhouetteSize * pixelScale, s.frontSize * pixelScale, s.hiddenSize * pixelScale, s.tau);
     b.light = glm::vec4(shaderLight(s), s.toneGamma);
-    spacing_ = spacingRadius(s, pixelScale);
+    styleSpacing_ = spacingRadius(s, pixelScale);
+    spacing_ = styleSpacing_;  // prepare() fits it to the target
     b.options = glm::vec4(s.lightFollowsCamera ? 0.0f : 1.0f, s.drawDots ? 0.0f : 1.0f, spacing_.x, spacing_.y);
     b.tone = glm::vec4(s.inkDensity, s.ambient, 1.0f, kMaxDotPixels * pixelScale);
+    block_ = b;
     recordUniformUpdate(cmd, styleBuffer_, &b, sizeof(b));  // a frame still in flight may be reading the block
     if (lines_) lines_->setStyle(cmd, s, pixelScale);
 }
@@ -215,6 +231,14 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
             createBuffer(ctx_, (VkDeviceSize(extent.width) * extent.height + 7) / 8 * 4, usage, MemoryUse::Device);
         f.extent = extent;
         bindDescriptors(f);
+    }
+    const glm::vec2 fitted =
+        fitSpacing(styleSpacing_, (style_.ambient + 1.0f) * style_.inkDensity, extent, spacingGridLimit(ctx_));
+    if (fitted != spacing_) {
+        spacing_ = fitted;
+        block_.options.z = spacing_.x;
+        block_.options.w = spacing_.y;
+        recordUniformUpdate(cmd, styleBuffer_, &block_, sizeof(block_));
     }
     const uint32_t cells = spacingCells(extent, spacing_.y);
     if (cells > f.spaceCells) {

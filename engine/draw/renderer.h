@@ -114,7 +114,9 @@ private:
     Context& ctx_;
     RenderStyle style_;
     float pixelScale_ = 1.0f;
-    glm::vec2 spacing_{0.0f};  // the screen spacing's radius at darkness 1 and 1 / its cell, target pixels
+    glm::vec2 spacing_{0.0f};       // the screen spacing's radius at darkness 1 and 1 / its cell, target pixels
+    glm::vec2 styleSpacing_{0.0f};  // the same as the style asks, before prepare() fits its grid to the target
+    StyleBlock block_{};            // the style uniform as last written
     Buffer styleBuffer_;
     std::vector<Set> sets_;
     std::vector<Frame> frames_;
