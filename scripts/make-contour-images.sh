@@ -15,19 +15,7 @@ draw() {  # draw MODEL NAME STYLE [options...]
   rsvg-convert -w 480 -b white -o "$out/$name.png" "$work/$name.svg"
 }
 draw assets/bunny.obj contours-bunny contours --hidden-lines
-python3 - "$work/torus.obj" <<'PY'
-import math, sys
-R, r, nu, nv = 1.0, 0.42, 64, 32
-with open(sys.argv[1], "w") as f:
-    for i in range(nu):
-        for j in range(nv):
-            u, v = 2 * math.pi * i / nu, 2 * math.pi * j / nv
-            f.write("v %.7f %.7f %.7f\n" % ((R + r * math.cos(v)) * math.cos(u), (R + r * math.cos(v)) * math.sin(u), r * math.sin(v)))
-    for i in range(nu):
-        for j in range(nv):
-            a, b, c, d = i * nv + j + 1, (i + 1) % nu * nv + j + 1, (i + 1) % nu * nv + (j + 1) % nv + 1, i * nv + (j + 1) % nv + 1
-            f.write("f %d %d %d\nf %d %d %d\n" % (a, b, c, a, c, d))
-PY
+python3 scripts/make-torus-mesh.py "$work/torus.obj"
 draw "$work/torus.obj" contours-torus contours --hidden-lines --camera 30,35,1.6
 data=/usr/share/doc/libcgal-dev/data.tar.gz
 if [ -f "$data" ]; then

@@ -25,23 +25,11 @@ $ink -q render assets/bunny.obj --control-points 684 --size 640 640 --hidden-lin
 rsvg-convert -h 640 -b white -o $out/bunny-plot.png "$svg"
 rsvg-convert -z 8 --left=-3150 --top=-2656 --page-width 452 --page-height 640 -b white \
   -o $out/bunny-plot-detail.png "$svg"
-# The stipples on the page (docs/algorithm.md §3): a torus mesh (R 1, r 0.42, 64 × 32 quads, as the issue targets
+# The stipples on the page (docs/algorithm.md §4): a torus mesh (R 1, r 0.42, 64 × 32 quads, as the issue targets
 # make it), the ranked prefix alone and spaced on the page.
 torus=$(mktemp --suffix=.obj)
 trap 'rm -f "$svg" "$torus"' EXIT
-python3 - "$torus" <<'PY'
-import math, sys
-R, r, nu, nv = 1.0, 0.42, 64, 32
-with open(sys.argv[1], "w") as f:
-    for i in range(nu):
-        for j in range(nv):
-            u, v = 2 * math.pi * i / nu, 2 * math.pi * j / nv
-            f.write("v %.7f %.7f %.7f\n" % ((R + r * math.cos(v)) * math.cos(u), (R + r * math.cos(v)) * math.sin(u), r * math.sin(v)))
-    for i in range(nu):
-        for j in range(nv):
-            a, b, c, d = i * nv + j, ((i + 1) % nu) * nv + j, ((i + 1) % nu) * nv + (j + 1) % nv, i * nv + (j + 1) % nv
-            f.write("f %d %d %d\nf %d %d %d\n" % (a + 1, b + 1, c + 1, a + 1, c + 1, d + 1))
-PY
+python3 scripts/make-torus-mesh.py "$torus"
 $ink -q render "$torus" --camera 30,15,1.6 --no-screen-spacing -o $out/stipples-before.png
 $ink -q render "$torus" --camera 30,15,1.6 -o $out/stipples-after.png
 # Pen lines (docs/lines.md): contours alone, hatching (one family), cross-hatching with stipples, and the presets.
