@@ -53,30 +53,15 @@ ink::PageMetrics page(const ink::OffscreenRenderer& renderer, const ink::RenderS
                             style.frontSize * factor, 8.0 * factor);
 }
 
-struct Extremes {
-    double worstMean = INFINITY, worstClump = 0, lo = INFINITY, hi = 0;
-    explicit Extremes(const ink::PageMetrics& m) {
-        for (const ink::PageWindow& w : m.windows) {
-            worstMean = std::min(worstMean, w.meanNearest);
-            worstClump = std::max(worstClump, w.clumped);
-            lo = std::min(lo, w.coverage);
-            hi = std::max(hi, w.coverage);
-        }
-    }
-};
-
 // The windows' worst mean NN and clumping, and their coverage against `asked` (fractions of it allowed each way).
 void checkPage(const ink::PageMetrics& m, double asked, double minMean, double maxClump, double below, double above) {
     REQUIRE(m.windows.size() >= 8);
-    const Extremes e(m);
-    INFO(m.windows.size() << " windows: worst mean NN " << e.worstMean << " r_max, worst clumping " << e.worstClump
-                          << ", coverage " << e.lo << ".." << e.hi << " for " << asked);
-    CHECK(m.worstNearest == e.worstMean);
-    CHECK(m.worstClumped == e.worstClump);
-    CHECK(e.worstMean >= minMean);
-    CHECK(e.worstClump <= maxClump);
-    CHECK(e.lo >= (1.0 - below) * asked);
-    CHECK(e.hi <= (1.0 + above) * asked);
+    INFO(m.windows.size() << " windows: worst mean NN " << m.worstNearest << " r_max, worst clumping " << m.worstClumped
+                          << ", coverage " << m.leastCoverage << ".." << m.mostCoverage << " for " << asked);
+    CHECK(m.worstNearest >= minMean);
+    CHECK(m.worstClumped <= maxClump);
+    CHECK(m.leastCoverage >= (1.0 - below) * asked);
+    CHECK(m.mostCoverage <= (1.0 + above) * asked);
 }
 
 }  // namespace

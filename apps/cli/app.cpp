@@ -736,11 +736,6 @@ json pageJson(const ink::OffscreenRenderer& renderer, size_t sets, const ink::Re
         const ink::PageMetrics m =
             ink::measurePage(renderer.dotList(k), uint32_t(width * factor), uint32_t(height * factor), 128.0 * factor,
                              style.frontSize * factor, 8.0 * factor);
-        double lo = 0, hi = 0;
-        for (size_t i = 0; i < m.windows.size(); ++i) {
-            lo = i ? std::min(lo, m.windows[i].coverage) : m.windows[i].coverage;
-            hi = std::max(hi, m.windows[i].coverage);
-        }
         out.push_back({{"front_dots", m.frontDots},
                        {"larger_dots", m.largerDots},
                        {"outline_dots", m.outlineDots},
@@ -750,7 +745,7 @@ json pageJson(const ink::OffscreenRenderer& renderer, size_t sets, const ink::Re
                          {"mean_nn_over_r_max", m.meanNearest},
                          {"worst_nn_over_r_max", m.worstNearest},
                          {"worst_clumped", m.worstClumped},
-                         {"coverage", {lo, hi}}}}});
+                         {"coverage", {m.leastCoverage, m.mostCoverage}}}}});
     }
     return out;
 }

@@ -91,10 +91,10 @@ PageMetrics measurePage(const std::vector<gpu::Dot>& dots, uint32_t width, uint3
     };
     for (size_t i = 0; i < ox.size(); ++i) markOutline(ox[i] - margin, oy[i] - margin, ox[i] + margin, oy[i] + margin);
     const PointGrid byStep(fx, fy, width, height, step);
-    m.worstNearest = std::numeric_limits<double>::infinity();
+    m.worstNearest = m.leastCoverage = std::numeric_limits<double>::infinity();
+    const int span = int(std::lround(window / step));  // steps a window
     for (int wy = 0; double(wy) * step + window <= double(height); ++wy)
         for (int wx = 0; double(wx) * step + window <= double(width); ++wx) {
-            const int span = int(std::lround(window / step));
             bool nearOutline = false;
             for (int gy = wy; gy < wy + span && gy < sy && !nearOutline; ++gy)
                 for (int gx = wx; gx < wx + span && gx < sx && !nearOutline; ++gx)
@@ -127,9 +127,11 @@ PageMetrics measurePage(const std::vector<gpu::Dot>& dots, uint32_t width, uint3
             m.meanNearest += w.meanNearest;
             m.worstNearest = std::min(m.worstNearest, w.meanNearest);
             m.worstClumped = std::max(m.worstClumped, w.clumped);
+            m.leastCoverage = std::min(m.leastCoverage, w.coverage);
+            m.mostCoverage = std::max(m.mostCoverage, w.coverage);
         }
     if (m.windows.empty()) {
-        m.worstNearest = 0;
+        m.worstNearest = m.leastCoverage = 0;
     } else {
         m.meanNearest /= double(m.windows.size());
     }

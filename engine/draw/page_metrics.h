@@ -2,7 +2,7 @@
 // the target, each far from the outline, the mean nearest-neighbour distance of the drawn front dots over r_max =
 // √(2A / (√3 N)) (the spacing of the densest hexagonal packing of the window's N dots: 1 for a lattice, 0.47 for
 // white noise), the share of dots closer than r_max / 2 to another (clumped), and the ink the dots cover. What
-// `render --stats` reports as `stipples.page` and bench as `page`; tests/test_page.cpp asserts on it.
+// `render --stats` reports as `stipples[].page` and bench as `page`; tests/test_page.cpp asserts on it.
 #pragma once
 
 #include "shared/render.h"  // gpu::Dot
@@ -26,8 +26,9 @@ struct PageMetrics {
     size_t largerDots = 0;   // of them, drawn larger than their class's size (Dot::scale > 1)
     size_t outlineDots = 0;  // visible silhouette dots and hidden ones drawn
     std::vector<PageWindow> windows;
-    // Over the windows (0 without any): the mean of their meanNearest, the smallest, and the largest clumped.
-    double meanNearest = 0, worstNearest = 0, worstClumped = 0;
+    // Over the windows (0 without any): the mean of their meanNearest, the smallest, the largest clumped, and the
+    // least and most coverage.
+    double meanNearest = 0, worstNearest = 0, worstClumped = 0, leastCoverage = 0, mostCoverage = 0;
 };
 
 // Windows of side `window` pixels a quarter side apart over a width × height target, kept when they hold at

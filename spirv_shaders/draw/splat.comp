@@ -59,10 +59,10 @@ void splat(vec3 c, vec3 n) {
                 vec3 tilt = toward - dot(toward, n) * n;
                 float tiltLength = length(tilt);
                 vec3 offset = hit - c;
-                float along = tiltLength > 1e-6 ? abs(dot(offset, tilt / tiltLength)) : 0.0;
-                float across = sqrt(max(dot(offset, offset) - along * along, 0.0));
+                float alongTilt = tiltLength > 1e-6 ? abs(dot(offset, tilt / tiltLength)) : 0.0;
+                float acrossTilt = sqrt(max(dot(offset, offset) - alongTilt * alongTilt, 0.0));
                 float slackAlong = min(halfCell / max(abs(dot(toward, n)), 0.05), 0.5 * cam.splat.x);
-                vec2 outside = max(vec2(along - slackAlong, across - halfCell), vec2(0.0));
+                vec2 outside = max(vec2(alongTilt - slackAlong, acrossTilt - halfCell), vec2(0.0));
                 if (dot(outside, outside) > cam.splat.x * cam.splat.x) continue;
             } else if (ivec2(x, y) == ivec2(floor(center))) {
                 hit = c;  // edge-on: the centre cell still gets the point's own depth
@@ -72,7 +72,7 @@ void splat(vec3 c, vec3 n) {
             // Pushed back by the radius, and (filled disks) by as far as a sphere of the disk's radius curves away
             // from the disk at the hit, seen along the ray (d² / 2R over |cos| of the ray to the normal, |cos| taken
             // as at least ½: at most one radius more at the rim): at grazing angles a flat disk stands in front of
-            // its own curved surface. Measured against ray casting (docs/algorithm.md §6).
+            // its own curved surface. Measured against ray casting (docs/algorithm.md §4, item 1).
             vec3 along = normalize(hit);
             float curve = sparse ? 0.0 : dot(hit - c, hit - c) / (2.0 * cam.splat.x) / max(abs(dot(along, n)), 0.5);
             hit += along * (cam.splat.y + curve);
