@@ -168,6 +168,12 @@ PathShape shapeOf(const std::string& d) {
             s.length += std::hypot(nx - x, ny - y);
             x = nx, y = ny;
             extend(x, y, 0);
+        } else if (command == 'h') {  // a filled dot's step along the radius
+            double dx;
+            in >> dx;
+            s.length += std::abs(dx);
+            x += dx;
+            extend(x, y, 0);
         } else if (command == 'a') {
             double rx, ry, rotation, large, sweep, dx, dy;
             in >> rx >> ry >> rotation >> large >> sweep >> dx >> dy;
@@ -435,15 +441,18 @@ TEST_CASE("vector: the layout fits the view in the margins, sizes circles to the
     CHECK(layer.pen == 1);
     // 267 mm for 200 pixels: 1.335 mm a pixel; the view's top at (210 − 133.5) / 2.
     const double scale = 267.0 / 200.0, top = (210 - 100 * scale) / 2;
-    std::vector<double> big, small;  // the circles' radii (sorted outermost first below: the order is the plot's)
+    std::vector<double> big, small;  // the circles' radii
     for (const ink::PlotPath& p : layer.paths) {
         if (p.circle()) {
-            if (p.points[0].y == doctest::Approx(top + 50 * scale)) {
-                CHECK(p.points[0].x == doctest::Approx(15 + 100 * scale));
-                big.push_back(p.radius);
-            } else {
-                small.push_back(p.radius);  // the small one, 1 px from the top
-            }
+            // Each dot one stroke of the pen, its circles outermost first.
+            std::vector<double>& radii = p.points[0].y == doctest::Approx(top + 50 * scale) ? big : small;
+            CHECK(radii.empty());
+            if (&radii == &big) CHECK(p.points[0].x == doctest::Approx(15 + 100 * scale));
+            for (uint32_t k = 0; k <= p.rings; ++k) radii.push_back(p.ringRadius(k));
+            // The pen goes in along the radius and out again, and round each circle.
+            double length = 2 * (radii.front() - radii.back());
+            for (double r : radii) length += 2 * M_PI * r;
+            CHECK(p.length() == doctest::Approx(length));
         } else {
             // The line clipped to the view, half a pen inside.
             CHECK(p.points.front().x == doctest::Approx(15.15));
@@ -453,8 +462,6 @@ TEST_CASE("vector: the layout fits the view in the margins, sizes circles to the
     // 5.3 and 0.67 mm wide with a 0.3 mm pen: the outer circle's stroke covers the rim, and circles 0.27 mm
     // (0.9 pens) apart fill the inside down to one within half a pen of the centre. The dot on the left edge
     // would ink outside the view.
-    std::sort(big.rbegin(), big.rend());
-    std::sort(small.rbegin(), small.rend());
     REQUIRE(big.size() == 10);
     CHECK(big[0] == doctest::Approx((4 * scale - 0.3) / 2));
     for (size_t i = 1; i < big.size(); ++i) CHECK(big[i - 1] - big[i] == doctest::Approx(0.27));
@@ -464,6 +471,7 @@ TEST_CASE("vector: the layout fits the view in the margins, sizes circles to the
     CHECK(small[0] == doctest::Approx((0.5 * scale - 0.3) / 2));
     CHECK(small[1] == ink::kMinRadius);
     CHECK(layer.fillCircles == 10);
+    CHECK(layer.lifts == 3);  // the two dots and the line, a stroke each
     CHECK(layer.widestDot == doctest::Approx(4 * scale));
     // A pen wider than the dots: the smallest circle.
     o.penWidth = 6;

@@ -9,7 +9,11 @@
 namespace ink {
 
 double PlotPath::length() const {
-    if (circle()) return 2.0 * M_PI * radius;
+    if (circle()) {
+        double sum = 2.0 * (radius - ringRadius(rings));  // in and out along the radius
+        for (uint32_t k = 0; k <= rings; ++k) sum += 2.0 * M_PI * ringRadius(k);
+        return sum;
+    }
     double sum = 0;
     for (size_t i = 1; i < points.size(); ++i) sum += glm::distance(points[i - 1], points[i]);
     return sum;

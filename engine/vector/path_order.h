@@ -2,18 +2,29 @@
 // start, so the order of a layer's paths decides how long it takes. CPU only.
 #pragma once
 
+#include <algorithm>
+#include <cstdint>
 #include <glm/glm.hpp>
 #include <vector>
 
 namespace ink {
 
+constexpr double kMinRadius = 0.05;  // mm: the smallest circle or half tick drawn
+
 // A path the pen draws in one stroke, in millimetres on the page (x right, y down): a polyline of two or more
-// points, or (radius > 0) a closed circle around points[0], started and ended at its leftmost point.
+// points, or (radius > 0) a closed circle around points[0], started and ended at its leftmost point. A circle
+// with `rings` fills the disk inside it, pen down: from its leftmost point in along the radius to the innermost
+// of `rings` concentric circles `ringStep` apart, round it, out to the next and round it, ..., out to the outer
+// circle and round it (the radial steps lie in the ink the circles lay down).
 struct PlotPath {
     std::vector<glm::dvec2> points;
     double radius = 0;
+    uint32_t rings = 0;
+    double ringStep = 0;
 
     bool circle() const { return radius > 0; }
+    // k = 0: the outer circle; at least kMinRadius.
+    double ringRadius(uint32_t k) const { return std::max(radius - double(k) * ringStep, kMinRadius); }
     glm::dvec2 start() const { return circle() ? points[0] - glm::dvec2(radius, 0) : points.front(); }
     glm::dvec2 end() const { return circle() ? start() : points.back(); }
     double length() const;  // pen-down length

@@ -234,15 +234,14 @@ Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& o) {
                 continue;
             }
             // A circle whose stroke covers the dot's rim; inside one wider than two pens, concentric circles
-            // kDotFillStep pens apart, the last within half a pen of the centre, fill it.
-            for (double r = half;; r -= kDotFillStep * w) {
-                PlotPath p;
-                p.points = {c};
-                p.radius = std::max(r, kMinRadius);
-                out.paths.push_back(std::move(p));
-                if (r <= 0.5 * w + 1e-9) break;
-                ++out.fillCircles;
-            }
+            // kDotFillStep pens apart, the last within half a pen of the centre, fill it in the same stroke.
+            PlotPath p;
+            p.points = {c};
+            p.radius = half;
+            p.ringStep = kDotFillStep * w;
+            while (p.radius - p.rings * p.ringStep > 0.5 * w + 1e-9) ++p.rings;
+            out.fillCircles += p.rings;
+            out.paths.push_back(std::move(p));
         }
         const glm::dvec2 inset(std::min(0.5 * w, 0.5 * (hi.x - lo.x)), std::min(0.5 * w, 0.5 * (hi.y - lo.y)));
         std::vector<PlotPath> lines;
@@ -315,17 +314,25 @@ std::string plotSvg(const Plot& plot) {
             s += ' ';
             appendNumber(s, a.y);
             if (p.circle()) {
-                // Two half circles from the leftmost point back to it. Not closed with `z`: cairo (rsvg-convert,
+                // Each circle two half circles from its leftmost point back to it, the rings innermost first with
+                // steps along the radius between them (PlotPath). Not closed with `z`: cairo (rsvg-convert,
                 // Inkscape) strokes a closed circle narrower than its pen as a ring with a hole, while the
                 // open one, with round caps, is drawn as the disk the pen makes.
-                for (double dx : {2.0 * p.radius, -2.0 * p.radius}) {
-                    s += 'a';
-                    appendNumber(s, p.radius);
-                    s += ' ';
-                    appendNumber(s, p.radius);
-                    s += " 0 1 0 ";
-                    appendNumber(s, dx);
-                    s += " 0";
+                for (uint32_t k = p.rings + 1; k-- > 0;) {
+                    const double r = p.ringRadius(k);
+                    if (k != 0 || p.rings != 0) {
+                        s += 'h';
+                        appendNumber(s, k == p.rings ? p.radius - r : p.ringRadius(k + 1) - r);
+                    }
+                    for (double dx : {2.0 * r, -2.0 * r}) {
+                        s += 'a';
+                        appendNumber(s, r);
+                        s += ' ';
+                        appendNumber(s, r);
+                        s += " 0 1 0 ";
+                        appendNumber(s, dx);
+                        s += " 0";
+                    }
                 }
             } else {
                 s += 'L';
@@ -371,22 +378,27 @@ std::string plotPdf(const Plot& plot) {
         c += "RG\n";
         for (const PlotPath& p : layer.paths) {
             if (p.circle()) {
-                // Four cubic Béziers from the leftmost point (y down: up the page first, then clockwise).
-                const double r = p.radius, k = 0.5522847498307936 * r;
+                // Each circle four cubic Béziers from its leftmost point (y down: up the page first, then
+                // clockwise), the rings innermost first with steps along the radius between them, as in the SVG.
                 const glm::dvec2 o = p.points[0];
-                point(o + glm::dvec2(-r, 0), " m ");
-                point(o + glm::dvec2(-r, -k), " ");
-                point(o + glm::dvec2(-k, -r), " ");
-                point(o + glm::dvec2(0, -r), " c ");
-                point(o + glm::dvec2(k, -r), " ");
-                point(o + glm::dvec2(r, -k), " ");
-                point(o + glm::dvec2(r, 0), " c ");
-                point(o + glm::dvec2(r, k), " ");
-                point(o + glm::dvec2(k, r), " ");
-                point(o + glm::dvec2(0, r), " c ");
-                point(o + glm::dvec2(-k, r), " ");
-                point(o + glm::dvec2(-r, k), " ");
-                point(o + glm::dvec2(-r, 0), " c S\n");  // not closed: as in the SVG
+                point(p.start(), " m ");
+                for (uint32_t ring = p.rings + 1; ring-- > 0;) {
+                    const double r = p.ringRadius(ring), k = 0.5522847498307936 * r;
+                    if (ring != 0 || p.rings != 0) point(o + glm::dvec2(-r, 0), " l ");
+                    point(o + glm::dvec2(-r, -k), " ");
+                    point(o + glm::dvec2(-k, -r), " ");
+                    point(o + glm::dvec2(0, -r), " c ");
+                    point(o + glm::dvec2(k, -r), " ");
+                    point(o + glm::dvec2(r, -k), " ");
+                    point(o + glm::dvec2(r, 0), " c ");
+                    point(o + glm::dvec2(r, k), " ");
+                    point(o + glm::dvec2(k, r), " ");
+                    point(o + glm::dvec2(0, r), " c ");
+                    point(o + glm::dvec2(-k, r), " ");
+                    point(o + glm::dvec2(-r, k), " ");
+                    point(o + glm::dvec2(-r, 0), " c ");
+                }
+                c += "S\n";  // not closed: as in the SVG
             } else {
                 point(p.points[0], " m");
                 for (size_t i = 1; i < p.points.size(); ++i) {

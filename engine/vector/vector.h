@@ -106,7 +106,6 @@ struct Plot {
 // page whose margins leave no room for the pen (the view, scaled into the margins, must be wider and taller
 // than the pen) or a pen width outside [kMinPenWidth, kMaxPenWidth] mm.
 Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& options);
-constexpr double kMinRadius = 0.05;   // mm: the smallest circle or half tick drawn
 constexpr double kDotFillStep = 0.9;  // pens between a wide dot's concentric circles (a little overlap)
 // The pen widths a page takes, mm: numbers are written with 3 decimals (a micrometre), so a thinner pen would
 // be written as 0 (SVG: no stroke; PDF: the thinnest line the device can draw).
