@@ -368,6 +368,10 @@ TEST_CASE(
             else
                 pieces.push_back(length);
         }
+        // Dashes: pieces under half the run a stroke needs (RenderStyle::hatchMinRun, 40 px here) can only be
+        // cut by the image's edge or by the walk's reach (SEG_REACH segments); a hidden stroke showing through a
+        // gap in the depth grid made them (here 8 of 174 pieces on lavapipe, none now).
+        const size_t dashes = size_t(std::count_if(pieces.begin(), pieces.end(), [](double p) { return p < 20.0; }));
         std::nth_element(pieces.begin(), pieces.begin() + pieces.size() / 2, pieces.end());
         double median = pieces[pieces.size() / 2];
         // No screen direction carries most of the ink: the share of the drawn length within the two busiest ±10°
@@ -396,7 +400,9 @@ TEST_CASE(
             if (window(c) > window(second)) second = c;
         const double share = (top + window(second)) / total;
         MESSAGE(drawn.size() << " hatching segments drawn in " << pieces.size() << " visible pieces, median " << median
-                             << " px; ink share of the two busiest directions " << share);
+                             << " px, " << dashes << " under 20 px; ink share of the two busiest directions "
+                             << share);
+        CHECK(dashes <= pieces.size() / 100);
         CHECK(median >= 40.0);  // RenderStyle::hatchMinRun: 4% of 1024, unless hidden in part
         CHECK(share <= 0.55);
 

@@ -4,8 +4,8 @@
 // - Contours: visible when not behind the surface (tested two push-backs nearer the camera, as silhouette dots
 //   are), else hidden; interior when there is surface on both sides of it in the image (it lies in front of more
 //   surface), which gets the halo.
-// - Hatching: drawn where its surface faces the camera, its tone is dark enough for its family and level, over a run
-//   of its stroke long enough to read as a stroke (tone.w pixels), and it is not behind the surface. The strokes
+// - Hatching: drawn where its surface faces the camera, its tone is dark enough for its family and level, and it is
+//   not behind the surface, over a run of its stroke long enough to read as a stroke (tone.w pixels). The strokes
 //   are fixed to the model; only these per-frame decisions change.
 // - Crease and boundary lines: visible when not behind the surface at their own pixel (tested four push-backs
 //   nearer the camera: they run along the surface, not beside it), else hidden like contours.
@@ -45,6 +45,17 @@ bool hatchWanted(uint index, out float pixels) {
     return nv > (family < 2u ? lineStyle.tone.z : lineStyle.diagonal.z) && darkness > threshold;
 }
 
+// Whether hatching segment `index` is wanted (hatchWanted) and not behind the surface (tested one push-back nearer
+// the camera, against the depth grid).
+bool hatchShows(uint index, out float pixels) {
+    if (!hatchWanted(index, pixels)) return false;
+    vec3 a = (cam.view * vec4(texelFetch(segments, int(3u * index)).xyz, 1.0)).xyz;
+    vec3 b = (cam.view * vec4(texelFetch(segments, int(3u * index + 1u)).xyz, 1.0)).xyz;
+    vec3 mid = 0.5 * (a + b);
+    vec4 nearer = project(mid - normalize(mid) * cam.params.x);
+    return nearer.z / nearer.w <= uintBitsToFloat(depthAt(toPixels(nearer)));
+}
+
 void main() {
     uint i = gl_GlobalInvocationID.x;
     uint index = min(i, max(cam.counts.x, 1u) - 1u);
@@ -64,20 +75,20 @@ void main() {
     keep = keep && all(greaterThan(hi, vec2(-8.0))) && all(lessThan(lo, cam.viewport.xy + 8.0));
     float width;
     if (hatch) {
-        // Wanted by its tone and facing, and within a run of wanted segments of its stroke at least tone.w of the
-        // image long: walked both ways along the stroke until the run ends or is long enough.
+        // Wanted by its tone and facing, not behind the surface, and within a run of such segments of its stroke
+        // at least tone.w of the image long: walked both ways along the stroke until the run ends or is long
+        // enough. Visibility is part of the run: a stroke hidden behind a nearer part of the surface, where the
+        // depth grid has a gap, would otherwise show through it as a dash.
         const float minRun = lineStyle.tone.w * min(cam.viewport.x, cam.viewport.y);
         float run;
-        keep = keep && hatchWanted(index, run);
+        keep = keep && hatchShows(index, run);
         uint before = (kind >> SEG_BEFORE_SHIFT) & SEG_REACH, after = (kind >> SEG_AFTER_SHIFT) & SEG_REACH;
         float pixels;
-        for (uint k = 1u; keep && k <= before && run < minRun && hatchWanted(index - k, pixels); ++k)
+        for (uint k = 1u; keep && k <= before && run < minRun && hatchShows(index - k, pixels); ++k)
             run += pixels;
-        for (uint k = 1u; keep && k <= after && run < minRun && hatchWanted(index + k, pixels); ++k)
+        for (uint k = 1u; keep && k <= after && run < minRun && hatchShows(index + k, pixels); ++k)
             run += pixels;
         keep = keep && run >= minRun;
-        vec4 nearer = project(mid - normalize(mid) * cam.params.x);
-        keep = keep && nearer.z / nearer.w <= uintBitsToFloat(depthAt(toPixels(nearer)));
         flags = SEG_VISIBLE;
         width = lineStyle.widths.z;
     } else if (feature) {
