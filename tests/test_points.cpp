@@ -194,7 +194,10 @@ TEST_CASE("points: bad obj input" * doctest::test_suite("unit")) {
     bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n", "is not a face vertex");
     bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "line 4: face has 2 vertices; at least 3 are needed");
     bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n", "face normal index 1 is out of range");
-    bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 0\nf 1//1 2//1 3//1\n", "line 4: normal is zero");
+    // A zero normal given gives way to the face's (test_readers.cpp), unless the face has no area either.
+    bad("v 0 0 0\nv 1 0 0\nv 2 0 0\nvn 0 0 0\nf 1//1 2//1 3//1\n",
+        "t.obj: every vertex the faces use has a zero normal in the file and faces without area");
+    bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 nan 1\nf 1//1 2//1 3//1\n", "t.obj: line 4: normal is not finite");
     bad("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", "t.obj: vertex 1 (line 1): normal is zero");
     bad("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/3000000000 2 3\n",
         "line 4: face texture coordinate index 3000000000 is out of range");

@@ -736,6 +736,7 @@ OrientedPoints parseGltf(const std::string& bytes, const std::string& name, bool
              " mesh instance(s) whose node transform is singular or not finite");
 
     OrientedPoints points = std::move(out.given);
+    replaceZeroNormals(points, name);
     if (!out.corners.empty()) {
         std::vector<Vector3d> vertices;
         Polygons triangles;

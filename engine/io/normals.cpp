@@ -1,6 +1,8 @@
 // Area-weighted vertex normals for meshes read without normals.
 #include "io/normals.h"
 
+#include "base/common.h"
+
 #include <Eigen/Geometry>
 #include <bit>
 #include <cstring>
@@ -54,6 +56,37 @@ Vector3d safeNormalized(const Vector3d& v) {
     if (!std::isfinite(big)) return v;
     const Vector3d scaled = v / big;  // the length overflows, the components do not
     return scaled / scaled.norm();
+}
+
+size_t replaceZeroNormals(OrientedPoints& points, const std::string& name) {
+    const size_t n = points.positions.size();
+    std::vector<char> zero(n, 0), used(n, 0);
+    bool any = false;
+    for (size_t i = 0; i < n; ++i)
+        if (points.normals[i].allFinite() && !(safeNorm(points.normals[i]) > kZeroNormal)) zero[i] = 1, any = true;
+    if (!any) return 0;
+    std::vector<Vector3d> sums(n, Vector3d::Zero());
+    for (const Triangle& t : points.triangles) {
+        const Vector3d& p0 = points.positions[t[0]];
+        const Vector3d area = (points.positions[t[1]] - p0).cross(points.positions[t[2]] - p0);
+        for (uint32_t v : t)
+            if (zero[v]) sums[v] += area, used[v] = 1;
+    }
+    for (const Triangle& t : points.triangles)
+        for (uint32_t v : t) used[v] = 1;
+    const double diagonal = usedDiagonal(points.positions, used);
+    size_t replaced = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (!zero[i] || !used[i]) continue;
+        if (!std::isfinite(safeNorm(sums[i])) || zeroArea(sums[i], diagonal)) continue;
+        points.normals[i] = safeNormalized(sums[i]);
+        ++replaced;
+    }
+    if (replaced > 0)
+        note(name + ": " + std::to_string(replaced) + " vertex normal" + (replaced == 1 ? " is" : "s are") +
+             " zero in the file; " + (replaced == 1 ? "that vertex takes its" : "those vertices take their") +
+             " faces' normal");
+    return replaced;
 }
 
 double usedDiagonal(const std::vector<Vector3d>& positions, const std::vector<char>& used) {

@@ -51,14 +51,23 @@ double usedDiagonal(const std::vector<Eigen::Vector3d>& positions, const std::ve
 // Area sums scale with the model's size squared, so "zero" means tiny next to the squared diagonal (the
 // division order avoids overflowing the square). The sum is then brought to unit length so that finish()
 // can treat it like a normal read from a file. `where()` names the vertex, and is called only to fail.
+inline bool zeroArea(const Eigen::Vector3d& n, double diagonal) {
+    double length = safeNorm(n);
+    return std::isfinite(length) && (length == 0 || (std::isfinite(diagonal) && length / diagonal / diagonal <= 1e-12));
+}
 template <class Where>
 void settleAreaNormal(Eigen::Vector3d& n, double diagonal, const std::string& name, Where where) {
-    double length = safeNorm(n);
-    if (!std::isfinite(length)) return;  // finish() reports it
-    if (length == 0 || (std::isfinite(diagonal) && length / diagonal / diagonal <= 1e-12))
+    if (!std::isfinite(safeNorm(n))) return;  // finish() reports it
+    if (zeroArea(n, diagonal))
         fail(name, where() + ": normal is zero (the faces around it have no area, or their windings cancel)");
     n = safeNormalized(n);
 }
+
+// A mesh whose file gives normals may give some as zero (exporters write 0 0 0 for a normal they did not
+// compute): each such vertex that `points.triangles` use takes its triangles' area-weighted normal instead, unless
+// that is zero too (then finish() refuses it). Non-finite normals are left for finish() to refuse. Notes how many
+// were replaced (none: no note) and returns that count.
+size_t replaceZeroNormals(OrientedPoints& points, const std::string& name);
 
 // Merges positions that are bit for bit the same (+0 and -0 alike), as triangle soups (STL, glTF without
 // normals) need before their vertices can have normals: `unique` gets each distinct position once, in order of

@@ -173,13 +173,20 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
     std::vector<Vector3d> area(n, Vector3d::Zero()), given(n, Vector3d::Zero());
     std::vector<char> used(n, 0), hasGiven(n, 0);
     addAreaNormals(scan.v, scan.faces, area, used);
-    // Normals named by faces win over computed ones; a vertex met with several is given their average.
+    // Normals named by faces win over computed ones; a vertex met with several is given their average. A zero one
+    // (exporters write 0 0 0 for a normal they did not compute) is passed over: its vertex takes its faces'
+    // normal, unless another corner gives it one.
+    std::vector<char> zeroNamed(n, 0);
     for (size_t k = 0; k < scan.cornerNormals.size(); ++k) {
         int ni = scan.cornerNormals[k];
         if (ni < 0) continue;
         const Vector3d& vn = scan.vn[size_t(ni)];
         double length = safeNorm(vn);
-        if (!(length > kZeroNormal)) fail(name, lineName(scan.vnLine[size_t(ni)]) + ": normal is zero");
+        if (!vn.allFinite()) fail(name, lineName(scan.vnLine[size_t(ni)]) + ": normal is not finite");
+        if (!(length > kZeroNormal)) {
+            zeroNamed[scan.faces.indices[k]] = 1;
+            continue;
+        }
         uint32_t vi = scan.faces.indices[k];
         given[vi] += safeNormalized(vn);
         hasGiven[vi] = 1;
@@ -188,15 +195,35 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
     std::vector<size_t> vertexOf;
     std::vector<uint32_t> renumber(n, kDropped);
     double diagonal = usedDiagonal(scan.v, used);
+    size_t replaced = 0, dropped = 0;
     for (size_t i = 0; i < n; ++i) {
         if (!used[i]) continue;
         auto where = [&] { return "vertex " + std::to_string(i + 1) + " (" + lineName(scan.vLine[i]) + ")"; };
+        if (!hasGiven[i] && zeroNamed[i]) {
+            // The file gives it no normal and its faces have no area: it adds nothing to the surface, and goes
+            // with its faces (as the triangle-soup readers drop such vertices).
+            if (zeroArea(area[i], diagonal)) {
+                ++dropped;
+                continue;
+            }
+            ++replaced;
+        }
         if (!hasGiven[i]) settleAreaNormal(area[i], diagonal, name, where);
         renumber[i] = uint32_t(vertexOf.size());
         vertexOf.push_back(i);
         out.positions.push_back(scan.v[i]);
         out.normals.push_back(hasGiven[i] ? given[i] : area[i]);
     }
+    if (replaced > 0)
+        note(name + ": " + std::to_string(replaced) + " vertex normal" + (replaced == 1 ? " is" : "s are") +
+             " zero in the file; " + (replaced == 1 ? "that vertex takes its" : "those vertices take their") +
+             " faces' normal");
+    if (out.positions.empty() && dropped > 0)
+        fail(name, "every vertex the faces use has a zero normal in the file and faces without area");
+    if (dropped > 0)
+        note(name + ": dropped " + std::to_string(dropped) +
+             (dropped == 1 ? " vertex whose normal is" : " vertices whose normals are") +
+             " zero in the file and whose faces have no area");
     // Several given normals can still cancel out; finish() calls that a zero normal too.
     finish(out, name, [&](size_t i) {
         return "vertex " + std::to_string(vertexOf[i] + 1) + " (" + lineName(scan.vLine[vertexOf[i]]) + ")";

@@ -166,8 +166,9 @@ OrientedPoints parseOff(const std::string& bytes, const std::string& name) {
                        " faces the header declares");
 
     if (kind.normal) {
-        finish(points, name, vertexName);
         appendTriangles(polygons, {}, 0, points.triangles);
+        replaceZeroNormals(points, name);
+        finish(points, name, vertexName);
         return points;
     }
     if (polygons.sizes.empty()) fail(name, "has no faces and no normals: cannot orient points");

@@ -449,8 +449,9 @@ OrientedPoints parsePly(const std::string& bytes, const std::string& name) {
 
     auto where = [](size_t i) { return "vertex " + std::to_string(i); };
     if (hasNormals) {
-        finish(points, name, where);
         appendTriangles(polygons, {}, 0, points.triangles);
+        replaceZeroNormals(points, name);
+        finish(points, name, where);
         return points;
     }
     // Vertices no face uses have no normal and are dropped, keeping their original numbers for messages.
