@@ -552,9 +552,11 @@ TEST_CASE("readers: a mesh's normals given as zero take their faces' normals (OB
     json.replace(json.find("{\"byteLength\": 72}"), 18, "{\"byteLength\": 120}");
     check(glb(json, bin), "glb", "t.glb");
 
-    // A point cloud's zero normal cannot be replaced; nor can a vertex whose faces have no area, which OBJ drops
-    // with them (said in a note; test_points.cpp: refused when nothing is left).
-    bad("NOFF\n1 0 0\n0 0 0 0 0 0\n", "off", "vertex 0 (line 3): normal is zero");
+    // A point cloud's zero normal cannot be replaced ("readers: OFF" above); nor can a vertex whose faces have no
+    // area, which OBJ drops with them (said in a note; test_points.cpp: refused when nothing is left), and one
+    // whose faces' windings cancel, which it refuses.
+    bad(objText + "v 3 3 3\nv 3 4 3\nv 4 3 3\nvn 0 0 0\nf 5//5 6//5 7//5\nf 5//5 7//5 6//5\n", "obj",
+        "vertex 5 (line 13): normal is zero (the faces around it have no area, or their windings cancel)");
     Notes notes;
     ink::ScopedReporter reporting(notes.reporter);
     const std::string sliver = objText + "v 0.5 0.5 0.5\nv 2 2 2\nvn 0 0 0\nf 1//1 5//5 6//5\n";  // on one line

@@ -136,6 +136,7 @@ ParsedSvg parseSvg(const std::string& text) {
 struct PathShape {
     double length = 0;
     double minX = 1e30, minY = 1e30, maxX = -1e30, maxY = -1e30;
+    double startX = 0, startY = 0, endX = 0, endY = 0;  // where the pen goes down and up
 };
 
 PathShape shapeOf(const std::string& d) {
@@ -168,11 +169,11 @@ PathShape shapeOf(const std::string& d) {
             s.length += std::hypot(nx - x, ny - y);
             x = nx, y = ny;
             extend(x, y, 0);
-        } else if (command == 'h') {  // a filled dot's step along the radius
-            double dx;
-            in >> dx;
-            s.length += std::abs(dx);
-            x += dx;
+        } else if (command == 'H') {  // a filled dot's step along the radius
+            double nx;
+            in >> nx;
+            s.length += std::abs(nx - x);
+            x = nx;
             extend(x, y, 0);
         } else if (command == 'a') {
             double rx, ry, rotation, large, sweep, dx, dy;
@@ -187,6 +188,7 @@ PathShape shapeOf(const std::string& d) {
         }
         REQUIRE_FALSE(in.fail());
     }
+    s.startX = x0, s.startY = y0, s.endX = x, s.endY = y;
     return s;
 }
 
@@ -473,6 +475,20 @@ TEST_CASE("vector: the layout fits the view in the margins, sizes circles to the
     CHECK(layer.fillCircles == 10);
     CHECK(layer.lifts == 3);  // the two dots and the line, a stroke each
     CHECK(layer.widestDot == doctest::Approx(4 * scale));
+    // As written: each dot's path ends where it starts, its steps between circles absolute (a thin pen's ring
+    // spacing of 0.9 · 0.123 mm, rounded step by step, would drift).
+    o.penWidth = 0.123;
+    const std::string svg = ink::plotSvg(ink::layoutPlot(d, o));
+    size_t dots = 0;
+    for (size_t at = svg.find(" d=\""); at != std::string::npos; at = svg.find(" d=\"", at + 1)) {
+        const std::string path = svg.substr(at + 4, svg.find('"', at + 4) - at - 4);
+        if (path.find('a') == std::string::npos) continue;
+        const PathShape s = shapeOf(path);
+        CHECK(s.endX == s.startX);
+        CHECK(s.endY == s.startY);
+        ++dots;
+    }
+    CHECK(dots == 2);
     // A pen wider than the dots: the smallest circle.
     o.penWidth = 6;
     const ink::Plot wide = ink::layoutPlot(d, o);  // named: a range-for over a temporary's member dangles

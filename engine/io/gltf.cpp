@@ -584,7 +584,7 @@ void addMesh(const tinygltf::Model& model, int meshIndex, const Matrix4d& world,
                 if (!n.allFinite())
                     fail(name, at + ": vertex " + std::to_string(i) + ": normal is not finite " + str(n));
                 out.given.positions.push_back(world3(i));
-                out.given.normals.push_back(normalMatrix * n);
+                out.given.normals.push_back(safeNormalized(normalMatrix * n));  // a scaled node keeps it unit
             }
             continue;
         }

@@ -78,7 +78,7 @@ size_t replaceZeroNormals(OrientedPoints& points, const std::string& name) {
     size_t replaced = 0;
     for (size_t i = 0; i < n; ++i) {
         if (!zero[i] || !used[i]) continue;
-        if (!std::isfinite(safeNorm(sums[i])) || zeroArea(sums[i], diagonal)) continue;
+        if (!sums[i].allFinite() || zeroArea(sums[i], diagonal)) continue;
         points.normals[i] = safeNormalized(sums[i]);
         ++replaced;
     }

@@ -182,7 +182,6 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
         if (ni < 0) continue;
         const Vector3d& vn = scan.vn[size_t(ni)];
         double length = safeNorm(vn);
-        if (!vn.allFinite()) fail(name, lineName(scan.vnLine[size_t(ni)]) + ": normal is not finite");
         if (!(length > kZeroNormal)) {
             zeroNamed[scan.faces.indices[k]] = 1;
             continue;
@@ -192,6 +191,21 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
         hasGiven[vi] = 1;
     }
 
+    // Whether any face around a vertex has area (not only their sum: windings that cancel are refused below).
+    std::vector<char> faceArea(n, 0);
+    if (std::find(zeroNamed.begin(), zeroNamed.end(), 1) != zeroNamed.end()) {
+        const double diagonal = usedDiagonal(scan.v, used);
+        size_t at = 0;
+        for (uint32_t size : scan.faces.sizes) {
+            const uint32_t* idx = scan.faces.indices.data() + at;
+            at += size;
+            Vector3d sum = Vector3d::Zero();
+            for (uint32_t k = 1; k + 1 < size; ++k)
+                sum += (scan.v[idx[k]] - scan.v[idx[0]]).cross(scan.v[idx[k + 1]] - scan.v[idx[0]]);
+            if (!zeroArea(sum, diagonal))
+                for (uint32_t k = 0; k < size; ++k) faceArea[idx[k]] = 1;
+        }
+    }
     std::vector<size_t> vertexOf;
     std::vector<uint32_t> renumber(n, kDropped);
     double diagonal = usedDiagonal(scan.v, used);
@@ -202,7 +216,7 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
         if (!hasGiven[i] && zeroNamed[i]) {
             // The file gives it no normal and its faces have no area: it adds nothing to the surface, and goes
             // with its faces (as the triangle-soup readers drop such vertices).
-            if (zeroArea(area[i], diagonal)) {
+            if (!faceArea[i]) {
                 ++dropped;
                 continue;
             }

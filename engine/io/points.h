@@ -10,7 +10,8 @@
 //   .off            OFF, COFF, NOFF, CNOFF (normals used), polygons
 //   .stl            ascii and binary; corners welded, normals from the winding
 //   .gltf .glb      glTF 2.0: the default scene's triangle meshes, node transforms applied
-// Meshes without normals get area-weighted vertex normals; vertices no face references are ignored.
+// Meshes without normals get area-weighted vertex normals, as do a mesh's vertices whose normal the file gives as
+// zero; vertices no face references are ignored.
 // Every function here throws ink::Error with one line naming the file, the line or element, and the
 // problem (NaN, zero normal, index out of range, truncated body, absurd element count, ...).
 #pragma once
@@ -24,8 +25,8 @@
 
 namespace ink {
 
-// Picks the loader by extension (case-insensitive). Normals are normalized; a zero or non-finite
-// normal, or a non-finite coordinate, is an error naming where it is.
+// Picks the loader by extension (case-insensitive). Normals are normalized; a non-finite normal, a zero one that
+// no faces can replace, or a non-finite coordinate, is an error naming where it is.
 OrientedPoints loadPoints(const std::string& path);
 
 // The same loaders on bytes already in memory (used by tests and fuzzers); `name` is used in messages,

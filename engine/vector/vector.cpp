@@ -315,14 +315,14 @@ std::string plotSvg(const Plot& plot) {
             appendNumber(s, a.y);
             if (p.circle()) {
                 // Each circle two half circles from its leftmost point back to it, the rings innermost first with
-                // steps along the radius between them (PlotPath). Not closed with `z`: cairo (rsvg-convert,
-                // Inkscape) strokes a closed circle narrower than its pen as a ring with a hole, while the
-                // open one, with round caps, is drawn as the disk the pen makes.
+                // steps along the radius (`H` to the next leftmost point) between them (PlotPath). Not closed with `z`:
+                // cairo (rsvg-convert, Inkscape) strokes a closed circle narrower than its pen as a ring with a hole,
+                // while the open one, with round caps, is drawn as the disk the pen makes.
                 for (uint32_t k = p.rings + 1; k-- > 0;) {
                     const double r = p.ringRadius(k);
-                    if (k != 0 || p.rings != 0) {
-                        s += 'h';
-                        appendNumber(s, k == p.rings ? p.radius - r : p.ringRadius(k + 1) - r);
+                    if (k != 0 || p.rings != 0) {  // absolute: rounded relative steps would add up
+                        s += 'H';
+                        appendNumber(s, p.points[0].x - r);
                     }
                     for (double dx : {2.0 * r, -2.0 * r}) {
                         s += 'a';

@@ -46,14 +46,18 @@ bool hatchWanted(uint index, out float pixels) {
 }
 
 // Whether hatching segment `index` is wanted (hatchWanted) and not behind the surface (tested one push-back nearer
-// the camera, against the depth grid).
+// the camera, against the depth grid; past the image's edge, wanted is enough).
 bool hatchShows(uint index, out float pixels) {
     if (!hatchWanted(index, pixels)) return false;
     vec3 a = (cam.view * vec4(texelFetch(segments, int(3u * index)).xyz, 1.0)).xyz;
     vec3 b = (cam.view * vec4(texelFetch(segments, int(3u * index + 1u)).xyz, 1.0)).xyz;
     vec3 mid = 0.5 * (a + b);
     vec4 nearer = project(mid - normalize(mid) * cam.params.x);
-    return nearer.z / nearer.w <= uintBitsToFloat(depthAt(toPixels(nearer)));
+    vec2 pixel = toPixels(nearer);
+    // Past the image's edge (a neighbour the walk reaches) there is no depth to test: it counts, as it did
+    // before visibility joined the run, so that strokes are not cut short at the border.
+    if (any(lessThan(pixel, vec2(0.0))) || any(greaterThanEqual(pixel, cam.viewport.xy))) return true;
+    return nearer.z / nearer.w <= uintBitsToFloat(depthAt(pixel));
 }
 
 void main() {
