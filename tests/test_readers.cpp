@@ -512,7 +512,7 @@ TEST_CASE("readers: a mesh's normals given as zero take their faces' normals (OB
         ink::ScopedReporter reporting(notes.reporter);
         checkTetra(parsePoints(bytes, format, name));
         REQUIRE(notes.lines.size() == 1);
-        CHECK(notes.lines[0] == name + ": 1 vertex normal is zero in the file; that vertex takes its faces' normal");
+        CHECK(notes.lines[0] == name + ": 1 vertex with a zero normal in the file takes its faces' normal");
     };
     std::string objText,
         plyText =
@@ -552,17 +552,30 @@ TEST_CASE("readers: a mesh's normals given as zero take their faces' normals (OB
     json.replace(json.find("{\"byteLength\": 72}"), 18, "{\"byteLength\": 120}");
     check(glb(json, bin), "glb", "t.glb");
 
-    // A point cloud's zero normal cannot be replaced ("readers: OFF" above); nor can a vertex whose faces have no
-    // area, which OBJ drops with them (said in a note; test_points.cpp: refused when nothing is left), and one
-    // whose faces' windings cancel, which it refuses.
+    // A point cloud's zero normal cannot be replaced ("readers: OFF" above); nor can one on a vertex whose faces'
+    // windings cancel, which OBJ refuses. One whose faces have no area takes its neighbours' in OBJ (below;
+    // test_points.cpp: refused when no vertex is left).
     bad(objText + "v 3 3 3\nv 3 4 3\nv 4 3 3\nvn 0 0 0\nf 5//5 6//5 7//5\nf 5//5 7//5 6//5\n", "obj",
         "vertex 5 (line 13): normal is zero (the faces around it have no area, or their windings cancel)");
     Notes notes;
     ink::ScopedReporter reporting(notes.reporter);
-    const std::string sliver = objText + "v 0.5 0.5 0.5\nv 2 2 2\nvn 0 0 0\nf 1//1 5//5 6//5\n";  // on one line
+    // A sliver from corner 1 (a zero-area face; its two new corners' normals zero): they take corner 1's, and the
+    // mesh keeps the face. A sliver of such corners alone has no neighbour to take one from: it goes.
+    const std::string sliver = objText + "v 0.5 0.5 0.5\nv 2 2 2\nvn 0 0 0\nf 1//1 5//5 6//5\n";
     OrientedPoints p = parsePoints(sliver, "obj", "s.obj");
+    REQUIRE(p.positions.size() == 6);
+    CHECK(near(p.normals[4], kTetra[0].normalized()));
+    CHECK(near(p.normals[5], kTetra[0].normalized()));
+    CHECK(p.triangles.size() == 5);
+    REQUIRE(notes.lines.size() == 2);
+    CHECK(notes.lines[1] ==
+          "s.obj: 2 vertices with a zero normal in the file and faces without area take their neighbours' normal");
+    notes.lines.clear();
+    p = parsePoints(objText + "v 5 5 5\nv 6 6 6\nv 7 7 7\nvn 0 0 0\nf 5//5 6//5 7//5\n", "obj", "d.obj");
     CHECK(p.positions.size() == 4);
-    CHECK(std::find(notes.lines.begin(), notes.lines.end(),
-                    "s.obj: dropped 2 vertices whose normals are zero in the file and whose faces have no area") !=
-          notes.lines.end());
+    CHECK(p.triangles.size() == 4);
+    REQUIRE(notes.lines.size() == 2);
+    CHECK(
+        notes.lines[1] ==
+        "d.obj: dropped 3 vertices with a zero normal in the file, faces without area and no neighbour with a normal");
 }

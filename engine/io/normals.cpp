@@ -58,6 +58,11 @@ Vector3d safeNormalized(const Vector3d& v) {
     return scaled / scaled.norm();
 }
 
+std::string zeroNormalsNote(const std::string& name, size_t count, const char* also, const char* whose) {
+    return name + ": " + std::to_string(count) + (count == 1 ? " vertex" : " vertices") +
+           " with a zero normal in the file" + also + (count == 1 ? " takes its " : " take their ") + whose + " normal";
+}
+
 size_t replaceZeroNormals(OrientedPoints& points, const std::string& name) {
     const size_t n = points.positions.size();
     std::vector<char> zero(n, 0), used(n, 0);
@@ -82,10 +87,7 @@ size_t replaceZeroNormals(OrientedPoints& points, const std::string& name) {
         points.normals[i] = safeNormalized(sums[i]);
         ++replaced;
     }
-    if (replaced > 0)
-        note(name + ": " + std::to_string(replaced) + " vertex normal" + (replaced == 1 ? " is" : "s are") +
-             " zero in the file; " + (replaced == 1 ? "that vertex takes its" : "those vertices take their") +
-             " faces' normal");
+    if (replaced > 0) note(zeroNormalsNote(name, replaced, "", "faces'"));
     return replaced;
 }
 

@@ -68,6 +68,8 @@ void settleAreaNormal(Eigen::Vector3d& n, double diagonal, const std::string& na
 // that is zero too (then finish() refuses it). Non-finite normals are left for finish() to refuse. Notes how many
 // were replaced (none: no note) and returns that count.
 size_t replaceZeroNormals(OrientedPoints& points, const std::string& name);
+// "NAME: 3 vertices with a zero normal in the file[ALSO] take their WHOSE normal" (1: "vertex ... takes its").
+std::string zeroNormalsNote(const std::string& name, size_t count, const char* also, const char* whose);
 
 // Merges positions that are bit for bit the same (+0 and -0 alike), as triangle soups (STL, glTF without
 // normals) need before their vertices can have normals: `unique` gets each distinct position once, in order of

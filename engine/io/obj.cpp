@@ -206,38 +206,65 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
                 for (uint32_t k = 0; k < size; ++k) faceArea[idx[k]] = 1;
         }
     }
-    std::vector<size_t> vertexOf;
-    std::vector<uint32_t> renumber(n, kDropped);
+    std::vector<Vector3d> normal(n, Vector3d::Zero());
+    std::vector<char> deferred(n, 0);
     double diagonal = usedDiagonal(scan.v, used);
-    size_t replaced = 0, dropped = 0;
+    size_t replaced = 0, borrowed = 0, dropped = 0;
     for (size_t i = 0; i < n; ++i) {
         if (!used[i]) continue;
         auto where = [&] { return "vertex " + std::to_string(i + 1) + " (" + lineName(scan.vLine[i]) + ")"; };
-        if (!hasGiven[i] && zeroNamed[i]) {
-            // The file gives it no normal and its faces have no area: it adds nothing to the surface, and goes
-            // with its faces (as the triangle-soup readers drop such vertices).
-            if (!faceArea[i]) {
-                ++dropped;
-                continue;
-            }
-            ++replaced;
+        if (hasGiven[i]) {
+            normal[i] = given[i];
+        } else if (zeroNamed[i] && !faceArea[i]) {
+            deferred[i] = 1;  // no normal in the file and no face area: its neighbours', below
+        } else {
+            replaced += zeroNamed[i];
+            settleAreaNormal(area[i], diagonal, name, where);
+            normal[i] = area[i];
         }
-        if (!hasGiven[i]) settleAreaNormal(area[i], diagonal, name, where);
+    }
+    // A vertex the file gives a zero normal and whose faces have no area (a sliver's corner) takes the normals of
+    // its faces' other vertices, so that the mesh keeps its faces (dropping them would open a hole whose rim is a
+    // boundary line); with no such neighbour it goes, with its faces.
+    if (std::find(deferred.begin(), deferred.end(), 1) != deferred.end()) {
+        std::vector<Vector3d> around(n, Vector3d::Zero());
+        size_t at = 0;
+        for (uint32_t size : scan.faces.sizes) {
+            const uint32_t* idx = scan.faces.indices.data() + at;
+            at += size;
+            Vector3d sum = Vector3d::Zero();
+            for (uint32_t k = 0; k < size; ++k)
+                if (!deferred[idx[k]]) sum += safeNormalized(normal[idx[k]]);
+            for (uint32_t k = 0; k < size; ++k)
+                if (deferred[idx[k]]) around[idx[k]] += sum;
+        }
+        for (size_t i = 0; i < n; ++i) {
+            if (!deferred[i]) continue;
+            if (around[i].allFinite() && safeNorm(around[i]) > kZeroNormal) {
+                normal[i] = around[i];
+                ++borrowed;
+            } else {
+                used[i] = 0;
+                ++dropped;
+            }
+        }
+    }
+    std::vector<size_t> vertexOf;
+    std::vector<uint32_t> renumber(n, kDropped);
+    for (size_t i = 0; i < n; ++i) {
+        if (!used[i]) continue;
         renumber[i] = uint32_t(vertexOf.size());
         vertexOf.push_back(i);
         out.positions.push_back(scan.v[i]);
-        out.normals.push_back(hasGiven[i] ? given[i] : area[i]);
+        out.normals.push_back(normal[i]);
     }
-    if (replaced > 0)
-        note(name + ": " + std::to_string(replaced) + " vertex normal" + (replaced == 1 ? " is" : "s are") +
-             " zero in the file; " + (replaced == 1 ? "that vertex takes its" : "those vertices take their") +
-             " faces' normal");
+    if (replaced > 0) note(zeroNormalsNote(name, replaced, "", "faces'"));
+    if (borrowed > 0) note(zeroNormalsNote(name, borrowed, " and faces without area", "neighbours'"));
     if (out.positions.empty() && dropped > 0)
         fail(name, "every vertex the faces use has a zero normal in the file and faces without area");
     if (dropped > 0)
-        note(name + ": dropped " + std::to_string(dropped) +
-             (dropped == 1 ? " vertex whose normal is" : " vertices whose normals are") +
-             " zero in the file and whose faces have no area");
+        note(name + ": dropped " + std::to_string(dropped) + (dropped == 1 ? " vertex" : " vertices") +
+             " with a zero normal in the file, faces without area and no neighbour with a normal");
     // Several given normals can still cancel out; finish() calls that a zero normal too.
     finish(out, name, [&](size_t i) {
         return "vertex " + std::to_string(vertexOf[i] + 1) + " (" + lineName(scan.vLine[vertexOf[i]]) + ")";
