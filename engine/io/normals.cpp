@@ -74,11 +74,11 @@ size_t replaceZeroNormals(OrientedPoints& points, const std::string& name) {
     for (const Triangle& t : points.triangles) {
         const Vector3d& p0 = points.positions[t[0]];
         const Vector3d area = (points.positions[t[1]] - p0).cross(points.positions[t[2]] - p0);
-        for (uint32_t v : t)
-            if (zero[v]) sums[v] += area, used[v] = 1;
+        for (uint32_t v : t) {
+            used[v] = 1;
+            if (zero[v]) sums[v] += area;
+        }
     }
-    for (const Triangle& t : points.triangles)
-        for (uint32_t v : t) used[v] = 1;
     const double diagonal = usedDiagonal(points.positions, used);
     size_t replaced = 0;
     for (size_t i = 0; i < n; ++i) {

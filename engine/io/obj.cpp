@@ -192,9 +192,9 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
     }
 
     // Whether any face around a vertex has area (not only their sum: windings that cancel are refused below).
+    const double diagonal = usedDiagonal(scan.v, used);
     std::vector<char> faceArea(n, 0);
     if (std::find(zeroNamed.begin(), zeroNamed.end(), 1) != zeroNamed.end()) {
-        const double diagonal = usedDiagonal(scan.v, used);
         size_t at = 0;
         for (uint32_t size : scan.faces.sizes) {
             const uint32_t* idx = scan.faces.indices.data() + at;
@@ -208,7 +208,6 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
     }
     std::vector<Vector3d> normal(n, Vector3d::Zero());
     std::vector<char> deferred(n, 0);
-    double diagonal = usedDiagonal(scan.v, used);
     size_t replaced = 0, borrowed = 0, dropped = 0;
     for (size_t i = 0; i < n; ++i) {
         if (!used[i]) continue;

@@ -26,9 +26,11 @@ uint depthAt(vec2 pixel) {
 
 vec2 toPixels(vec4 clip) { return (clip.xy / clip.w * 0.5 + 0.5) * cam.viewport.xy; }
 
-// Whether hatching segment `index` faces the camera and its tone is dark enough for its family and level; `pixels`
-// its length in the image.
-bool hatchWanted(uint index, out float pixels) {
+// Whether hatching segment `index` shows: it faces the camera, its tone is dark enough for its family and level,
+// and it is not behind the surface (tested one push-back nearer the camera against the depth grid; past the
+// image's edge, where there is no depth to test, a segment the walk reaches counts, so that strokes are not cut
+// short at the border). `pixels`: its length in the image.
+bool hatchShows(uint index, out float pixels) {
     vec4 t0 = texelFetch(segments, int(3u * index)), t1 = texelFetch(segments, int(3u * index + 1u)),
          t2 = texelFetch(segments, int(3u * index + 2u));
     uint kind = floatBitsToUint(t2.w);
@@ -42,20 +44,9 @@ bool hatchWanted(uint index, out float pixels) {
     float threshold = family < 2u ? lineStyle.thresholds[family * 2u + level] : lineStyle.diagonal[level];
     // The diagonal family needs the surface turned towards the eye more (diagonal.z): beside an outline the view
     // crowds three families into one grey, and the diagonal's runs there come out short.
-    return nv > (family < 2u ? lineStyle.tone.z : lineStyle.diagonal.z) && darkness > threshold;
-}
-
-// Whether hatching segment `index` is wanted (hatchWanted) and not behind the surface (tested one push-back nearer
-// the camera, against the depth grid; past the image's edge, wanted is enough).
-bool hatchShows(uint index, out float pixels) {
-    if (!hatchWanted(index, pixels)) return false;
-    vec3 a = (cam.view * vec4(texelFetch(segments, int(3u * index)).xyz, 1.0)).xyz;
-    vec3 b = (cam.view * vec4(texelFetch(segments, int(3u * index + 1u)).xyz, 1.0)).xyz;
-    vec3 mid = 0.5 * (a + b);
+    if (!(nv > (family < 2u ? lineStyle.tone.z : lineStyle.diagonal.z) && darkness > threshold)) return false;
     vec4 nearer = project(mid - normalize(mid) * cam.params.x);
     vec2 pixel = toPixels(nearer);
-    // Past the image's edge (a neighbour the walk reaches) there is no depth to test: it counts, as it did
-    // before visibility joined the run, so that strokes are not cut short at the border.
     if (any(lessThan(pixel, vec2(0.0))) || any(greaterThanEqual(pixel, cam.viewport.xy))) return true;
     return nearer.z / nearer.w <= uintBitsToFloat(depthAt(pixel));
 }
