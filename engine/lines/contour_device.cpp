@@ -166,8 +166,8 @@ DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t sa
         seedSlots_ = std::bit_ceil(std::max(1024u, std::min(samples, 1u << 24)));
         nodeCapacity_ = std::max(256u, std::min(samples, 1u << 20));
         gridSlots_ = std::bit_ceil(2 * nodeCapacity_);
-        // Each march takes room for CONTOUR_MARCH_VERTICES and uses a few on average (the bunny: 8): four times
-        // the CPU's budget of vertices.
+        // Each march takes room for CONTOUR_MARCH_VERTICES (round 0; twice that each later round) and uses a few on
+        // average (the bunny: 8): four times the CPU's budget of vertices.
         vertexCapacity_ = uint32_t(std::min<size_t>(4 * options.maxTotalVertices, 1u << 24));
         const auto dst = VK_BUFFER_USAGE_TRANSFER_DST_BIT, src = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
         seedTable_ =
@@ -275,19 +275,17 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
         stageBarrier(cmd, compute, rw, compute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
                      rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
         vkCmdWriteTimestamp2(cmd, compute, timestamps_, 2);
-        // Round 0: every seed node marches forward; then those no march arrived at from behind, backward; then
-        // the nodes the marches of each round left where they stopped march on.
+        // Round 0: every seed node marches forward; round 1: the nodes round 0's marches left where they stopped
+        // march on, and the seed nodes no march arrived at from behind march backward; then the nodes each round
+        // left march on. Before each round, the nodes made since the last enter the grid (each round's marches see
+        // the same).
         for (uint32_t round = 0; round < gpu::CONTOUR_ROUNDS; ++round) {
-            for (uint32_t which : {gpu::CONTOUR_PASS_MARCH, gpu::CONTOUR_PASS_BACK}) {
-                if (which == gpu::CONTOUR_PASS_BACK && round > 0) continue;
-                params.limits.z = round;
-                // The nodes made since the last marches into the grid first (each pass's marches see the same).
-                for (uint32_t p : {gpu::CONTOUR_PASS_ENTER, which}) {
-                    pass(trace_, p);
-                    vkCmdDispatchIndirect(cmd, counters_.buffer, offsetof(gpu::ContourCounters, march));
-                    stageBarrier(cmd, compute, rw, compute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
-                                 rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
-                }
+            params.limits.z = round;
+            for (uint32_t p : {gpu::CONTOUR_PASS_ENTER, gpu::CONTOUR_PASS_MARCH}) {
+                pass(trace_, p);
+                vkCmdDispatchIndirect(cmd, counters_.buffer, offsetof(gpu::ContourCounters, march));
+                stageBarrier(cmd, compute, rw, compute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
+                             rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
             }
             if (round == 0) vkCmdWriteTimestamp2(cmd, compute, timestamps_, 3);
         }

@@ -106,41 +106,56 @@ bool lessThanVec(vec3 a, vec3 b) { return a.x < b.x || (a.x == b.x && (a.y < b.y
 // place do not meet each other and close a curve of nothing; node `self` counts only once the march has gone
 // `away` along the curve (round a closed curve).
 uint nodeOnChord(vec3 x, vec3 y, vec3 t, float reach, uint self, bool away, out bool along) {
+    // The subgroup shares the 27 cells, a cell an invocation in turn (one step's search was 27 hash probes in a row
+    // for each invocation alike), each keeping its best in the order below; then the best of those, the earliest
+    // cell among equals: the node one invocation searching every cell in turn would find.
     float bestU = 2.0, bestDistance = 0.0;
     vec3 bestP = vec3(0.0);
-    uint found = CONTOUR_NONE;
-    along = true;
+    uint found = CONTOUR_NONE, bestCell = 27u;
+    bool bestAlong = true;
     ivec3 c = contourCell(y);
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                uint key = contourCellKey(c + ivec3(dx, dy, dz)), probe = 0u;
-                for (uint s = gridFind(key, probe); s != CONTOUR_NONE; s = gridFind(key, probe))
-                for (uint e = 1u; e <= CONTOUR_GRID_NODES; ++e) {
-                    uint j = nodeGrid[(CONTOUR_GRID_NODES + 1u) * s + e];
-                    if (j == CONTOUR_NONE) break;
-                    if (j == self && !away) continue;
-                    vec3 p = nodes[j].position.xyz, tj = nodes[j].tangent.xyz;
-                    float c = dot(tj, t);
-                    if (abs(c) < 0.7) continue;
-                    vec3 tt = c > 0.0 ? tj : -tj;
-                    float sx = dot(x - p, tt), sy = dot(y - p, tt);
-                    if (!(sx < 0.0 && sy >= 0.0)) continue;
-                    float u = sx / (sx - sy), distance = length(x + u * (y - x) - p);
-                    if (distance > reach) continue;
-                    // The first along the chord; among equals the nearest, then the least position: not the order
-                    // the nodes entered the grid in.
-                    if (u > bestU || (u == bestU && (distance > bestDistance ||
-                                                     (distance == bestDistance && !lessThanVec(p, bestP)))))
-                        continue;
-                    bestU = u;
-                    bestDistance = distance;
-                    bestP = p;
-                    found = j;
-                    along = c > 0.0;
-                }
+    for (uint cell = lane(); cell < 27u; cell += lanes()) {
+        ivec3 d = ivec3(int(cell % 3u), int((cell / 3u) % 3u), int(cell / 9u)) - 1;
+        uint key = contourCellKey(c + d), probe = 0u;
+        for (uint s = gridFind(key, probe); s != CONTOUR_NONE; s = gridFind(key, probe))
+            for (uint e = 1u; e <= CONTOUR_GRID_NODES; ++e) {
+                uint j = nodeGrid[(CONTOUR_GRID_NODES + 1u) * s + e];
+                if (j == CONTOUR_NONE) break;
+                if (j == self && !away) continue;
+                vec3 p = nodes[j].position.xyz, tj = nodes[j].tangent.xyz;
+                float c = dot(tj, t);
+                if (abs(c) < 0.7) continue;
+                vec3 tt = c > 0.0 ? tj : -tj;
+                float sx = dot(x - p, tt), sy = dot(y - p, tt);
+                if (!(sx < 0.0 && sy >= 0.0)) continue;
+                float u = sx / (sx - sy), distance = length(x + u * (y - x) - p);
+                if (distance > reach) continue;
+                // The first along the chord; among equals the nearest, then the least position: not the order
+                // the nodes entered the grid in.
+                if (u > bestU || (u == bestU && (distance > bestDistance ||
+                                                 (distance == bestDistance && !lessThanVec(p, bestP)))))
+                    continue;
+                bestU = u;
+                bestDistance = distance;
+                bestP = p;
+                found = j;
+                bestCell = cell;
+                bestAlong = c > 0.0;
             }
-    return found;
+    }
+    const float none = 3.0e38;
+    bool best = found != CONTOUR_NONE;
+    float least = subgroupMin(best ? bestU : none);
+    best = best && bestU == least;
+    least = subgroupMin(best ? bestDistance : none);
+    best = best && bestDistance == least;
+    for (int k = 0; k < 3; ++k) {
+        least = subgroupMin(best ? bestP[k] : none);
+        best = best && bestP[k] == least;
+    }
+    best = best && bestCell == subgroupMin(best ? bestCell : 27u);
+    along = subgroupMin(best && !bestAlong ? 0u : 1u) == 1u;
+    return subgroupMin(best ? found : CONTOUR_NONE);
 }
 
 // Enters node k in the node grid: in its cell's first slot with room, claiming another when they are full.
@@ -177,7 +192,7 @@ uint addNode(vec3 x, vec3 n, vec3 t, uint round, uint met) {
 }
 
 // One march from node k, along its tangent (forward) or against it, until it meets a node: the link
-// (met node, first vertex, vertex count, CONTOUR_* bits). A march that takes CONTOUR_MARCH_VERTICES without
+// (met node, first vertex, vertex count, CONTOUR_* bits). A march that takes CONTOUR_MARCH_VERTICES << round without
 // meeting one (the seeds missed a stretch of the curve) leaves a new node where it stopped, which marches on
 // forward in the next round; in the last round it ends there.
 uvec4 march(uint k, bool forward, uint round) {
@@ -187,9 +202,11 @@ uvec4 march(uint k, bool forward, uint round) {
     // it comes. (Held in private arrays instead, 48 of them, lavapipe lost some when an invocation marched alone:
     // the Wuson had 168 marches with stale vertices, straight lines across the drawing.)
     uint first = 0u;
-    if (leader()) first = atomicAdd(counters.vertices, CONTOUR_MARCH_VERTICES);
+    // Round r's forward marches go twice as far as round r - 1's; the backward ones (round 1) as far as round 0's.
+    const uint most = CONTOUR_MARCH_VERTICES << (forward ? round : 0u);
+    if (leader()) first = atomicAdd(counters.vertices, most);
     first = fromLeader(first);
-    if (first + CONTOUR_MARCH_VERTICES > pc.limits.y) return uvec4(CONTOUR_NONE, 0u, 0u, CONTOUR_OVERFLOW);
+    if (first + most > pc.limits.y) return uvec4(CONTOUR_NONE, 0u, 0u, CONTOUR_OVERFLOW);
     vec3 x = start.position.xyz, t = forward ? start.tangent.xyz : -start.tangent.xyz, lastNormal = start.normal.xyz;
     if (lane() == 0u) {
         vertices[first].position = vec4(x, 0.0);
@@ -197,10 +214,10 @@ uvec4 march(uint k, bool forward, uint round) {
     }
     uint m = 1u, next = CONTOUR_NONE, how = CONTOUR_TOO_LONG;
     float h = step, arc = 0.0;
-    // Each pass makes one predictor step and its corrector: at most CONTOUR_MARCH_VERTICES accepted, and every
+    // Each pass makes one predictor step and its corrector: at most `most` accepted, and every
     // rejected one halves h (down to step / 16, then the march is stuck), so the loop is bounded.
-    for (uint pass = 0u; pass < 4u * CONTOUR_MARCH_VERTICES; ++pass) {
-        if (m == CONTOUR_MARCH_VERTICES) break;
+    for (uint pass = 0u; pass < 4u * most; ++pass) {
+        if (m == most) break;
         vec3 y = x + h * t, n, ty;
         if (!contourNewton(y, 2.0 * max(h, step), 10u, n, ty) || distance(x, y) < CONTOUR_LEAST_PROGRESS * h) {
             if (h <= step / 16.0) {
@@ -217,8 +234,8 @@ uvec4 march(uint k, bool forward, uint round) {
             // Running along j's tangent it arrives at j's back; against it, at j's front.
             next = j;
             how = CONTOUR_MET | (along ? 0u : CONTOUR_AT_FORWARD);
-            // Noted for CONTOUR_PASS_BACK, by the first round's forward marches only: a backward march noting it
-            // too would change which nodes of its own pass march backward, as the invocations came.
+            // Noted for round 1's backward marches, by round 0's marches only: a march of round 1 noting it would
+            // change which nodes of its own pass march backward, as the invocations came.
             if (forward && round == 0u && leader())
                 atomicOr(nodes[j].state.y, along ? CONTOUR_AT_BACKWARD : CONTOUR_AT_FORWARD);
             break;
@@ -274,15 +291,14 @@ void main() {
     }
     if (item >= counters.marching) return;
     ContourNode node = nodes[item];
-    if (pc.counts.w == CONTOUR_PASS_MARCH) {
+    const uint round = pc.limits.z;
+    if (node.state.x == round) {
         // Round r's nodes march forward.
-        if (node.state.x == pc.limits.z) {
-            uvec4 link = march(item, true, pc.limits.z);
-            if (leader()) nodes[item].forward = link;
-        }
-    } else if (node.state.x == 0u && (node.state.y & CONTOUR_AT_BACKWARD) == 0u) {
-        // CONTOUR_PASS_BACK, after round 0: the seeds no march arrived at from behind march backward too.
-        uvec4 link = march(item, false, 0u);
+        uvec4 link = march(item, true, round);
+        if (leader()) nodes[item].forward = link;
+    } else if (round == 1u && node.state.x == 0u && (node.state.y & CONTOUR_AT_BACKWARD) == 0u) {
+        // In round 1, the seeds no march of round 0 arrived at from behind march backward too.
+        uvec4 link = march(item, false, round);
         if (leader()) nodes[item].backward = link;
     }
 }

@@ -9,9 +9,9 @@
 
 INK_BEGIN
 
-// A march from one node stops after this many vertices (the node's own included) without meeting another node,
-// and goes on from a new node in the next round, up to CONTOUR_ROUNDS. It takes room for this many in the vertex
-// array when it starts.
+// A march of round 0 from one node stops after this many vertices (the node's own included) without meeting another
+// node, and goes on from a new node in the next round, up to CONTOUR_ROUNDS; round r's forward marches stop after
+// this many times 2^r. A march takes room for that many in the vertex array when it starts.
 INK_CONST uint CONTOUR_MARCH_VERTICES = 48u;
 INK_CONST uint CONTOUR_GROUP_SIZE = 64u;
 // The longest predictor step, in steps (ContourOptions::step), where the curve runs straight.
@@ -33,17 +33,22 @@ INK_CONST uint CONTOUR_TOO_LONG = 4u;  // CONTOUR_MARCH_VERTICES without meeting
 INK_CONST uint CONTOUR_OVERFLOW = 8u;  // the vertex array was full: the march did not start
 INK_CONST uint CONTOUR_AT_FORWARD = 16u;   // it arrived at the met node's forward port (and ContourNode::state.y)
 INK_CONST uint CONTOUR_AT_BACKWARD = 32u;  // (ContourNode::state.y only) one arrived at its backward port
-// Rounds of marches: a march that met no node leaves a node where it stopped, marched in the next round.
-INK_CONST uint CONTOUR_ROUNDS = 24u;
+// Rounds of marches: a march that met no node leaves a node where it stopped, marched in the next round. Few
+// marches go on past round 0 (the bunny's default view: 20 of 392, into round 1), and each round is two passes
+// with a barrier after each, which a GPU pays for even when they have nothing to do: five rounds, each twice as
+// long as the last, reach as far along the curve (1,488 vertices) as 24 of 48 did.
+INK_CONST uint CONTOUR_ROUNDS = 5u;
 // Passes (ContourParams::counts.w): contour_seeds.comp's, then contour_trace.comp's.
 INK_CONST uint CONTOUR_PASS_CELLS = 0u;    // per point: each cell's least |n·v| facing the eye and facing away
 INK_CONST uint CONTOUR_PASS_PICK = 1u;     // per point: the point that has it wins its side of its cell
 INK_CONST uint CONTOUR_PASS_PAIR = 2u;     // per cell: a seed between its winner facing the eye and the nearest
                                            // one facing away around it
 INK_CONST uint CONTOUR_PASS_PROJECT = 3u;  // per seed: projected onto the contour, a node
-INK_CONST uint CONTOUR_PASS_MARCH = 4u;    // per node of the round: its forward march to the next node
-INK_CONST uint CONTOUR_PASS_BACK = 5u;     // per seed node no march arrived at from behind: its backward march
-INK_CONST uint CONTOUR_PASS_ENTER = 6u;    // per node made since the last, before each pass of marches: into the grid
+INK_CONST uint CONTOUR_PASS_MARCH = 4u;    // per node of the round: its forward march to the next node; in round 1
+                                           // also per seed node no march of round 0 arrived at from behind: its
+                                           // backward march (beside round 1's, not after round 0's in a pass of
+                                           // its own: each pass waits for its longest march)
+INK_CONST uint CONTOUR_PASS_ENTER = 5u;    // per node made since the last, before each pass of marches: into the grid
 
 // The push constants (std430).
 struct ContourParams {
