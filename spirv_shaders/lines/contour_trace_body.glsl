@@ -202,8 +202,8 @@ uvec4 march(uint k, bool forward, uint round) {
     // it comes. (Held in private arrays instead, 48 of them, lavapipe lost some when an invocation marched alone:
     // the Wuson had 168 marches with stale vertices, straight lines across the drawing.)
     uint first = 0u;
-    // Round r's forward marches go twice as far as round r - 1's; the backward ones (round 1) as far as round 0's.
-    const uint most = CONTOUR_MARCH_VERTICES << (forward ? round : 0u);
+    // The first CONTOUR_EVEN_ROUNDS rounds' marches go CONTOUR_MARCH_VERTICES, each later one's twice as far.
+    const uint most = CONTOUR_MARCH_VERTICES << (round > CONTOUR_EVEN_ROUNDS ? round - CONTOUR_EVEN_ROUNDS : 0u);
     if (leader()) first = atomicAdd(counters.vertices, most);
     first = fromLeader(first);
     if (first + most > pc.limits.y) return uvec4(CONTOUR_NONE, 0u, 0u, CONTOUR_OVERFLOW);
