@@ -733,6 +733,22 @@ TEST_CASE("contours: the device's marches chain into curves through flipped tang
     CHECK(!curves[0].closed);
     CHECK(curves[0].points.size() == 4 + 4 + 6);  // from P's free backward port: P's march, Q's, R's open tail
     CHECK((curves[0].points.front() - o.nodes[P].position).norm() < 1e-12);
+
+    // Seeds S and T march both ways at once. S's forward march stopped at U and went on from there to T; T's
+    // backward march reached S sooner, but the forward ones take their ports first: one curve S → U → T, not T's
+    // march with U's left over as a piece of its own.
+    MarchBuilder w;
+    const uint32_t S = w.node({0, 0, 0}, {1, 0, 0}), T = w.node({3, 0, 0}, {1, 0, 0}), U = w.node({2, 0, 0}, {1, 0, 0});
+    w.march(S, true, U, false, 9);  // too long: U goes on
+    w.march(U, true, T, false, 7);
+    w.march(T, false, S, true, 5);  // backward, shorter than S's and U's each
+    w.marches.back().backward = true;
+    curves = ink::chainMarches(w.marches, w.nodes, w.points, w.normals, 1e-4);
+    REQUIRE(curves.size() == 1);
+    CHECK(!curves[0].closed);
+    CHECK(curves[0].points.size() == 10 + 8 + 1);  // S's march, U's, T at the end
+    w.marches.back().backward = false;             // shortest first alone: T's march, and U's pieces apart
+    CHECK(ink::chainMarches(w.marches, w.nodes, w.points, w.normals, 1e-4).size() > 1);
 }
 
 TEST_CASE("contours: traced on the device, the torus's contour lies on both equations and on the CPU's curve" *

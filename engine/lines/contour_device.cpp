@@ -61,8 +61,9 @@ std::vector<ChainedCurve> chainMarches(const std::vector<ContourMarch>& input,
     auto portOf = [](uint32_t node, bool forward) { return 2 * node + (forward ? 0u : 1u); };
     std::vector<uint32_t> order(marches.size());
     for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](uint32_t a, uint32_t b) { return marches[a].count < marches[b].count; });
+    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        return std::tie(marches[a].backward, marches[a].count) < std::tie(marches[b].backward, marches[b].count);
+    });
     std::vector<uint32_t> portMarch(2 * size_t(n), kNone);
     for (uint32_t i : order) {
         const ContourMarch& m = marches[i];
@@ -275,10 +276,9 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
         stageBarrier(cmd, compute, rw, compute | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
                      rw | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
         vkCmdWriteTimestamp2(cmd, compute, timestamps_, 2);
-        // Round 0: every seed node marches forward; round 1: the nodes round 0's marches left where they stopped
-        // march on, and the seed nodes no march arrived at from behind march backward; then the nodes each round
-        // left march on. Before each round, the nodes made since the last enter the grid (each round's marches see
-        // the same).
+        // Round 0: every seed node marches forward and backward; then the nodes each round's marches left where
+        // they stopped march on. Before each round, the nodes made since the last enter the grid (each round's
+        // marches see the same).
         for (uint32_t round = 0; round < gpu::CONTOUR_ROUNDS; ++round) {
             params.limits.z = round;
             for (uint32_t p : {gpu::CONTOUR_PASS_ENTER, gpu::CONTOUR_PASS_MARCH}) {
@@ -352,6 +352,7 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
             m.toForward = (link.w & gpu::CONTOUR_AT_FORWARD) != 0;
             m.first = link.y;
             m.count = link.z;
+            m.backward = !forward || d.state.y != 0;
             marches.push_back(m);
             if (!(link.w & gpu::CONTOUR_MET)) ++s.openMarches;
         }

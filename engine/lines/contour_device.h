@@ -28,6 +28,9 @@ struct ContourMarch {
     uint32_t to = kNoNode;
     bool toForward = false;
     uint32_t first = 0, count = 0;
+    // A seed's backward march, or a march on from where one stopped: it runs against the curve's orientation, from
+    // the start, over stretches a forward march may trace too. Ports go to forward marches first.
+    bool backward = false;
 };
 
 struct ContourNodeInfo {
@@ -41,7 +44,9 @@ struct ChainedCurve {
 
 // Joins the marches into curves. Each node has two ports, and each port takes one march: the shortest of those
 // that start or end there (two marches between the same ports are one stretch of curve traced from both ends; a
-// march that passed a node without meeting it is longer than the one from that node). Then the curves are
+// march that passed a node without meeting it is longer than the one from that node), the forward ones first (a
+// backward march that a forward one's would take over piece by piece must not leave the pieces after the first
+// without the march that led to them: ends in the middle of a curve). Then the curves are
 // followed from port to port: open ones from each free port (or a march that ended in the open), closed ones round
 // the rest.
 // First, nodes within `merge` of each other on one line (seeds projected to nearly one point: float leaves the

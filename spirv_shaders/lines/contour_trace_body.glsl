@@ -87,12 +87,12 @@ bool contourNewton(inout vec3 x, float maxMove, uint iterations, out vec3 n, out
     return false;
 }
 
-uint addNode(vec3 x, vec3 n, vec3 t, uint round, uint met);
+uint addNode(vec3 x, vec3 n, vec3 t, uint round, bool backward);
 
 void project(uint listed) {
     if (listed >= counters.listed) return;
     vec3 x = seedList[listed].xyz, n, t;
-    if (contourNewton(x, pc.sizes.y, 5u, n, t) && leader()) addNode(x, n, t, 0u, 0u);
+    if (contourNewton(x, pc.sizes.y, 5u, n, t) && leader()) addNode(x, n, t, 0u, false);
 }
 
 bool lessThanVec(vec3 a, vec3 b) { return a.x < b.x || (a.x == b.x && (a.y < b.y || (a.y == b.y && a.z < b.z))); }
@@ -176,18 +176,20 @@ bool enterNode(uint k, vec3 x) {
     return false;
 }
 
-// A new node at x, whose forward march runs in round `round`, its ports already met (CONTOUR_AT_*): its index,
-// or NONE when the array is full. It enters the node grid in the next CONTOUR_PASS_ENTER, before the next marches,
-// so that what a march meets does not depend on which other marches of its pass ran first.
-uint addNode(vec3 x, vec3 n, vec3 t, uint round, uint met) {
+// A new node at x, whose forward march runs in round `round` (against the curve's orientation when `backward`,
+// ContourNode::state.y): its index, or NONE when the array is full. It
+// enters the node grid in the next CONTOUR_PASS_ENTER, before the next marches, so that what a march meets does
+// not depend on which other marches of its pass ran first. The march passes take two subgroups a node (its
+// forward march, and in round 0 its backward one).
+uint addNode(vec3 x, vec3 n, vec3 t, uint round, bool backward) {
     uint k = atomicAdd(counters.nodes, 1u);
     if (k >= pc.limits.x) return CONTOUR_NONE;
     nodes[k].position = vec4(x, 0.0);
     nodes[k].normal = vec4(n, 0.0);
     nodes[k].tangent = vec4(t, 0.0);
-    nodes[k].state = uvec4(round, met, 0u, 0u);
+    nodes[k].state = uvec4(round, backward ? 1u : 0u, 0u, 0u);
     nodes[k].forward = nodes[k].backward = uvec4(CONTOUR_NONE, 0u, 0u, 0u);
-    atomicMax(counters.march.x, k / pc.shape.x + 1u);
+    atomicMax(counters.march.x, (2u * k + 1u) / pc.shape.x + 1u);
     return k;
 }
 
@@ -234,10 +236,6 @@ uvec4 march(uint k, bool forward, uint round) {
             // Running along j's tangent it arrives at j's back; against it, at j's front.
             next = j;
             how = CONTOUR_MET | (along ? 0u : CONTOUR_AT_FORWARD);
-            // Noted for round 1's backward marches, by round 0's marches only: a march of round 1 noting it would
-            // change which nodes of its own pass march backward, as the invocations came.
-            if (forward && round == 0u && leader())
-                atomicOr(nodes[j].state.y, along ? CONTOUR_AT_BACKWARD : CONTOUR_AT_FORWARD);
             break;
         }
         arc += distance(x, y);
@@ -260,7 +258,7 @@ uvec4 march(uint k, bool forward, uint round) {
     if (how == CONTOUR_TOO_LONG && round + 1u < pc.limits.w) {
         // Go on from the last vertex in the next round: it becomes that node's first, arrived at from behind.
         uint j = CONTOUR_NONE;
-        if (leader()) j = addNode(x, lastNormal, t, round + 1u, CONTOUR_AT_BACKWARD);
+        if (leader()) j = addNode(x, lastNormal, t, round + 1u, !forward || start.state.y != 0u);
         j = fromLeader(j);
         if (j != CONTOUR_NONE) {
             --m;
@@ -289,16 +287,18 @@ void main() {
         }
         return;
     }
-    if (item >= counters.marching) return;
-    ContourNode node = nodes[item];
-    const uint round = pc.limits.z;
-    if (node.state.x == round) {
-        // Round r's nodes march forward.
-        uvec4 link = march(item, true, round);
-        if (leader()) nodes[item].forward = link;
-    } else if (round == 1u && node.state.x == 0u && (node.state.y & CONTOUR_AT_BACKWARD) == 0u) {
-        // In round 1, the seeds no march of round 0 arrived at from behind march backward too.
-        uvec4 link = march(item, false, round);
-        if (leader()) nodes[item].backward = link;
+    // Two subgroups a node: its forward march in its round, and a seed's backward one in round 0 (every seed
+    // marches both ways at once; where two marches trace one stretch from either end, chainMarches keeps the
+    // shorter: twice the work of marching backward only from the seeds no forward march arrived at, but in one
+    // pass, not two after each other).
+    const uint k = item >> 1u, round = pc.limits.z;
+    const bool forward = (item & 1u) == 0u;
+    if (k >= counters.marching || nodes[k].state.x != round || !(forward || round == 0u)) return;
+    uvec4 link = march(k, forward, round);
+    if (leader()) {
+        if (forward)
+            nodes[k].forward = link;
+        else
+            nodes[k].backward = link;
     }
 }

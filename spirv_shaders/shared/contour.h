@@ -31,8 +31,7 @@ INK_CONST uint CONTOUR_MET = 1u;       // at a node (x), possibly itself round a
 INK_CONST uint CONTOUR_STUCK = 2u;     // the corrector failed at the smallest step (a singular point, the grid's end)
 INK_CONST uint CONTOUR_TOO_LONG = 4u;  // CONTOUR_MARCH_VERTICES without meeting a node
 INK_CONST uint CONTOUR_OVERFLOW = 8u;  // the vertex array was full: the march did not start
-INK_CONST uint CONTOUR_AT_FORWARD = 16u;   // it arrived at the met node's forward port (and ContourNode::state.y)
-INK_CONST uint CONTOUR_AT_BACKWARD = 32u;  // (ContourNode::state.y only) one arrived at its backward port
+INK_CONST uint CONTOUR_AT_FORWARD = 16u;  // it arrived at the met node's forward port (else at its backward one)
 // Rounds of marches: a march that met no node leaves a node where it stopped, marched in the next round. Few
 // marches go on past round 0, and fewer each round (the Wuson's default view: 403 nodes of round 0, 76, 84, 35,
 // 14, 7, 6, 3, 2, 2, 1 of rounds 1 to 10), but each round is two passes with a barrier after each, which a GPU pays
@@ -47,10 +46,8 @@ INK_CONST uint CONTOUR_PASS_PICK = 1u;     // per point: the point that has it w
 INK_CONST uint CONTOUR_PASS_PAIR = 2u;     // per cell: a seed between its winner facing the eye and the nearest
                                            // one facing away around it
 INK_CONST uint CONTOUR_PASS_PROJECT = 3u;  // per seed: projected onto the contour, a node
-INK_CONST uint CONTOUR_PASS_MARCH = 4u;    // per node of the round: its forward march to the next node; in round 1
-                                           // also per seed node no march of round 0 arrived at from behind: its
-                                           // backward march (beside round 1's, not after round 0's in a pass of
-                                           // its own: each pass waits for its longest march)
+INK_CONST uint CONTOUR_PASS_MARCH = 4u;    // per node of the round: its forward march to the next node; in round 0
+                                           // also each seed node's backward march, beside it
 INK_CONST uint CONTOUR_PASS_ENTER = 5u;    // per node made since the last, before each pass of marches: into the grid
 
 // The push constants (std430).
@@ -72,8 +69,8 @@ struct ContourNode {
     vec4 position;   // xyz; w unused
     vec4 normal;     // unit ∇f; w unused
     vec4 tangent;    // unit ∇f × ∇g (g = ∇f·(x − eye)), or its opposite; w unused
-    uvec4 state;     // x: the round it marches forward in; y: CONTOUR_AT_* of the marches that arrived at it; z: 1 once
-                     // it is in the node grid; w unused
+    uvec4 state;     // x: the round it marches forward in; y: 1 when that runs against the curve's orientation (it
+                     // goes on from a seed's backward march); z: 1 once it is in the node grid; w unused
     uvec4 forward;   // its forward march: x the node met (CONTOUR_NONE), y its first vertex, z its vertex count,
                      // w CONTOUR_* bits
     uvec4 backward;  // likewise its backward march, if it made one
