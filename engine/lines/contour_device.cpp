@@ -167,8 +167,8 @@ DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t sa
         seedSlots_ = std::bit_ceil(std::max(1024u, std::min(samples, 1u << 24)));
         nodeCapacity_ = std::max(256u, std::min(samples, 1u << 20));
         gridSlots_ = std::bit_ceil(2 * nodeCapacity_);
-        // Each march takes room for CONTOUR_MARCH_VERTICES (round 0; twice that each later round) and uses a few on
-        // average (the bunny: 8): four times the CPU's budget of vertices.
+        // Each march takes room for CONTOUR_MARCH_VERTICES and uses a few on average (the bunny: 8): four times the
+        // CPU's budget of vertices.
         vertexCapacity_ = uint32_t(std::min<size_t>(4 * options.maxTotalVertices, 1u << 24));
         const auto dst = VK_BUFFER_USAGE_TRANSFER_DST_BIT, src = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
         seedTable_ =

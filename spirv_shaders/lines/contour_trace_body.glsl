@@ -194,7 +194,7 @@ uint addNode(vec3 x, vec3 n, vec3 t, uint round, bool backward) {
 }
 
 // One march from node k, along its tangent (forward) or against it, until it meets a node: the link
-// (met node, first vertex, vertex count, CONTOUR_* bits). A march that takes CONTOUR_MARCH_VERTICES << round without
+// (met node, first vertex, vertex count, CONTOUR_* bits). A march that takes CONTOUR_MARCH_VERTICES without
 // meeting one (the seeds missed a stretch of the curve) leaves a new node where it stopped, which marches on
 // forward in the next round; in the last round it ends there.
 uvec4 march(uint k, bool forward, uint round) {
@@ -204,11 +204,9 @@ uvec4 march(uint k, bool forward, uint round) {
     // it comes. (Held in private arrays instead, 48 of them, lavapipe lost some when an invocation marched alone:
     // the Wuson had 168 marches with stale vertices, straight lines across the drawing.)
     uint first = 0u;
-    // The first CONTOUR_EVEN_ROUNDS rounds' marches go CONTOUR_MARCH_VERTICES, each later one's twice as far.
-    const uint most = CONTOUR_MARCH_VERTICES << (round > CONTOUR_EVEN_ROUNDS ? round - CONTOUR_EVEN_ROUNDS : 0u);
-    if (leader()) first = atomicAdd(counters.vertices, most);
+    if (leader()) first = atomicAdd(counters.vertices, CONTOUR_MARCH_VERTICES);
     first = fromLeader(first);
-    if (first + most > pc.limits.y) return uvec4(CONTOUR_NONE, 0u, 0u, CONTOUR_OVERFLOW);
+    if (first + CONTOUR_MARCH_VERTICES > pc.limits.y) return uvec4(CONTOUR_NONE, 0u, 0u, CONTOUR_OVERFLOW);
     vec3 x = start.position.xyz, t = forward ? start.tangent.xyz : -start.tangent.xyz, lastNormal = start.normal.xyz;
     if (lane() == 0u) {
         vertices[first].position = vec4(x, 0.0);
@@ -216,10 +214,10 @@ uvec4 march(uint k, bool forward, uint round) {
     }
     uint m = 1u, next = CONTOUR_NONE, how = CONTOUR_TOO_LONG;
     float h = step, arc = 0.0;
-    // Each pass makes one predictor step and its corrector: at most `most` accepted, and every
+    // Each pass makes one predictor step and its corrector: at most CONTOUR_MARCH_VERTICES accepted, and every
     // rejected one halves h (down to step / 16, then the march is stuck), so the loop is bounded.
-    for (uint pass = 0u; pass < 4u * most; ++pass) {
-        if (m == most) break;
+    for (uint pass = 0u; pass < 4u * CONTOUR_MARCH_VERTICES; ++pass) {
+        if (m == CONTOUR_MARCH_VERTICES) break;
         vec3 y = x + h * t, n, ty;
         if (!contourNewton(y, 2.0 * max(h, step), 10u, n, ty) || distance(x, y) < CONTOUR_LEAST_PROGRESS * h) {
             if (h <= step / 16.0) {

@@ -10,8 +10,8 @@
 INK_BEGIN
 
 // A march from one node stops after this many vertices (the node's own included) without meeting another node, and
-// goes on from a new node in the next round, up to CONTOUR_ROUNDS; past round CONTOUR_EVEN_ROUNDS, each round's
-// marches go twice as far as the last's. A march takes room for that many in the vertex array when it starts.
+// goes on from a new node in the next round, up to CONTOUR_ROUNDS. It takes room for this many in the vertex array
+// when it starts.
 INK_CONST uint CONTOUR_MARCH_VERTICES = 48u;
 INK_CONST uint CONTOUR_GROUP_SIZE = 64u;
 // The longest predictor step, in steps (ContourOptions::step), where the curve runs straight.
@@ -33,13 +33,11 @@ INK_CONST uint CONTOUR_TOO_LONG = 4u;  // CONTOUR_MARCH_VERTICES without meeting
 INK_CONST uint CONTOUR_OVERFLOW = 8u;  // the vertex array was full: the march did not start
 INK_CONST uint CONTOUR_AT_FORWARD = 16u;  // it arrived at the met node's forward port (else at its backward one)
 // Rounds of marches: a march that met no node leaves a node where it stopped, marched in the next round. Few
-// marches go on past round 0, and fewer each round (the Wuson's default view: 403 nodes of round 0, 76, 84, 35,
-// 14, 7, 6, 3, 2, 2, 1 of rounds 1 to 10), but each round is two passes with a barrier after each, which a GPU pays
-// for even when they have nothing to do (about 10 µs a round on an NVIDIA H200): after the first rounds, where
-// marches coming from both ends of a gap meet in its middle, the rest are fewer and longer. Eight rounds reach as
-// far along the curve (1,632 vertices) as 24 of 48 did.
-INK_CONST uint CONTOUR_ROUNDS = 8u;
-INK_CONST uint CONTOUR_EVEN_ROUNDS = 4u;
+// marches go on past round 0, and fewer each round (the Wuson's default view: 403 nodes of round 0, then 163, 52,
+// 23, 9, 7, 2, 2, 1, 1, 1 of rounds 1 to 10; the bunny's: 352, 35), but each round is two passes with a barrier
+// after each, which a GPU pays for even when they have nothing to do (about 10 µs a round on an NVIDIA H100 or
+// H200). What is left after the last round is traced on on the CPU (extendContour).
+INK_CONST uint CONTOUR_ROUNDS = 16u;
 // Passes (ContourParams::counts.w): contour_seeds.comp's, then contour_trace.comp's.
 INK_CONST uint CONTOUR_PASS_CELLS = 0u;    // per point: each cell's least |n·v| facing the eye and facing away
 INK_CONST uint CONTOUR_PASS_PICK = 1u;     // per point: the point that has it wins its side of its cell
