@@ -692,6 +692,7 @@ struct MarchBuilder {
             normals.push_back(Vector3d::UnitZ());
         }
         m.count = uint32_t(extra + 1);
+        m.backward = !fromForward;  // as the device marks a seed's backward march
         marches.push_back(m);
     }
 };
@@ -742,7 +743,6 @@ TEST_CASE("contours: the device's marches chain into curves through flipped tang
     w.march(S, true, U, false, 9);  // too long: U goes on
     w.march(U, true, T, false, 7);
     w.march(T, false, S, true, 5);  // backward, shorter than S's and U's each
-    w.marches.back().backward = true;
     curves = ink::chainMarches(w.marches, w.nodes, w.points, w.normals, 1e-4);
     REQUIRE(curves.size() == 1);
     CHECK(!curves[0].closed);

@@ -361,7 +361,8 @@ TEST_CASE("sampling: a plate's flat faces stay flat beside a crease whose vertex
     // area-weighted mean of its faces', and at the hole's rim the long top triangles outweigh the short wall ones,
     // so the rim's normals lean only 19.6° off the top. Taken as the corners' normals (within 20° of the top), they
     // bulged the long top triangles by 5% of their length: a ridge on the fitted top face along each, drawn as
-    // contour lenses on a flat face. A corner on a crease takes its faces' side's normal.
+    // contour lenses on a flat face. A corner beside a crease whose lean would bulge the patch by more than 0.5% of
+    // the diagonal takes its faces' side's normal.
     const int n = 48;
     const double r = 0.4, h = 0.3;
     std::string obj;

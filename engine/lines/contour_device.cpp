@@ -166,9 +166,15 @@ DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t sa
         // Seeds: a slot per drawn point at most (a few in the band, fewer cells); nodes: one per seed cell at most.
         seedSlots_ = std::bit_ceil(std::max(1024u, std::min(samples, 1u << 24)));
         nodeCapacity_ = std::max(256u, std::min(samples, 1u << 20));
+        // The march passes take two subgroups a node, groupItems_ a workgroup: their workgroups must stay within
+        // the device's dispatch limit (lavapipe's is 65,535).
+        groupItems_ = std::max(1u, gpu::CONTOUR_GROUP_SIZE / std::max(1u, ctx.maxSubgroupSize));
+        const uint64_t mostGroups = ctx.properties.limits.maxComputeWorkGroupCount[0];
+        nodeCapacity_ = uint32_t(std::min<uint64_t>(nodeCapacity_, (mostGroups - 1) * groupItems_ / 2));
         gridSlots_ = std::bit_ceil(2 * nodeCapacity_);
-        // Each march takes room for CONTOUR_MARCH_VERTICES and uses a few on average (the bunny: 8): four times the
-        // CPU's budget of vertices.
+        // Each march takes room for CONTOUR_MARCH_VERTICES and uses a few on average (the bunny: 8); every seed
+        // marches both ways in round 0. Four times the CPU's budget of vertices: room for the first marches of
+        // 12,500 seeds (the bunny's default view has 372, the armadillo's 1,242).
         vertexCapacity_ = uint32_t(std::min<size_t>(4 * options.maxTotalVertices, 1u << 24));
         const auto dst = VK_BUFFER_USAGE_TRANSFER_DST_BIT, src = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
         seedTable_ =
@@ -235,12 +241,12 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
     params.eye = gpu::vec4(float(eye.x()), float(eye.y()), float(eye.z()), float(step));
     // Cells of six steps: a node every few steps along the curve where the seeds are dense, and every node a
     // march can meet within the 27 cells around its step's end (a step is at most CONTOUR_LONGEST_STEP, and
-    // meets a node within a third of itself).
+    // meets a node within CONTOUR_MEET_STEPS of it).
     params.sizes = gpu::vec4(float(kCellSteps * step), float(kProjectSteps * step), 0.0f, 0.0f);
     params.counts = gpu::uvec4(samples_, seedSlots_, gridSlots_, 0);
     params.limits = gpu::uvec4(nodeCapacity_, vertexCapacity_, 0, gpu::CONTOUR_ROUNDS);
     // A subgroup a seed or a march: a workgroup holds at least this many (subgroups of the largest size).
-    params.shape.x = std::max(1u, gpu::CONTOUR_GROUP_SIZE / std::max(1u, ctx_.maxSubgroupSize));
+    params.shape.x = groupItems_;
     const uint32_t sampleGroups = (samples_ + gpu::CONTOUR_GROUP_SIZE - 1) / gpu::CONTOUR_GROUP_SIZE;
     const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     const auto rw = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;

@@ -85,6 +85,7 @@ private:
     const uint32_t samples_;
     const ContourOptions options_;
     uint32_t seedSlots_ = 0, gridSlots_ = 0, nodeCapacity_ = 0, vertexCapacity_ = 0;
+    uint32_t groupItems_ = 1;  // seeds or marches a workgroup traces (ContourParams::shape.x)
     Buffer seedTable_, nodes_, grid_, vertices_, counters_, list_, readback_;
     DescriptorSet descriptors_;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;

@@ -5,9 +5,9 @@
 // - CONTOUR_PASS_PROJECT: each seed that won its cell is corrected onto the contour by Newton steps (the
 //   minimum-norm step of the 2×3 system, as contourNewton in lines.cpp) into a node, entered in the node grid.
 // - CONTOUR_PASS_MARCH: each node marches along t = ∇f × ∇g (one orientation for the whole curve, so every march
-//   runs the same way) by predictor–corrector steps, shorter where the curve turns, until its chord passes
-//   within a third of a step of another node running the same way: the link the host follows to chain the
-//   curve (or back at itself, round a closed curve with one node).
+//   runs the same way; in round 0 each seed also against it) by predictor–corrector steps, shorter where the curve
+//   turns, until its chord crosses the normal plane of another node running along it within CONTOUR_MEET_STEPS
+//   of it: the link the host follows to chain the curve (or back at itself, round a closed curve with one node).
 #include "lines/contour_common.glsl"
 #include "refine/pu_hrbf.glsl"
 
