@@ -749,6 +749,27 @@ TEST_CASE("contours: the device's marches chain into curves through flipped tang
     CHECK(curves[0].points.size() == 10 + 8 + 1);  // S's march, U's, T at the end
     w.marches.back().backward = false;             // shortest first alone: T's march, and U's pieces apart
     CHECK(ink::chainMarches(w.marches, w.nodes, w.points, w.normals, 1e-4).size() > 1);
+
+    // The rest of a march that lost its ports goes with it. E's forward march stopped at G and went on to F; Z,
+    // whose tangent runs the other way, reached E's front sooner over the same stretch and took E's forward port.
+    // G's march is then a second copy of part of Z's: no curve passes through G.
+    MarchBuilder v;
+    const uint32_t E = v.node({0, 0, 0}, {1, 0, 0}), F = v.node({3, 0, 0}, {1, 0, 0}), G = v.node({2, 0, 0}, {1, 0, 0}),
+                   Z = v.node({2.5, 0, 0}, {-1, 0, 0});
+    v.nodes[G].continuation = true;
+    v.march(E, true, G, false, 9);  // too long: G goes on
+    v.march(G, true, F, false, 3);
+    v.march(Z, true, E, true, 3);  // against E's tangent: its forward port
+    auto throughG = [&](const std::vector<ink::ChainedCurve>& list) {
+        size_t through = 0;
+        for (const ink::ChainedCurve& c : list)  // (a curve of one node alone is no stroke: DeviceContours drops it)
+            for (const Vector3d& p : c.points)
+                through += c.points.size() > 1 && (p - v.nodes[G].position).norm() < 1e-9;
+        return through;
+    };
+    CHECK(throughG(ink::chainMarches(v.marches, v.nodes, v.points, v.normals, 1e-4)) == 0);
+    v.nodes[G].continuation = false;  // kept as a march of its own, it draws the stretch again
+    CHECK(throughG(ink::chainMarches(v.marches, v.nodes, v.points, v.normals, 1e-4)) > 0);
 }
 
 TEST_CASE("contours: traced on the device, the torus's contour lies on both equations and on the CPU's curve" *

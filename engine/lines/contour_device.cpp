@@ -76,6 +76,22 @@ std::vector<ChainedCurve> chainMarches(const std::vector<ContourMarch>& input,
         }
         portMarch[a] = i;
     }
+    // The rest of a march that lost its ports is a stretch another march traces too: drawn, it would be a second
+    // copy, a scrap of its own (whose visibility, decided along that scrap alone, flickers where the first copy is
+    // hidden: specks on the armadillo). It goes too, and what went on from its end, in turn.
+    std::vector<uint32_t> members(n, 0);
+    for (uint32_t k = 0; k < n; ++k) ++members[rep[k]];
+    for (bool dropped = true; dropped;) {
+        dropped = false;
+        for (uint32_t k = 0; k < n; ++k) {
+            const uint32_t out = portOf(k, true), i = portMarch[out];
+            if (!nodes[k].continuation || members[k] != 1 || rep[k] != k || i == kNone) continue;
+            if (portMarch[portOf(k, false)] != kNone || marches[i].from != k || !marches[i].fromForward) continue;
+            if (marches[i].to != kNone) portMarch[portOf(marches[i].to, marches[i].toForward)] = kNone;
+            portMarch[out] = kNone;
+            dropped = true;
+        }
+    }
 
     // Appends march i's vertices to c, walked from `port` (one of its ends); returns the port at its other end
     // (kNone when it ends in the open).
@@ -347,7 +363,7 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
     for (uint32_t r = 0; r < nodeCount; ++r) {
         const gpu::ContourNode& d = node[order[r]];
         nodes[r] = {Vector3d(d.position.x, d.position.y, d.position.z), Vector3d(d.normal.x, d.normal.y, d.normal.z),
-                    Vector3d(d.tangent.x, d.tangent.y, d.tangent.z)};
+                    Vector3d(d.tangent.x, d.tangent.y, d.tangent.z), d.state.x > 0};
         for (bool forward : {true, false}) {
             const gpu::uvec4& link = forward ? d.forward : d.backward;
             if (link.z == 0) continue;  // no march from this port

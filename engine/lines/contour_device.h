@@ -28,13 +28,16 @@ struct ContourMarch {
     uint32_t to = kNoNode;
     bool toForward = false;
     uint32_t first = 0, count = 0;
-    // A seed's backward march, or a march on from where one stopped: it runs against the curve's orientation, from
-    // the start, over stretches a forward march may trace too. Ports go to forward marches first.
+    // A seed's backward march, or a march on from where such a march stopped: it runs against the curve's
+    // orientation, over stretches a forward march may trace too. Ports go to forward marches first.
     bool backward = false;
 };
 
 struct ContourNodeInfo {
     Eigen::Vector3d position, normal, tangent;
+    // A node a march left where it stopped (too long): that march arrived at its backward port, and its own march
+    // from its forward port is the rest of it.
+    bool continuation = false;
 };
 
 struct ChainedCurve {
@@ -46,9 +49,10 @@ struct ChainedCurve {
 // that start or end there (two marches between the same ports are one stretch of curve traced from both ends; a
 // march that passed a node without meeting it is longer than the one from that node), the forward ones first (a
 // backward march that a forward one's would take over piece by piece must not leave the pieces after the first
-// without the march that led to them: ends in the middle of a curve). Then the curves are
-// followed from port to port: open ones from each free port (or a march that ended in the open), closed ones round
-// the rest.
+// without the march that led to them: ends in the middle of a curve). The march on from a continuation node goes
+// when the march that stopped there lost its ports (a second copy of a stretch another march traces). Then the
+// curves are followed from port to port: open ones from each free port (or a march that ended in the open), closed
+// ones round the rest.
 // First, nodes within `merge` of each other on one line (seeds projected to nearly one point: float leaves the
 // contour's position uncertain along g's small gradient) are one node, so that marches meeting either meet the
 // same ports.

@@ -177,10 +177,10 @@ bool enterNode(uint k, vec3 x) {
 }
 
 // A new node at x, whose forward march runs in round `round` (against the curve's orientation when `backward`,
-// ContourNode::state.y): its index, or NONE when the array is full. It
-// enters the node grid in the next CONTOUR_PASS_ENTER, before the next marches, so that what a march meets does
-// not depend on which other marches of its pass ran first. The march passes take two subgroups a node (its
-// forward march, and in round 0 its backward one).
+// ContourNode::state.y): its index, or NONE when the array is full. It enters the node grid in the next
+// CONTOUR_PASS_ENTER, before the next marches, so that what a march meets does not depend on which other marches
+// of its pass ran first. The march passes take two subgroups a node (its forward march, and in round 0 its
+// backward one).
 uint addNode(vec3 x, vec3 n, vec3 t, uint round, bool backward) {
     uint k = atomicAdd(counters.nodes, 1u);
     if (k >= pc.limits.x) return CONTOUR_NONE;
