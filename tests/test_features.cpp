@@ -4,8 +4,11 @@
 #include "draw/renderer.h"
 #include "draw/scene.h"
 #include "gpu_fixture.h"
+#include "io/hrbf_io.h"
 #include "io/points.h"
 #include "lines/feature_lines.h"
+#include "refine/refine.h"
+#include "refine/refine_plan.h"
 #include "run_command.h"
 #include "surface/model.h"
 #include "surface/shapes.h"
@@ -596,4 +599,53 @@ TEST_CASE("features: a torus's dots behind its near tube stay hidden where that 
     CHECK(double(leaked) <= 0.001 * double(front));
     CHECK(double(lost) <= 0.01 * double(front));
     gpu.requireNoValidationErrors();
+}
+
+// Away from the data the partition of unity's patches fade and its far field, a coarse HRBF of a few hundred points,
+// takes over: where that coarse surface passes outside the patches' reach it is a stray sheet. On this plate with
+// a hole (a CAD part's flat faces and a drilled hole, 192 vertices) it stood up to 2% of the diagonal off the mesh
+// and CGAL's joint.off grew domes 4% high on its flat top; the drawing drops it (Model::holds, kFarFieldTrim).
+TEST_CASE("features: the far field's stray sheets off a CAD part are trimmed, its faces kept" *
+          doctest::test_suite("unit")) {
+    const ink::Model model = ink::fitModel(ink::loadPoints(kModels + "plate-with-hole.obj"), {});
+    REQUIRE(model.trimFarField);
+    ink::RefineOptions options;
+    options.levels = 3;
+    const ink::RefinePlan plan = ink::planRefinement(model.surface, options, 1u << 22);
+    const std::vector<ink::PointRecord> points = ink::refineOnCpu(model.surface, options, plan);
+    REQUIRE(points.size() > 20000);
+    // The plate [-1, 1]² × [-0.3, 0.3] less the cylinder of radius 0.4 (its 48-gon's sagitta is 0.03% of the
+    // diagonal): the signed distance, exact inside and a lower bound outside, in diagonals.
+    const double diagonal = std::sqrt(8.0 + 0.36);
+    auto offMesh = [&](const Vector3d& p) {
+        const Vector3d q = p.cwiseAbs() - Vector3d(1, 1, 0.3);
+        const double box = q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+        return std::abs(std::max(box, 0.4 - std::hypot(p.x(), p.y()))) / diagonal;
+    };
+    // A .hrbf file keeps no input to trim by, but the far field is the model's own: its copy drops the same.
+    TempDir dir;
+    ink::saveHrbf(dir / "plate.hrbf", model.surface);
+    const ink::Model loaded = ink::loadModel(dir / "plate.hrbf", {});
+    REQUIRE(loaded.trimFarField);
+    CHECK(loaded.support.empty());
+    size_t far = 0, on = 0, onHeld = 0;
+    for (const ink::PointRecord& r : points) {
+        const Vector3d x(r.position[0], r.position[1], r.position[2]);
+        const double off = offMesh(model.surface.frame.toInput(x));
+        if (off > 0.004) {
+            ++far;
+            CHECK_FALSE(model.holds(x));
+            CHECK_FALSE(loaded.holds(x));
+        } else if (off < 0.001) {
+            ++on;
+            onHeld += model.holds(x);
+        }
+    }
+    // The sheet is there to trim: 11 of the 84,480 refined points lie more than 0.4% of the diagonal off the
+    // mesh, all of them held before (the mesh's own support reaches past them: the rim's leaning normals).
+    CHECK(far >= 8);
+    CHECK(double(onHeld) >= 0.999 * double(on));
+    ink::ModelOptions keep;
+    keep.trim = false;
+    CHECK_FALSE(ink::fitModel(ink::loadPoints(kModels + "plate-with-hole.obj"), keep).trimFarField);
 }

@@ -43,8 +43,8 @@ void addModelOptions(CLI::App* cmd, Options& o) {
                     "more than this, degrees (0-180)")
         ->capture_default_str();
     cmd->add_flag("!--no-trim", o.trim,
-                  "Keep the surface the input does not support (by default an open scan's holes stay open: the "
-                  "fit's caps over them are dropped)");
+                  "Keep the surface the input does not support (by default an open scan's holes stay open, the "
+                  "fit's caps over them dropped, and so are its stray sheets away from the data)");
     cmd->add_option("--fit", o.fit,
                     "pu: local HRBFs blended by a partition of unity (any size, float on the device); global: the "
                     "report's single dense HRBF (at most 4000 points, needs shaderFloat64)")

@@ -18,11 +18,11 @@ namespace {
 // (lavapipe) their CPU twins are the faster (docs/lines.md).
 bool autoOnDevice(const Context& ctx) { return ctx.properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU; }
 
-// Drops the drawn points of `r` that `support` does not hold, keeping the others in order (a stipple keeps its
-// rank); returns how many went, and how many there were in `total`.
-size_t trimRefinement(Context& ctx, GpuRefinement& r, const Support& support, size_t& total) {
+// Drops the drawn points of `r` that `model` does not hold (Model::holds), keeping the others in order (a stipple
+// keeps its rank); returns how many went, and how many there were in `total`.
+size_t trimRefinement(Context& ctx, GpuRefinement& r, const Model& model, size_t& total) {
     total = 0;
-    if (support.empty()) return 0;
+    if (model.support.empty() && !model.trimFarField) return 0;
     const std::vector<PointRecord> points = readDrawnPoints(ctx, r);
     total = points.size();
     // Which are held, on all threads (a scan's 338,838 points, 27 cells a look-up), then kept in order.
@@ -30,7 +30,7 @@ size_t trimRefinement(Context& ctx, GpuRefinement& r, const Support& support, si
     parallelChunks(points.size(), 4096, [&](size_t begin, size_t end, size_t) {
         for (size_t i = begin; i < end; ++i) {
             const PointRecord& p = points[i];
-            held[i] = support.supports(Eigen::Vector3d(p.position[0], p.position[1], p.position[2]));
+            held[i] = model.holds(Eigen::Vector3d(p.position[0], p.position[1], p.position[2]));
         }
     });
     std::vector<PointRecord> kept;
@@ -79,10 +79,11 @@ Scene::Sets Scene::build(DrawStyle style, const RefineOptions& options) const {
         made.push_back(std::make_unique<Refinement>(ctx, model.surface, r));
         runRefinement(ctx, made.back()->gpu());
         size_t total = 0;
-        if (const size_t trimmed = trimRefinement(ctx, made.back()->gpu(), model.support, total))
+        if (const size_t trimmed = trimRefinement(ctx, made.back()->gpu(), model, total))
             note("trimmed " + std::to_string(trimmed) + " of " + std::to_string(total) + " " +
                  (sampling == SampleStyle::Stipple ? "stipple" : "direction") +
-                 " points where the input has no points (an open surface's holes; --no-trim keeps them)");
+                 " points where the input has no points (an open surface's holes, the fit's stray sheets; --no-trim "
+                 "keeps them)");
     }
     return made;
 }
@@ -136,7 +137,7 @@ Scene::TracedLines Scene::traceLines(const Sets& from, const LineOptions& l) con
                                                    : solveCrossField(model.surface, t.samples, graph, f);
         const CrossField field(t.samples, graph, std::move(solved));
         const double fieldSeconds = secondsSince(fieldStart);
-        t.hatching = trimStrokes(traceHatching(model.surface, field, l.hatch, &t.hatchStats), model.support);
+        t.hatching = trimStrokes(traceHatching(model.surface, field, l.hatch, &t.hatchStats), model);
         t.hatchStats.fieldSeconds = fieldSeconds;
         t.hatchStats.fieldGraphSeconds = graphSeconds;
         t.hatchStats.fieldOnDevice = device && fits;
@@ -185,15 +186,14 @@ void Scene::traceContours(const Camera& camera) {
     if (onDevice && first && DeviceContours::supports(*first) && !samples.empty()) {
         if (!deviceContours_)
             deviceContours_ = std::make_unique<DeviceContours>(ctx, *first, uint32_t(samples.size()), lines.contour);
-        contours = trimStrokes(deviceContours_->trace(model.surface, eye, &contourStats), model.support);
+        contours = trimStrokes(deviceContours_->trace(model.surface, eye, &contourStats), model);
     } else {
         if (lines.contourTracer == Tracer::Device && first && !DeviceContours::supports(*first) && !notedCpuContours_) {
             note(
                 "the contour is traced on the CPU: the device traces a partition-of-unity fit only (not --fit global)");
             notedCpuContours_ = true;
         }
-        contours =
-            trimStrokes(ink::traceContours(model.surface, eye, samples, lines.contour, &contourStats), model.support);
+        contours = trimStrokes(ink::traceContours(model.surface, eye, samples, lines.contour, &contourStats), model);
     }
     // A crease or boundary line drawn stands for its edge: the contour along it, within two steps, is laid onto it
     // (snapToLines, indexed in setLines), and the scraps the fit's ripple leaves between, under eight steps, bridged.

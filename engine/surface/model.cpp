@@ -362,6 +362,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         note(text);
     } else if (options.trim)
         model.support = mesh.triangles.empty() ? Support(inputs.positions) : Support(mesh, 2 * model.inputMaxDistance);
+    model.trimFarField = options.trim && !global;
     phases.lap("support");
     model.fit.seconds = secondsSince(start);
     return model;
@@ -377,6 +378,17 @@ bool isHrbfFile(const std::string& path) {
 
 }  // namespace
 
+bool Model::holds(const Eigen::Vector3d& x) const {
+    if (trimFarField && !(surface.pu.patchWeight(x) >= kFarFieldTrim * surface.pu.tau)) return false;
+    return support.supports(x);
+}
+
+std::vector<PenStroke> trimStrokes(const std::vector<PenStroke>& strokes, const Model& model, size_t* dropped) {
+    if (model.support.empty() && !model.trimFarField) return strokes;
+    return keepRuns(
+        strokes, [&](size_t s, size_t i) { return model.holds(strokes[s].points[i].cast<double>()); }, dropped);
+}
+
 Model loadModel(const std::string& path, const ModelOptions& options) {
     checkModelOptions(options);
     auto start = std::chrono::steady_clock::now();
@@ -389,6 +401,8 @@ Model loadModel(const std::string& path, const ModelOptions& options) {
         model.inputPoints = model.surface.size();
         model.loadSeconds = secondsSince(start);
         model.fit = measured;  // measureFit's figures; relativeResidual and seconds stay 0: nothing was solved
+        // It keeps no input to trim by, but its far field is the model's own.
+        model.trimFarField = options.trim && model.surface.method == FitMethod::PartitionOfUnity;
         if (model.surface.method == FitMethod::PartitionOfUnity) {  // the inputs are the centres: measured already
             model.inputMaxDistance = measured.maxDistance;
             model.inputMaxAngleDeg = measured.maxNormalAngleDeg;

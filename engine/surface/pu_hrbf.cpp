@@ -278,6 +278,18 @@ double PuHrbf::eval(const Vector3d& x, Vector3d& gradient, Matrix3d* hessian) co
     return blend.finish(tau, far, gradient, hessian);
 }
 
+double PuHrbf::patchWeight(const Vector3d& x) const {
+    double S = 0;
+    const int64_t cell = grid.cellOf(x);
+    if (cell >= 0)
+        for (uint32_t k = grid.cellStart[size_t(cell)]; k < grid.cellStart[size_t(cell) + 1]; ++k) {
+            const PuPatch& patch = patches[grid.cellPatches[k]];
+            const double d = (x - patch.center).norm() / patch.radius;
+            if (d < 1) S += wendland(d);
+        }
+    return S;
+}
+
 namespace {
 
 // The largest |eigenvalue| of P A P on the tangent plane of unit n (A symmetric).

@@ -57,6 +57,9 @@ struct PuHrbf {
     double tau = 0;  // τ of the far-field weight
 
     double eval(const Eigen::Vector3d& x, Eigen::Vector3d& gradient, Eigen::Matrix3d* hessian = nullptr) const;
+    // S = Σ w_i(x), the patches' weight at x before the far field: below τ the far field blends in, and its zero
+    // set away from the data is no surface (Model::holds).
+    double patchWeight(const Eigen::Vector3d& x) const;
 };
 
 struct PuOptions {

@@ -45,7 +45,8 @@ struct ModelOptions {
     FitMethod method = FitMethod::PartitionOfUnity;
     // A mesh's crease lines are the edges whose faces turn by more than this, degrees in (0, 180).
     double creaseAngleDeg = 60;
-    // Drops what the input does not support: the fit's caps over an open scan's holes (docs/lines.md).
+    // Drops what the input does not support: the fit's caps over an open scan's holes, and its stray sheets away
+    // from the data where its far field takes over (docs/lines.md).
     bool trim = true;
 };
 
