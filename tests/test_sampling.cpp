@@ -410,6 +410,54 @@ TEST_CASE("sampling: a plate's flat faces stay flat beside a crease whose vertex
     CHECK(tilt * 180 / M_PI < 0.01);
 }
 
+TEST_CASE("sampling: a flat face's fan of slivers stays flat beside a chamfer" * doctest::test_suite("unit")) {
+    // A CAD face as exporters triangulate it: a fan of 16 long thin triangles from one corner of the unit square
+    // (z = 0) to its far edge, where a 45° chamfer (under the 60° crease angle) joins it, read from an OBJ without
+    // normals. The far edge's corners lean towards the chamfer (their faces' mean), and each sliver's curved patch
+    // bulged along its whole length (CGAL's anchor.off: 2.9% of the diagonal off its flat faces). A sliver with
+    // other triangles in its plane around the corner takes their plane's normal there.
+    const int n = 16;
+    std::string obj = "v 0 0 0\n";
+    for (int i = 0; i <= n; ++i) obj += "v " + std::to_string(double(i) / n) + " 1 0\n";
+    for (int i = 0; i <= n; ++i) obj += "v " + std::to_string(double(i) / n) + " 1.3 0.3\n";
+    auto face = [&](int a, int b, int c) {
+        obj += "f " + std::to_string(a + 1) + " " + std::to_string(b + 1) + " " + std::to_string(c + 1) + "\n";
+    };
+    auto edge = [](int i) { return 1 + i; };
+    auto top = [&](int i) { return 2 + n + i; };
+    for (int i = 0; i < n; ++i) face(0, edge(i + 1), edge(i));  // the fan, normal +z
+    for (int i = 0; i < n; ++i) {                               // the chamfer, normal (0, 1, 1)/√2
+        face(edge(i), edge(i + 1), top(i + 1));
+        face(edge(i), top(i + 1), top(i));
+    }
+    const OrientedPoints mesh = parsePoints(obj, "obj", "fan.obj");
+    std::vector<uint32_t> triangle;
+    const OrientedPoints s = ink::sampleFaces(mesh, 20000, 1, &triangle);
+    size_t onFan = 0;
+    double highest = 0;
+    for (size_t i = 0; i < s.positions.size(); ++i)
+        if (triangle[i] < uint32_t(n)) {
+            ++onFan;
+            highest = std::max(highest, std::abs(s.positions[i].z()));
+        }
+    INFO("fan samples " << onFan << ", farthest off its plane " << highest);
+    CHECK(onFan > 10000);
+    CHECK(highest < 1e-9);
+    // Well-shaped triangles keep their curved patches, planar quads among them: a UV hemisphere's samples leave
+    // its flat facets (by their sagitta, up to 0.03 of the radius here).
+    const OrientedPoints hemisphere = ink::loadPoints(INKWELL_SOURCE_DIR "/tests/models/hemisphere.obj");
+    std::vector<uint32_t> of;
+    const OrientedPoints h = ink::sampleFaces(hemisphere, 5000, 1, &of);
+    double off = 0;
+    for (size_t i = 0; i < h.positions.size(); ++i) {
+        const ink::Triangle& t = hemisphere.triangles[of[i]];
+        const Vector3d &p0 = hemisphere.positions[t[0]], &p1 = hemisphere.positions[t[1]],
+                       &p2 = hemisphere.positions[t[2]];
+        off = std::max(off, std::abs((h.positions[i] - p0).dot((p1 - p0).cross(p2 - p0).normalized())));
+    }
+    CHECK(off > 0.01);
+}
+
 TEST_CASE("sampling: each triangle gets its share of the area, spread evenly over it" * doctest::test_suite("unit")) {
     std::vector<double> scales = {1, 0.5, 3, 0.1, 2, 1.7, 0.01};
     OrientedPoints m = separateTriangles(scales);

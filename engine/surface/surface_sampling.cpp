@@ -83,6 +83,10 @@ const double kOwnCos = std::cos(20.0 * M_PI / 180.0);
 // lenses on the flat face. A scan's rough vertices lean 3–15° across a fold of one face over 60° on edges of a few
 // percent, and stay as they were (at 0.1% instead, the bunny's fit changed and with it its default view).
 constexpr double kCornerBulge = 0.005;
+// Triangles whose normals turn less than this from each other lie in one plane (a CAD part's flat face).
+const double kFlatCos = std::cos(2.0 * M_PI / 180.0);
+// A triangle whose longest edge is this many times its height over that edge is a sliver.
+constexpr double kSliver = 6.0;
 
 // Each triangle's unit normal, turned to the side of its vertex normals (0 for a degenerate one), and its area.
 struct Faces {
@@ -124,15 +128,40 @@ struct Faces {
         }
         const double length = sum.norm();
         const Vector3d group = length > 0 ? Vector3d(sum / length) : normal[t];
+        double edge = 0;
+        for (uint32_t w : mesh.triangles[t]) edge = std::max(edge, (mesh.positions[w] - mesh.positions[v]).norm());
+        // How far a corner normal lifts t's patch off its plane, against kCornerBulge.
+        auto bulges = [&](const Vector3d& n, const Vector3d& plane) {
+            return 0.15 * edge * n.cross(plane).norm() > kCornerBulge * diagonal;
+        };
         const Vector3d& own = mesh.normals[v];
-        if (!(own.dot(group) >= kOwnCos * own.norm())) return group;
-        const Vector3d unit = own.normalized();
-        if (crease) {
-            double edge = 0;
-            for (uint32_t w : mesh.triangles[t]) edge = std::max(edge, (mesh.positions[w] - mesh.positions[v]).norm());
-            if (0.15 * edge * unit.cross(group).norm() > kCornerBulge * diagonal) return group;
+        Vector3d chosen = group;
+        if (own.dot(group) >= kOwnCos * own.norm()) {
+            const Vector3d unit = own.normalized();
+            if (!crease || !bulges(unit, group)) chosen = unit;
         }
-        return unit;
+        // A flat face's sliver beside a fillet or a chamfer that turns less than 60°: the smoothing group's mean
+        // leans towards it along the sliver, and a CAD face's fan of long thin triangles bulged by up to 2.9% of the
+        // diagonal (CGAL's anchor.off). Where t is a sliver (its longest edge kSliver times its height over it) in
+        // a flat region (another triangle at one of its corners lies in its plane) and the corner's normal lifts
+        // one of its edges from v by more than kCornerBulge (0.15 |(p_w − p_v)·n|, the PN edge's lift), the corner
+        // takes the plane's normal. Well-shaped triangles keep their patches (a UV sphere's quads are planar and
+        // would turn into facets), and so do slivers whose normals lean across them (a cylinder's long sides).
+        double lift = 0;
+        for (uint32_t w : mesh.triangles[t])
+            lift = std::max(lift, std::abs((mesh.positions[w] - mesh.positions[v]).dot(chosen)));
+        if (!(0.15 * lift > kCornerBulge * diagonal)) return chosen;
+        double longest2 = 0;
+        for (int e = 0; e < 3; ++e)
+            longest2 = std::max(
+                longest2,
+                (mesh.positions[mesh.triangles[t][e]] - mesh.positions[mesh.triangles[t][(e + 1) % 3]]).squaredNorm());
+        if (!(longest2 > kSliver * 2 * areas[t])) return chosen;
+        bool coplanar = false;
+        for (uint32_t u : mesh.triangles[t])
+            for (uint32_t k = start[u]; k < start[u + 1] && !coplanar; ++k)
+                coplanar = list[k] != t && areas[list[k]] > 0 && normal[list[k]].dot(normal[t]) >= kFlatCos;
+        return coplanar ? normal[t] : chosen;
     }
 };
 
