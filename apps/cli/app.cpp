@@ -40,7 +40,7 @@ void addModelOptions(CLI::App* cmd, Options& o) {
         ->check(nonNegativeInteger());
     cmd->add_option("--crease-angle", o.creaseAngle,
                     "Crease lines: a mesh's edges whose faces, or a point cloud's neighbours whose normals, turn by "
-                    "more than this, degrees (0-180)")
+                    "more than this, degrees (0-180); a mesh's surface stays sharp there")
         ->capture_default_str();
     cmd->add_flag("!--no-trim", o.trim,
                   "Keep the surface the input does not support (by default an open scan's holes stay open, the "

@@ -121,7 +121,7 @@ static int runSample(Options& o, const std::string& pointsPath) {
         for (const ink::PointRecord& p : refined)
             at.push_back(model.surface.frame.toInput(Eigen::Vector3d(p.position[0], p.position[1], p.position[2])));
         auto start = Clock::now();
-        ink::Fidelity f = ink::measureFidelity(mesh, at);
+        ink::Fidelity f = ink::measureFidelity(mesh, at, 0.01, 0, o.creaseAngle);
         stats["fidelity"] = fidelityJson(f);
         stats["fidelity"]["seconds"] = secondsSince(start);
         std::printf(

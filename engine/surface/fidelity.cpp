@@ -161,7 +161,7 @@ std::vector<double> distancesToMesh(const OrientedPoints& mesh, const std::vecto
 }
 
 Fidelity measureFidelity(const OrientedPoints& mesh, const std::vector<Vector3d>& points, double tolerance,
-                         size_t surfaceSamples) {
+                         size_t surfaceSamples, double creaseAngleDeg) {
     Fidelity f;
     f.diagonal = meshDiagonal(mesh);
     f.tolerance = tolerance;
@@ -173,7 +173,7 @@ Fidelity measureFidelity(const OrientedPoints& mesh, const std::vector<Vector3d>
         const double spacing = tolerance * f.diagonal / 4;
         surfaceSamples = size_t(std::clamp(area / (spacing * spacing), 1e4, 1e6));
     }
-    const std::vector<Vector3d> surface = sampleFaces(mesh, surfaceSamples, 0x1d3a).positions;
+    const std::vector<Vector3d> surface = sampleFaces(mesh, surfaceSamples, 0x1d3a, nullptr, creaseAngleDeg).positions;
     f.surfaceSamples = surface.size();
     if (points.empty()) return f;
     const double within = tolerance * f.diagonal;

@@ -27,10 +27,12 @@ struct Fidelity {
 
 // The mesh must have triangles with area (a point format has none: an ink::Error says so). `tolerance` is in
 // diagonals; `surfaceSamples` 0 picks a spacing of a quarter of the tolerance over the area (between 10⁴ and
-// 10⁶ samples). The sampling is deterministic. Cost: a k-d tree of the points (nanoflann) for the coverage, a
-// uniform grid of the triangles for the accuracy; about a second for 10⁵ points and 10⁵ triangles.
+// 10⁶ samples), on the triangles' curved patches as the fit samples them with `creaseAngleDeg` (its
+// --crease-angle: past it an edge stays sharp). The sampling is deterministic. Cost: a k-d tree of the points
+// (nanoflann) for the coverage, a uniform grid of the triangles for the accuracy; about a second for 10⁵ points and
+// 10⁵ triangles.
 Fidelity measureFidelity(const OrientedPoints& mesh, const std::vector<Eigen::Vector3d>& points,
-                         double tolerance = 0.01, size_t surfaceSamples = 0);
+                         double tolerance = 0.01, size_t surfaceSamples = 0, double creaseAngleDeg = 60.0);
 
 // The distance from each point to the nearest of the mesh's triangles with area (a uniform grid, searched ring
 // by ring from the point's cell until no nearer triangle can remain). For the tests and measureFidelity.

@@ -141,7 +141,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         // 1,088 repeated vertices made every one of its 96,795 samples a rim sample).
         mesh = weldByPosition(points);
         std::vector<uint32_t> triangleOf;
-        samples = sampleFaces(mesh, faceSampleCount(mesh), 1, &triangleOf);
+        samples = sampleFaces(mesh, faceSampleCount(mesh), 1, &triangleOf, options.creaseAngleDeg);
         for (Eigen::Vector3d& x : mesh.positions) x = frame.toNormalized(x);
         std::unordered_map<uint64_t, uint32_t> edges;
         for (const Triangle& t : mesh.triangles)

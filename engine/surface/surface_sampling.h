@@ -27,16 +27,16 @@ std::vector<double> triangleAreas(const OrientedPoints& mesh);
 // the floor or the ceiling of count · area / total; inside a triangle the points follow the R2 low-discrepancy
 // sequence (Roberts 2018), rotated per triangle, mapped onto it by the square-root warp, and lifted onto the
 // triangle's curved PN patch (Vlachos et al. 2001), with the patch's own normal there. The patch's corner normals
-// are the area-weighted means of the faces around each corner that turn less than 60° from the triangle's (a crease
-// splits them), so a CAD part's faces between creases stay flat; the vertex's own normal where it is within 20° of
-// that mean and, beside a crease, lifts the patch by less than 0.5% of the diagonal; a flat face's sliver keeps its
-// plane's normal where a leaning corner would lift it by more. The flat triangle and its face
-// normal (turned to the side of the vertex normals) where the vertex normals cancel or the patch folds. Triangles of
-// zero area (relative to the squared diagonal) get none. Deterministic: the same mesh, count and seed give the same
-// points. Empty if the mesh has no triangle with area. O(count + T). `triangles`, when given, gets the triangle of each
-// sample.
+// are the area-weighted means of the faces around each corner that turn less than `creaseAngleDeg` (60°) from the
+// triangle's (a crease splits them: the fit's --crease-angle, so that the edges drawn as crease lines stay sharp), so a
+// CAD part's faces between creases stay flat; the vertex's own normal where it is within 20° of that mean and, beside a
+// crease, lifts the patch by less than 0.5% of the diagonal; a flat face's sliver keeps its plane's normal where a
+// leaning corner would lift it by more. The flat triangle and its face normal (turned to the side of the vertex
+// normals) where the vertex normals cancel or the patch folds. Triangles of zero area (relative to the squared
+// diagonal) get none. Deterministic: the same mesh, count and seed give the same points. Empty if the mesh has no
+// triangle with area. O(count + T). `triangles`, when given, gets the triangle of each sample.
 OrientedPoints sampleFaces(const OrientedPoints& mesh, size_t count, uint32_t seed,
-                           std::vector<uint32_t>* triangles = nullptr);
+                           std::vector<uint32_t>* triangles = nullptr, double creaseAngleDeg = 60.0);
 
 // How many face samples a mesh needs: enough for a spacing of kFaceSpacing of the diagonal over the whole area,
 // and for about one sample a spacing along every edge longer than that from the tallest triangle beside it (a

@@ -43,7 +43,8 @@ struct ModelOptions {
     // Chosen by farthest-point sampling; 0: every point (PartitionOfUnity) or up to 1000 of them (Global).
     size_t controlPoints = 0;
     FitMethod method = FitMethod::PartitionOfUnity;
-    // A mesh's crease lines are the edges whose faces turn by more than this, degrees in (0, 180).
+    // A mesh's crease lines are the edges whose faces turn by more than this, degrees in (0, 180); the fitted
+    // surface stays sharp across them and rounds the others (a low-poly CAD part wants less, docs/fitting.md).
     double creaseAngleDeg = 60;
     // Drops what the input does not support: the fit's caps over an open scan's holes, and its stray sheets away
     // from the data where its far field takes over (docs/lines.md).
