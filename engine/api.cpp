@@ -186,9 +186,10 @@ Vec3 Model::gradient(const Vec3& x) const {
 // ---- Fidelity
 
 Fidelity measureFidelity(const std::string& meshPath, const std::vector<Vec3>& points, double tolerance,
-                         const Reporter& reporter) {
+                         const Reporter& reporter, double creaseAngleDeg) {
     ink::ScopedReporter reporting(reporter);
     if (!(tolerance > 0)) throw Error("the fidelity tolerance must be positive (it is in bounding-box diagonals)");
+    if (!(creaseAngleDeg > 0 && creaseAngleDeg < 180)) throw Error("the crease angle must be in (0, 180) degrees");
     ink::OrientedPoints mesh = ink::loadPoints(meshPath);
     double area = 0;
     for (double a : ink::triangleAreas(mesh)) area += a;
@@ -196,7 +197,7 @@ Fidelity measureFidelity(const std::string& meshPath, const std::vector<Vec3>& p
     std::vector<Eigen::Vector3d> at;
     at.reserve(points.size());
     for (const Vec3& p : points) at.push_back(toEigen(p));
-    ink::Fidelity f = ink::measureFidelity(mesh, at, tolerance);
+    ink::Fidelity f = ink::measureFidelity(mesh, at, tolerance, 0, creaseAngleDeg);
     return {f.tolerance,   f.surfaceSamples, f.points,      f.coverage,   f.coverageP99,
             f.coverageMax, f.accuracy,       f.accuracyP99, f.accuracyMax};
 }

@@ -467,6 +467,7 @@ TEST_CASE("features: a fit far from its mesh (few control points) is not trimmed
     const ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", coarse);
     REQUIRE(model.inputMaxDistance > ink::kMaxMeshSupport / 2);
     CHECK(model.support.supports(Eigen::Vector3d(0.45, 0.45, 0.45)));  // a corner of the box, far from the mesh
+    CHECK(model.trimFarField);  // its far field is trimmed all the same: it is the model's own
     const ink::Model fine = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {});
     CHECK_FALSE(fine.support.supports(Eigen::Vector3d(0.45, 0.45, 0.45)));
 }

@@ -27,10 +27,11 @@ struct Fidelity {
 
 // The mesh must have triangles with area (a point format has none: an ink::Error says so). `tolerance` is in
 // diagonals; `surfaceSamples` 0 picks a spacing of a quarter of the tolerance over the area (between 10⁴ and
-// 10⁶ samples), on the triangles' curved patches as the fit samples them with `creaseAngleDeg` (its
-// --crease-angle: past it an edge stays sharp). The sampling is deterministic. Cost: a k-d tree of the points
-// (nanoflann) for the coverage, a uniform grid of the triangles for the accuracy; about a second for 10⁵ points and
-// 10⁵ triangles.
+// 10⁶ samples), on the triangles' curved patches (sampleFaces with `creaseAngleDeg`, the fit's --crease-angle:
+// past it an edge stays sharp; the fit samples the mesh welded by position, this the triangles as given, so a file
+// that repeats its vertices at seams has its corners split there). The sampling is deterministic. Cost: a k-d tree of
+// the points (nanoflann) for the coverage, a uniform grid of the triangles for the accuracy; about a second for 10⁵
+// points and 10⁵ triangles.
 Fidelity measureFidelity(const OrientedPoints& mesh, const std::vector<Eigen::Vector3d>& points,
                          double tolerance = 0.01, size_t surfaceSamples = 0, double creaseAngleDeg = 60.0);
 

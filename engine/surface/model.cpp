@@ -356,8 +356,8 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     if (options.trim && !mesh.triangles.empty() && 2 * model.inputMaxDistance > kMaxMeshSupport) {
         char text[160];
         std::snprintf(text, sizeof text,
-                      "not trimmed: the fit misses the mesh's vertices by up to %.1f%% of the diagonal (more control "
-                      "points follow it closer)",
+                      "not trimmed to the mesh (its far field still is): the fit misses the mesh's vertices by up to "
+                      "%.1f%% of the diagonal (more control points follow it closer)",
                       100 * model.inputMaxDistance);
         note(text);
     } else if (options.trim)

@@ -148,23 +148,26 @@ struct Faces {
         }
         // A flat face's sliver beside a fillet or a chamfer under the crease angle: the smoothing group's mean
         // leans towards it along the sliver, and a CAD face's fan of long thin triangles bulged by up to 2.9% of the
-        // diagonal (CGAL's anchor.off). Where t is a sliver (its longest edge kSliver times its height over it) in
-        // a flat region (another triangle at one of its corners lies in its plane) and the corner's normal lifts
-        // one of its edges from v by more than kCornerBulge (0.15 |(p_w − p_v)·n|, the PN edge's lift), the corner
-        // takes the plane's normal. Well-shaped triangles keep their patches (a UV sphere's quads are planar and
-        // would turn into facets), and so do slivers whose normals lean across them (a cylinder's long sides).
-        double lift = 0;
-        for (uint32_t w : mesh.triangles[t])
-            lift = std::max(lift, std::abs((mesh.positions[w] - mesh.positions[v]).dot(chosen)));
-        if (!(0.15 * lift > kCornerBulge * diagonal)) return chosen;
-        double longest2 = 0;
-        for (int e = 0; e < 3; ++e)
-            longest2 = std::max(
-                longest2,
-                (mesh.positions[mesh.triangles[t][e]] - mesh.positions[mesh.triangles[t][(e + 1) % 3]]).squaredNorm());
-        if (!(longest2 > kSliver * 2 * areas[t])) return chosen;
+        // diagonal (CGAL's anchor.off). Where t is a sliver (its longest edge kSliver times its height over it) in a
+        // flat region (another triangle at one of its corners lies in its plane) and the corner's normal leans
+        // along it so far that it lifts the sliver's length by more than kCornerBulge (0.15 · length · the
+        // normal's component along the sliver's axis, the median to its shortest edge), the corner takes the
+        // plane's normal. Well-shaped triangles keep their patches (a UV sphere's quads are planar and would
+        // turn into facets), and so do slivers whose normals lean across them (a coarse cylinder's long sides).
+        const Triangle& tri = mesh.triangles[t];
+        double longest2 = 0, shortest2 = INFINITY;
+        int shortest = 0;
+        for (int e = 0; e < 3; ++e) {
+            const double l2 = (mesh.positions[tri[e]] - mesh.positions[tri[(e + 1) % 3]]).squaredNorm();
+            longest2 = std::max(longest2, l2);
+            if (l2 < shortest2) shortest2 = l2, shortest = e;
+        }
+        if (!(areas[t] > 0) || !(longest2 > kSliver * 2 * areas[t])) return chosen;
+        const Vector3d axis = 0.5 * (mesh.positions[tri[shortest]] + mesh.positions[tri[(shortest + 1) % 3]]) -
+                              mesh.positions[tri[(shortest + 2) % 3]];
+        if (!(0.15 * std::abs(axis.dot(chosen)) > kCornerBulge * diagonal)) return chosen;
         bool coplanar = false;
-        for (uint32_t u : mesh.triangles[t])
+        for (uint32_t u : tri)
             for (uint32_t k = start[u]; k < start[u + 1] && !coplanar; ++k)
                 coplanar = list[k] != t && areas[list[k]] > 0 && normal[list[k]].dot(normal[t]) >= kFlatCos;
         return coplanar ? normal[t] : chosen;

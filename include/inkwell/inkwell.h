@@ -101,10 +101,12 @@ struct Fidelity {
 };
 
 // Measures `points` (in the mesh's units: a Drawing's with Distribution::Refinement, say) against the faces of the
-// mesh in `meshPath` (.obj .ply .off .stl .gltf .glb). A file without faces is refused. Cost: about a second for
-// 10⁵ points against 10⁵ triangles (a k-d tree of the points, a grid of the triangles).
+// mesh in `meshPath` (.obj .ply .off .stl .gltf .glb). A file without faces is refused. The coverage's reference
+// samples lie on the triangles' curved patches as a fit with `creaseAngleDeg` (ModelOptions::creaseAngleDeg)
+// samples them. Cost: about a second for 10⁵ points against 10⁵ triangles (a k-d tree of the points, a grid of the
+// triangles).
 Fidelity measureFidelity(const std::string& meshPath, const std::vector<Vec3>& points, double tolerance = 0.01,
-                         const Reporter& reporter = {});
+                         const Reporter& reporter = {}, double creaseAngleDeg = 60);
 
 // ---- Device -------------------------------------------------------------------------------------------
 
