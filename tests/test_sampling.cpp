@@ -396,37 +396,9 @@ TEST_CASE("sampling: a plate's flat faces stay flat beside a crease whose vertex
     // bulged the long top triangles by 5% of their length: a ridge on the fitted top face along each, drawn as
     // contour lenses on a flat face. A corner beside a crease whose lean would bulge the patch by more than 0.5% of
     // the diagonal takes its faces' side's normal.
-    const int n = 48;
+    // tests/models/plate-with-hole.obj: the square [-1, 1]² × [-h, h], a hole of radius r, 48 segments.
     const double r = 0.4, h = 0.3;
-    std::string obj;
-    auto square = [](double t) -> Eigen::Vector2d {  // the square's edge in direction t
-        return Eigen::Vector2d(std::cos(t), std::sin(t)) / std::max(std::abs(std::cos(t)), std::abs(std::sin(t)));
-    };
-    for (double z : {h, -h}) {
-        for (int i = 0; i < n; ++i)
-            obj += "v " + std::to_string(r * std::cos(2 * M_PI * i / n)) + " " +
-                   std::to_string(r * std::sin(2 * M_PI * i / n)) + " " + std::to_string(z) + "\n";
-        for (int i = 0; i < n; ++i) {
-            const Eigen::Vector2d q = square(2 * M_PI * i / n);
-            obj += "v " + std::to_string(q.x()) + " " + std::to_string(q.y()) + " " + std::to_string(z) + "\n";
-        }
-    }
-    auto face = [&](int a, int b, int c) {
-        obj += "f " + std::to_string(a + 1) + " " + std::to_string(b + 1) + " " + std::to_string(c + 1) + "\n";
-    };
-    auto rim = [&](int layer, int i) { return layer * 2 * n + i % n; };
-    auto edge = [&](int layer, int i) { return layer * 2 * n + n + i % n; };
-    for (int i = 0; i < n; ++i) {
-        face(rim(0, i), edge(0, i), edge(0, i + 1));  // top
-        face(rim(0, i), edge(0, i + 1), rim(0, i + 1));
-        face(rim(1, i), edge(1, i + 1), edge(1, i));  // bottom
-        face(rim(1, i), rim(1, i + 1), edge(1, i + 1));
-        face(edge(0, i), edge(1, i), edge(1, i + 1));  // outside
-        face(edge(0, i), edge(1, i + 1), edge(0, i + 1));
-        face(rim(0, i), rim(1, i + 1), rim(1, i));  // the hole
-        face(rim(0, i), rim(0, i + 1), rim(1, i + 1));
-    }
-    const OrientedPoints mesh = parsePoints(obj, "obj", "plate.obj");
+    const OrientedPoints mesh = ink::loadPoints(INKWELL_SOURCE_DIR "/tests/models/plate-with-hole.obj");
     const OrientedPoints s = ink::sampleFaces(mesh, 20000, 1);
     size_t onTop = 0;
     double highest = 0, tilt = 0;

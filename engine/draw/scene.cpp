@@ -22,7 +22,7 @@ bool autoOnDevice(const Context& ctx) { return ctx.properties.deviceType != VK_P
 // keeps its rank); returns how many went, and how many there were in `total`.
 size_t trimRefinement(Context& ctx, GpuRefinement& r, const Model& model, size_t& total) {
     total = 0;
-    if (model.support.empty() && !model.trimFarField) return 0;
+    if (!model.trims()) return 0;
     const std::vector<PointRecord> points = readDrawnPoints(ctx, r);
     total = points.size();
     // Which are held, on all threads (a scan's 338,838 points, 27 cells a look-up), then kept in order.

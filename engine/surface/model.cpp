@@ -384,7 +384,7 @@ bool Model::holds(const Eigen::Vector3d& x) const {
 }
 
 std::vector<PenStroke> trimStrokes(const std::vector<PenStroke>& strokes, const Model& model, size_t* dropped) {
-    if (model.support.empty() && !model.trimFarField) return strokes;
+    if (!model.trims()) return strokes;
     return keepRuns(
         strokes, [&](size_t s, size_t i) { return model.holds(strokes[s].points[i].cast<double>()); }, dropped);
 }

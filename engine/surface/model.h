@@ -51,6 +51,8 @@ struct Model {
     // unity is trimmed, its patches carry the blend (Σ w_i ≥ kFarFieldTrim · τ: the far field holds under a
     // fifth of it).
     bool holds(const Eigen::Vector3d& x) const;
+    // Whether holds can be false anywhere (else the trimming has nothing to do).
+    bool trims() const { return !support.empty() || trimFarField; }
 };
 
 // The drawing keeps a point whose patch weight S = Σ w_i is at least this share of τ: there the far field's

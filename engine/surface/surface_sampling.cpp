@@ -121,8 +121,7 @@ struct Faces {
     // The normal of corner v of triangle t: the vertex's own (a file's, or the area-weighted mean) where it is
     // within 20° of the mean of the faces of t's smoothing group around v, and, where a crease passes v (a face
     // around it turns more than the crease angle from t), its lean across it bulges t's patch by less than
-    // kCornerBulge; that
-    // mean where not.
+    // kCornerBulge; that mean where not. Then the sliver rule below.
     Vector3d corner(const OrientedPoints& mesh, uint32_t v, size_t t, const std::vector<double>& areas) const {
         Vector3d sum = Vector3d::Zero();
         bool crease = false;
@@ -134,17 +133,13 @@ struct Faces {
         }
         const double length = sum.norm();
         const Vector3d group = length > 0 ? Vector3d(sum / length) : normal[t];
-        double edge = 0;
-        for (uint32_t w : mesh.triangles[t]) edge = std::max(edge, (mesh.positions[w] - mesh.positions[v]).norm());
-        // How far a corner normal lifts t's patch off its plane, against kCornerBulge.
-        auto bulges = [&](const Vector3d& n, const Vector3d& plane) {
-            return 0.15 * edge * n.cross(plane).norm() > kCornerBulge * diagonal;
-        };
         const Vector3d& own = mesh.normals[v];
         Vector3d chosen = group;
         if (own.dot(group) >= kOwnCos * own.norm()) {
             const Vector3d unit = own.normalized();
-            if (!crease || !bulges(unit, group)) chosen = unit;
+            double edge = 0;  // the longest edge from v
+            for (uint32_t w : mesh.triangles[t]) edge = std::max(edge, (mesh.positions[w] - mesh.positions[v]).norm());
+            if (!crease || !(0.15 * edge * unit.cross(group).norm() > kCornerBulge * diagonal)) chosen = unit;
         }
         // A flat face's sliver beside a fillet or a chamfer under the crease angle: the smoothing group's mean
         // leans towards it along the sliver, and a CAD face's fan of long thin triangles bulged by up to 2.9% of the
