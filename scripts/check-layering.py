@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Checks the engine's layering (CI): no two engine modules include each other, directly or through others
 (a module is NAME.h with NAME.cpp); the CPU-only modules reach no Vulkan header; the installed headers
-(include/inkwell/) include nothing of the engine's. Prints what it finds and exits 1."""
+(include/inkwell/) include nothing of the engine's; the apps include nothing of the engine's either, only the
+public API (those files of theirs not yet moved onto it are listed, and the list may only shrink). Prints what it
+finds and exits 1."""
 import glob, os, re, sys
 
 os.chdir(os.path.join(os.path.dirname(__file__), '..'))
@@ -51,13 +53,35 @@ leaks = sorted(m for m in cpu_only if (reaches(m, {m}) & vulkan))
 public = [f for f in glob.glob('include/inkwell/*.h')
           for line in open(f, encoding='utf-8')
           if re.match(r'#include "(?!inkwell/)', line)]
+# The apps (the command line, the viewer) on the public API: an include of theirs that names a file of engine/ or
+# spirv_shaders/ is a layering error, but in the files below, not yet moved onto the public API (issue 28). A file
+# moved must leave the list.
+APPS_ON_ENGINE = {
+    'apps/cli/app.cpp', 'apps/cli/app.h', 'apps/cli/capture_command.cpp', 'apps/cli/model_commands.cpp',
+    'apps/viewer/view_command.cpp', 'apps/viewer/viewer_panel.h',
+}
+app_files = sorted(glob.glob('apps/**/*.h', recursive=True) + glob.glob('apps/**/*.cpp', recursive=True))
+on_engine = set()
+for f in app_files:
+    for line in open(f, encoding='utf-8'):
+        m = re.match(r'#include "([^"]+)"', line)
+        if m and any(os.path.exists(os.path.join(root, m.group(1))) for root in ('engine', 'spirv_shaders')):
+            on_engine.add(f)
+apps_wrong = sorted(on_engine - APPS_ON_ENGINE)
+apps_moved = sorted(APPS_ON_ENGINE - on_engine)
+
 for c in sorted(cycles):
     print(f'check-layering: engine modules include each other: {c}')
 for f in sorted(set(public)):
     print(f'check-layering: {f} includes a header outside include/inkwell/')
 for m in leaks:
     print(f'check-layering: the CPU-only module {m} reaches a Vulkan header')
-if cycles or public or leaks:
+for f in apps_wrong:
+    print(f'check-layering: {f} includes a header of engine/; the apps use the public API (include/inkwell/)')
+for f in apps_moved:
+    print(f'check-layering: {f} is on the public API now: take it off APPS_ON_ENGINE')
+if cycles or public or leaks or apps_wrong or apps_moved:
     sys.exit(1)
 print(f'check-layering: {len(edges)} engine modules, no include cycle, {len(cpu_only)} CPU-only ones without Vulkan; '
-      'the public headers stand alone')
+      f'the public headers stand alone; {len(app_files) - len(on_engine)} of the apps\' {len(app_files)} files on '
+      'the public API alone')

@@ -1,6 +1,9 @@
 // What the inkwell commands share: options, the Vulkan session, the scene (model + refinements), JSON stats.
 #pragma once
 
+#include "inkwell/inkwell.h"
+
+#include "api/stats_json.h"
 #include "base/common.h"
 #include "draw/camera.h"
 #include "draw/renderer.h"
@@ -25,6 +28,14 @@ using Clock = std::chrono::steady_clock;
 using ink::secondsSince;
 
 using ink::DrawStyle;
+using inkwell::api::deviceJson;
+using inkwell::api::fitJson;
+using inkwell::api::hostMsJson;
+using inkwell::api::levelsJson;
+using inkwell::api::linesJson;
+using inkwell::api::pageJson;
+using inkwell::api::plotJson;
+using inkwell::api::spacingJson;
 
 struct Options;
 // --control-points and --fit as the engine takes them.
@@ -112,6 +123,12 @@ void loadPreset(Options& o, const std::string& path);
 // piped and scripted runs stay quiet. main() installs it for the whole command.
 ink::Reporter terminalReporter(bool quiet);
 
+// The Vulkan device of a command (--device; validation and synchronization validation with `validation`), its
+// validation messages printed on stderr.
+inkwell::Device openDevice(const Options& o, bool validation);
+// Throws naming the first validation error, if any: a command that passed with validation errors has failed.
+void checkValidation(const inkwell::Device& device);
+
 // Owns the Vulkan context of one command; validation errors count as a failure, and are printed.
 struct Session {
     ink::Context ctx;
@@ -126,29 +143,12 @@ struct Scene : ink::Scene {
     void refine(const Options& o) { ink::Scene::refine(o.style, o.refine, o.lines); }
 };
 
-json fitJson(const ink::Model& m);
-// The refinements' host milliseconds (bench's refine_host_ms, render's refine.host_ms).
-json hostMsJson(const ink::HostMs& h);
-json levelsJson(const std::vector<ink::LevelStats>& levels);
-json deviceJson(const ink::Context& ctx);
 // The marks of `renderer`'s frame `frame` (drawn and submitted) laid out on `page` and written as SVG or PDF by
 // the extension of `path`: what the viewer's V key and `view --vector` save.
 ink::Plot writeVectorView(const ink::PointRenderer& renderer, uint32_t frame, const std::string& path,
                           const ink::PageOptions& page);
-// A plot's layers: pen, name, paths and vertices before and after simplifying and merging, pen-up travel
-// before and after ordering, pen-down length in mm, lifts and the estimated plot time; the pens and the time
-// model.
-json plotJson(const ink::Plot& plot);
 // One line a pen on stdout: paths, pen-up travel, pen-down length, lifts and the estimated plot time.
 void printPlot(const ink::Plot& plot);
-// The pen lines traced: strokes, vertices, lengths and times.
-json linesJson(const ink::Scene& scene);
-// The last frame's stipples on the page, one object a point set (docs/usage.md, Stats JSON: `stipples`): the
-// front dots drawn, how many larger, the outline's dots, and ink::measurePage's windows of 128 output pixels.
-json pageJson(const ink::OffscreenRenderer& renderer, size_t sets, const ink::RenderStyle& style, uint32_t width,
-              uint32_t height);
-// Spacing of a ranked point set: the whole set and its prefixes 1/2, 1/4, 1/8, the area estimated from it.
-json spacingJson(const std::vector<ink::PointRecord>& points);
 // Writes JSON atomically; does nothing for an empty path.
 void writeJson(const std::string& path, const json& j);
 

@@ -1,8 +1,7 @@
 #include "preset.h"
 
-#include "base/common.h"
+#include "inkwell/files.h"
 #include "inkwell/ranges.h"
-#include "refine/refine_plan.h"
 
 #include <cmath>
 #include <limits>
@@ -15,7 +14,7 @@ namespace {
 using nlohmann::json;
 
 [[noreturn]] void fail(const std::string& name, const std::string& key, const std::string& what) {
-    throw ink::Error("preset '" + name + "': \"" + key + "\" " + what);
+    throw inkwell::Error("preset '" + name + "': \"" + key + "\" " + what);
 }
 
 std::string text(const json& value, const std::string& name, const std::string& key,
@@ -28,7 +27,7 @@ std::string text(const json& value, const std::string& name, const std::string& 
         if (s == a) return s;
         list += std::string(list.empty() ? "" : ", ") + a;
     }
-    fail(name, key, "is " + ink::quoted(s) + ", not one of " + list);
+    fail(name, key, "is " + inkwell::quoted(s) + ", not one of " + list);
 }
 
 double number(const json& value, const std::string& name, const std::string& key) {
@@ -61,7 +60,7 @@ std::string colour(const json& value, const std::string& name, const std::string
     std::string s = text(value, name, key);
     std::string hex = s.rfind('#', 0) == 0 ? s.substr(1) : s;
     if (hex.size() != 6 || hex.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos)
-        fail(name, key, "is " + ink::quoted(s) + ", not a colour of the form #rrggbb");
+        fail(name, key, "is " + inkwell::quoted(s) + ", not a colour of the form #rrggbb");
     return s;
 }
 
@@ -73,9 +72,9 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
         j = json::parse(bytes);
     } catch (const json::exception& e) {
         // nlohmann quotes the bytes it stopped at, an invalid UTF-8 byte too: escaped, not echoed.
-        throw ink::Error("preset '" + name + "' is not valid JSON: " + ink::escapeText(e.what()));
+        throw inkwell::Error("preset '" + name + "' is not valid JSON: " + inkwell::escapeText(e.what()));
     }
-    if (!j.is_object()) throw ink::Error("preset '" + name + "' must be a JSON object");
+    if (!j.is_object()) throw inkwell::Error("preset '" + name + "' must be a JSON object");
     Preset p;
     for (auto& [key, value] : j.items()) {
         if (key == "style") {
@@ -87,7 +86,7 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
                 if (part != "stipple" && part != "direction" && part != "both" && part != "contours" &&
                     part != "hatching")
                     fail(name, key,
-                         "is " + ink::quoted(*p.style) +
+                         "is " + inkwell::quoted(*p.style) +
                              ", not parts of stipple, direction, both, contours, hatching joined by '+'");
             }
         } else if (key == "contour_width")
@@ -154,11 +153,11 @@ Preset parsePreset(const std::string& bytes, const std::string& name) {
             if (!(length > 0) || !std::isfinite(length)) fail(name, key, "must be a non-zero vector");
             p.light = l;
         } else if (key == "levels")
-            p.levels = integer(value, name, key, 0, ink::kMaxLevels - 1);
+            p.levels = integer(value, name, key, 0, uint32_t(inkwell::ranges::levels.hi));
         else if (key == "passes")
             p.passes = integer(value, name, key, inkwell::ranges::passes);
         else
-            throw ink::Error("preset '" + name + "': unknown key " + ink::quoted(key));
+            throw inkwell::Error("preset '" + name + "': unknown key " + inkwell::quoted(key));
     }
     return p;
 }
@@ -205,7 +204,7 @@ std::string presetJson(const Preset& p) {
 
 namespace {
 
-[[noreturn]] void notCamera(const std::string& why) { throw ink::Error("not a camera: " + why); }
+[[noreturn]] void notCamera(const std::string& why) { throw inkwell::Error("not a camera: " + why); }
 
 double cameraNumber(const json& value, const std::string& key) {
     if (!value.is_number()) notCamera("\"" + key + "\" must be a number");
@@ -255,7 +254,7 @@ CameraText cameraFromOptions(const std::string& text) {
             if (!(in >> axis) || !isUpAxis(axis)) notCamera("--up must be x, -x, y, -y, z or -z");
             c.up = axis;
         } else {
-            notCamera("expected a JSON object or --camera AZ EL DIST [--up AXIS], not " + ink::quoted(word));
+            notCamera("expected a JSON object or --camera AZ EL DIST [--up AXIS], not " + inkwell::quoted(word));
         }
     }
     if (!camera) notCamera("no --camera AZ EL DIST");
@@ -307,7 +306,7 @@ CameraText parseCameraText(const std::string& text) {
             if (!value.is_boolean()) notCamera("\"free_orbit\" must be true or false");
             c.freeOrbit = value.get<bool>();
         } else {
-            notCamera("unknown key " + ink::quoted(key));
+            notCamera("unknown key " + inkwell::quoted(key));
         }
     }
     if (!seen[0] || !seen[1] || !seen[2]) notCamera("it needs \"azimuth_deg\", \"elevation_deg\" and \"distance\"");

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <cstring>
 
-namespace ink {
+namespace inkwell {
 
 std::string readFileCapped(const std::string& path, size_t maxBytes, const std::string& tooLarge) {
     std::FILE* file = std::fopen(path.c_str(), "rb");
@@ -99,6 +99,10 @@ std::string escapeText(std::string_view s) {
     }
     return out;
 }
+
+}  // namespace inkwell
+
+namespace ink {
 
 namespace {
 thread_local const Reporter* t_reporter = nullptr;

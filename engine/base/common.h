@@ -2,6 +2,7 @@
 #pragma once
 
 #include "inkwell/error.h"
+#include "inkwell/files.h"
 
 #include <chrono>
 #include <cstddef>
@@ -18,18 +19,10 @@ namespace ink {
 // how to fix it; apps print it and exit non-zero.
 using Error = inkwell::Error;
 
-// A token or line of a file, for a message: quoted, shortened, bytes outside printable ASCII shown as '?',
-// so that binary garbage cannot break the one-line message.
-std::string quoted(std::string_view s);
-
-// `s` with every byte that is not printable text escaped as \xNN: control characters (a newline too) and
-// bytes that are not valid UTF-8; valid UTF-8 (a file name with accents) stays as it is. Every message the
-// command line prints goes through it, so a file's stray byte never reaches the terminal raw.
-std::string escapeText(std::string_view s);
-
-// The whole file, read in chunks (pipes have no size, files can change); more than maxBytes throws
-// "PATH: tooLarge". Errors name the file and the system's reason.
-std::string readFileCapped(const std::string& path, size_t maxBytes, const std::string& tooLarge);
+// The text of messages and capped reads (include/inkwell/files.h).
+using inkwell::escapeText;
+using inkwell::quoted;
+using inkwell::readFileCapped;
 
 // Where the library's notes and progress go (include/inkwell/error.h): the library prints nothing itself. An
 // application installs a reporter for a stretch of work on its thread (ScopedReporter); without one, notes and

@@ -16,7 +16,7 @@
 #include <filesystem>
 #include <mutex>
 
-namespace ink {
+namespace inkwell {
 
 namespace {
 
@@ -318,4 +318,4 @@ void checkOutputs(const std::vector<std::string>& outputs, const std::vector<std
     }
 }
 
-}  // namespace ink
+}  // namespace inkwell

@@ -86,6 +86,7 @@ public:
 private:
     struct Impl;
     friend class Drawing;
+    friend struct Access;  // the library's own code beside this API (diagnostics.h)
     explicit Model(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
     std::shared_ptr<const Impl> impl_;
 };
@@ -146,12 +147,17 @@ public:
     Device(Device&&) noexcept;
     Device& operator=(Device&&) noexcept;
 
-    std::string name() const;           // "llvmpipe (LLVM 15.0.6, 256 bits)"
-    uint32_t validationErrors() const;  // counted since creation (with DeviceOptions::validation)
+    std::string name() const;    // "llvmpipe (LLVM 15.0.6, 256 bits)"
+    std::string driver() const;  // the driver's version: "Mesa 22.3.6 (LLVM 15.0.6)"
+    // With DeviceOptions::validation: the messages counted since creation, and the first error's text.
+    uint32_t validationErrors() const;
+    uint32_t validationWarnings() const;
+    std::string firstValidationError() const;
 
 private:
     struct Impl;
     friend class Drawing;
+    friend struct Access;
     std::unique_ptr<Impl> impl_;
 };
 
@@ -244,6 +250,7 @@ private:
     struct Impl;
     friend class Renderer;
     friend class FrameRecorder;
+    friend struct Access;
     std::unique_ptr<Impl> impl_;
 };
 

@@ -52,6 +52,7 @@ constexpr Range halo{0, 32, false, false, "pixels"};
 constexpr Range hatchSpacing{0.001, 0.1, false, false, "of the diagonal"};
 constexpr Range hatchFamilies{1, 3};  // an integer
 // Refinement.
+constexpr Range levels{0, 15};  // an integer: refinement levels after the seeds (the device's MAX_LEVELS, less one)
 constexpr Range candidatesPerStipple{2, 16};
 constexpr Range supersample{1, 4};  // an integer: render this many times larger and filter down
 constexpr Range passes{1, 64};      // an integer

@@ -1,6 +1,6 @@
 // The public API (include/inkwell/inkwell.h) over the engine: each public object owns the engine object it
 // names, and long calls install the caller's Reporter for their duration.
-#include "inkwell/inkwell.h"
+#include "api/impl.h"
 #include "inkwell/ranges.h"
 
 #include "base/common.h"
@@ -23,7 +23,7 @@
 
 namespace inkwell {
 
-namespace {
+namespace api {
 
 Eigen::Vector3d toEigen(const Vec3& v) { return {v[0], v[1], v[2]}; }
 Vec3 toVec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
@@ -110,35 +110,31 @@ ink::DrawStyle toDrawStyle(Style s) {
 }
 
 static_assert(int(Up::NegZ) == int(ink::UpAxis::NegZ) && int(Up::Y) == int(ink::UpAxis::PosY));
+static_assert(ranges::levels.hi == ink::kMaxLevels - 1, "ranges.h: levels follow the device's MAX_LEVELS");
 
-}  // namespace
+}  // namespace api
+
+using api::toEigen;
+using api::toVec3;
 
 // ---- Model
 
-struct Model::Impl {
-    ink::Model model;
-    std::optional<ink::UpAxis> convention;  // the file format's up axis (glTF: +y)
-};
-
-namespace {
-
-ink::ModelOptions toInk(const ModelOptions& o) {
+ink::ModelOptions api::toInk(const ModelOptions& o) {
     return {o.controlPoints, o.method == FitMethod::Global ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity,
             o.creaseAngleDeg, o.trim};
 }
 
-}  // namespace
-
 Model Model::load(const std::string& path, const ModelOptions& options, const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
-    ink::checkModelOptions(toInk(options));
-    return Model(std::make_shared<const Impl>(Impl{ink::loadModel(path, toInk(options)), ink::formatUpAxis(path)}));
+    ink::checkModelOptions(api::toInk(options));
+    return Model(
+        std::make_shared<const Impl>(Impl{ink::loadModel(path, api::toInk(options)), ink::formatUpAxis(path)}));
 }
 
 Model Model::fit(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals, const ModelOptions& options,
                  const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
-    ink::checkModelOptions(toInk(options));
+    ink::checkModelOptions(api::toInk(options));
     if (positions.size() != normals.size())
         throw Error(std::to_string(positions.size()) + " positions but " + std::to_string(normals.size()) +
                     " normals: give one normal a point");
@@ -150,7 +146,7 @@ Model Model::fit(const std::vector<Vec3>& positions, const std::vector<Vec3>& no
         points.positions.push_back(toEigen(positions[i]));
         points.normals.push_back(n.normalized());
     }
-    return Model(std::make_shared<const Impl>(Impl{ink::fitModel(std::move(points), toInk(options))}));
+    return Model(std::make_shared<const Impl>(Impl{ink::fitModel(std::move(points), api::toInk(options))}));
 }
 
 void Model::save(const std::string& path) const { ink::saveHrbf(path, impl_->model.surface); }
@@ -204,11 +200,6 @@ Fidelity measureFidelity(const std::string& meshPath, const std::vector<Vec3>& p
 
 // ---- Device
 
-struct Device::Impl {
-    ink::Context ctx;
-    ~Impl() { ink::destroyContext(ctx); }
-};
-
 Device::Device(const DeviceOptions& options) : impl_(std::make_unique<Impl>()) {
     ink::ContextOptions o;
     o.validation = options.validation;
@@ -227,10 +218,13 @@ Device& Device::operator=(Device&&) noexcept = default;
 
 std::string Device::name() const { return impl_->ctx.properties.deviceName; }
 uint32_t Device::validationErrors() const { return impl_->ctx.validationErrors.load(); }
+uint32_t Device::validationWarnings() const { return impl_->ctx.validationWarnings.load(); }
+std::string Device::driver() const { return impl_->ctx.driverInfo; }
+std::string Device::firstValidationError() const { return impl_->ctx.firstValidationMessage; }
 
 // ---- Drawing
 
-ink::LineOptions toLines(const DrawingOptions& o) {
+ink::LineOptions api::toLines(const DrawingOptions& o) {
     ranges::hatchSpacing.check(o.hatchSpacing, "hatchSpacing");
     if (!ranges::hatchFamilies.contains(o.hatchFamilies)) throw Error("hatchFamilies must be 1, 2 or 3");
     ink::LineOptions l;
@@ -256,21 +250,8 @@ std::vector<Polyline> toPolylines(const std::vector<ink::PenStroke>& strokes, co
     return out;
 }
 
-struct Drawing::Impl {
-    ink::Scene scene;
-    std::optional<ink::UpAxis> convention;  // the model file's up axis
-    glm::vec3 tracedEye{NAN};               // where the contours on the device were traced from
-    // Counts refine(), which replaces the sets: a renderer made before draws them again from new descriptors.
-    uint64_t generation = 0;
-    Impl(ink::Context& ctx, const ink::Model& model, const DrawingOptions& o)
-        : scene(ctx, model, toDrawStyle(o.style), toRefine(o), toLines(o)) {}
-    // The contours of the view from `camera`, traced again when the eye moved.
-    void traceFor(const ink::Camera& camera) {
-        if (!scene.lines.contours || camera.eye() == tracedEye) return;
-        scene.traceContours(camera);
-        tracedEye = camera.eye();
-    }
-};
+Drawing::Impl::Impl(ink::Context& ctx, const ink::Model& model, const DrawingOptions& o)
+    : scene(ctx, model, api::toDrawStyle(o.style), api::toRefine(o), api::toLines(o)) {}
 
 Drawing::Drawing(Device& device, const Model& model, const DrawingOptions& options, const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
@@ -314,7 +295,7 @@ Drawing& Drawing::operator=(Drawing&&) noexcept = default;
 
 void Drawing::refine(const DrawingOptions& options, const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
-    impl_->scene.refine(toDrawStyle(options.style), toRefine(options), toLines(options));
+    impl_->scene.refine(api::toDrawStyle(options.style), api::toRefine(options), api::toLines(options));
     impl_->tracedEye = glm::vec3(NAN);
     ++impl_->generation;
 }
@@ -324,7 +305,7 @@ std::vector<Polyline> Drawing::hatching() const {
 }
 
 std::vector<Polyline> Drawing::contours(const Camera& camera) const {
-    impl_->traceFor(toCamera(camera));
+    impl_->traceFor(api::toCamera(camera));
     return toPolylines(impl_->scene.contours, impl_->scene.model.surface.frame);
 }
 
@@ -423,7 +404,7 @@ struct Renderer::Impl {
 
 Renderer::Renderer(const Drawing& drawing, uint32_t width, uint32_t height, const Look& look) {
     ink::Scene& scene = drawing.impl_->scene;
-    ink::RenderStyle style = toStyle(look);
+    ink::RenderStyle style = api::toStyle(look);
     ink::checkOffscreenSize(scene.ctx, width, height, style.supersample);
     impl_ = std::make_unique<Impl>(*drawing.impl_, width, height, style);
 }
@@ -433,7 +414,7 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 void Renderer::setLook(const Look& look) {
-    ink::RenderStyle style = toStyle(look);
+    ink::RenderStyle style = api::toStyle(look);
     if (style.supersample != impl_->style.supersample)
         throw Error("setLook cannot change supersample (" + std::to_string(impl_->style.supersample) + " to " +
                     std::to_string(style.supersample) + "): make a new Renderer");
@@ -448,8 +429,8 @@ Image Renderer::render(const Camera& camera) {
         impl_->style.up = ink::UpAxis(int(camera.up));
         renderer.setStyle(impl_->style);
     }
-    impl_->drawing.traceFor(toCamera(camera));
-    ink::RgbaImage image = renderer.render(toCamera(camera));
+    impl_->drawing.traceFor(api::toCamera(camera));
+    ink::RgbaImage image = renderer.render(api::toCamera(camera));
     impl_->rendered = true;
     return {image.width, image.height, std::move(image.pixels)};
 }
@@ -495,7 +476,7 @@ struct FrameRecorder::Impl {
 };
 
 FrameRecorder::FrameRecorder(const Drawing& drawing, VkFormat colorFormat, uint32_t framesInFlight, const Look& look) {
-    impl_ = std::make_unique<Impl>(*drawing.impl_, colorFormat, std::max(1u, framesInFlight), toStyle(look));
+    impl_ = std::make_unique<Impl>(*drawing.impl_, colorFormat, std::max(1u, framesInFlight), api::toStyle(look));
 }
 
 FrameRecorder::~FrameRecorder() = default;
@@ -503,7 +484,7 @@ FrameRecorder::FrameRecorder(FrameRecorder&&) noexcept = default;
 FrameRecorder& FrameRecorder::operator=(FrameRecorder&&) noexcept = default;
 
 void FrameRecorder::setLook(const Look& look) {
-    impl_->style = toStyle(look);
+    impl_->style = api::toStyle(look);
     impl_->restyle = true;
 }
 
@@ -520,8 +501,8 @@ void FrameRecorder::record(VkCommandBuffer cmd, const Camera& camera, const Fram
         renderer.setStyle(cmd, impl_->style, 1.0f);
         impl_->restyle = false;
     }
-    impl_->drawing.traceFor(toCamera(camera));  // waits for the device when the eye moved
-    renderer.recordFrame(cmd, toCamera(camera), target, frame);
+    impl_->drawing.traceFor(api::toCamera(camera));  // waits for the device when the eye moved
+    renderer.recordFrame(cmd, api::toCamera(camera), target, frame);
     impl_->recorded[frame] = true;
 }
 
