@@ -55,14 +55,17 @@ struct AppTarget {
         ink::destroyImage(ctx, image);
     }
     // Records frame slot `frame` into one command buffer, submits it, waits, and reads the image back.
-    inkwell::Image record(inkwell::FrameRecorder& recorder, const inkwell::Camera& camera, uint32_t frame) {
+    // With `capture`, the recorder copies the drawing into its own buffer too (FrameRecorder::captured).
+    inkwell::Image record(inkwell::FrameRecorder& recorder, const inkwell::Camera& camera, uint32_t frame,
+                          bool capture = false, bool traceContours = true) {
         ink::submitAndWait(ctx, [&](VkCommandBuffer cmd) {
             inkwell::FrameTarget t{image.image,
                                    image.view,
                                    {size, size},
                                    VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT};
-            recorder.record(cmd, camera, t, frame);
+                                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+                                   capture};
+            recorder.record(cmd, camera, t, frame, traceContours);
             VkBufferImageCopy region{};
             region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
             region.imageExtent = {size, size, 1};
@@ -443,4 +446,155 @@ TEST_CASE("api: firstView finds the bunny's up axis and frames it to fill 85% of
     const double fill = std::max(x1 - x0 + 1, y1 - y0 + 1) / 256.0;
     CHECK(fill >= 0.80);
     CHECK(fill <= 0.90);
+}
+
+// ---- What the apps use (issue 28: the command line and the viewer on the public API alone) --------------------
+
+TEST_CASE("api: prepare and apply refine in two halves under a live FrameRecorder, whose captured frame is its image" *
+          doctest::test_suite("gpu")) {
+    GpuFixture gpu;
+    inkwell::Device device(inkwell::AdoptedDevice{gpu.ctx.instance, gpu.ctx.physicalDevice, gpu.ctx.device,
+                                                  gpu.ctx.queue, gpu.ctx.queueFamily});
+    const inkwell::AdoptedDevice handles = device.handles();
+    CHECK(handles.device == gpu.ctx.device);
+    CHECK(handles.queue == gpu.ctx.queue);
+    std::vector<inkwell::Vec3> positions, normals;
+    spherePoints(positions, normals);
+    inkwell::DrawingOptions options;
+    options.levels = 3;
+    inkwell::Drawing drawing(device, inkwell::Model::fit(positions, normals), options);
+    const uint32_t size = 96;
+    inkwell::Look look;
+    look.supersample = 1;
+    inkwell::Camera camera;
+    inkwell::FrameRecorder recorder(drawing, VK_FORMAT_R8G8B8A8_UNORM, 2, look);
+    AppTarget app(gpu.ctx, size);
+    CHECK_THROWS_WITH_AS(recorder.captured(1), doctest::Contains("was not recorded with capture"), inkwell::Error);
+    const inkwell::Image before = app.record(recorder, camera, 1, true);
+    CHECK(recorder.captured(1).rgba == before.rgba);  // the recorder's copy is the application's image
+    CHECK(before.rgba == inkwell::Renderer(drawing, size, size, look).render(camera).rgba);
+    const uint64_t points = drawing.pointCount();
+
+    // The first half leaves the drawing as it was; the second puts the new sets in place.
+    options.levels = 4;
+    inkwell::Drawing::Pending pending = drawing.prepare(options);
+    CHECK(pending.refined());
+    CHECK(pending.traced());  // no pen lines: nothing to trace, but the sets' lines are made anew
+    CHECK(pending.seconds() > 0);
+    CHECK(drawing.pointCount() == points);
+    CHECK(drawing.options().levels == 3);
+    CHECK(app.record(recorder, camera, 0).rgba == before.rgba);
+    drawing.apply(std::move(pending));
+    CHECK(drawing.options().levels == 4);
+    CHECK(drawing.pointCount() > 3 * points);
+    const inkwell::Image after = app.record(recorder, camera, 0, true);
+    CHECK(after.rgba != before.rgba);
+    CHECK(recorder.captured(0).rgba == after.rgba);
+    CHECK(after.rgba == inkwell::Renderer(drawing, size, size, look).render(camera).rgba);
+    CHECK_THROWS_WITH_AS(drawing.apply(inkwell::Drawing::Pending()), doctest::Contains("nothing prepared"),
+                         inkwell::Error);
+
+    // Contours on: traced over the current sets (no new sets); then off: nothing to make or trace at all.
+    options.contours = true;
+    pending = drawing.prepare(options);
+    CHECK_FALSE(pending.refined());
+    CHECK(pending.traced());
+    drawing.apply(std::move(pending));
+    CHECK(drawing.pointCount() > 3 * points);
+    const inkwell::Image outlined = app.record(recorder, camera, 1);
+    CHECK(inked(outlined) > inked(after));  // the contour's pen
+    CHECK(drawing.contourSeconds() > 0);
+    options.contours = false;
+    pending = drawing.prepare(options);
+    CHECK_FALSE(pending.refined());
+    CHECK_FALSE(pending.traced());
+    drawing.apply(std::move(pending));
+    CHECK(app.record(recorder, camera, 1).rgba == after.rgba);
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("api: Samples from the device and the CPU, a Plot written twice, and the stats as JSON" *
+          doctest::test_suite("gpu")) {
+    GpuFixture gpu;
+    inkwell::Device device(inkwell::AdoptedDevice{gpu.ctx.instance, gpu.ctx.physicalDevice, gpu.ctx.device,
+                                                  gpu.ctx.queue, gpu.ctx.queueFamily});
+    std::vector<inkwell::Vec3> positions, normals;
+    spherePoints(positions, normals);
+    const inkwell::Model model = inkwell::Model::fit(positions, normals);
+    CHECK(model.statsJson().find("\"method\":\"pu\"") != std::string::npos);
+    inkwell::DrawingOptions options;
+    options.levels = 5;
+    const inkwell::Samples onDevice(&device, model, options), onCpu(nullptr, model, options);
+    REQUIRE(onDevice.size() > 500);
+    // The CPU reference refines and selects as the device does (the same count on lavapipe; a GPU's float may
+    // keep or drop a candidate or two differently).
+    CHECK(double(onCpu.size()) == doctest::Approx(double(onDevice.size())).epsilon(0.02));
+    for (const inkwell::Samples* samples : {&onDevice, &onCpu}) {
+        CHECK(samples->refined().size() > samples->size());  // the stipples are a selection of the refined points
+        for (const inkwell::Point& p : samples->points())
+            REQUIRE(std::abs(std::hypot(p.position[0], p.position[1], p.position[2]) - 0.5) < 0.01);
+    }
+    CHECK(onCpu.statsJson().find("\"device\":\"cpu\"") != std::string::npos);
+    CHECK(onDevice.statsJson(true).find("\"spacing\"") != std::string::npos);
+    options.style = inkwell::Style::Both;
+    CHECK_THROWS_WITH_AS(inkwell::Samples(nullptr, model, options), doctest::Contains("one set"), inkwell::Error);
+
+    inkwell::Drawing drawing(device, model, {});
+    inkwell::Renderer renderer(drawing, 128, 128, {});
+    CHECK_THROWS_WITH_AS(renderer.plot(), doctest::Contains("no frame"), inkwell::Error);
+    renderer.render({});
+    CHECK(renderer.statsJson().find("\"front_dots\"") != std::string::npos);
+    CHECK(drawing.statsJson().find("\"refine\"") != std::string::npos);
+    TempDir dir;
+    const inkwell::Plot plot = renderer.plot();
+    plot.write(dir / "a.svg");
+    renderer.writeVector(dir / "b.svg");
+    auto slurp = [](const std::string& path) {
+        std::ifstream in(path);
+        return std::string((std::istreambuf_iterator<char>(in)), {});
+    };
+    CHECK(slurp(dir / "a.svg").size() > 1000);
+    CHECK(slurp(dir / "a.svg") == slurp(dir / "b.svg"));
+    REQUIRE(plot.layers().size() == 1);
+    CHECK(plot.layers()[0].pathsGiven >= plot.layers()[0].paths);
+    CHECK(plot.statsJson().find("\"layers\"") != std::string::npos);
+    CHECK(inkwell::Plot::isVectorPath("x.PDF"));
+    CHECK_FALSE(inkwell::Plot::isVectorPath("x.png"));
+    CHECK_THROWS_WITH_AS(plot.write(dir / "c.eps"), doctest::Contains("is not an .svg or .pdf file"), inkwell::Error);
+    gpu.requireNoValidationErrors();
+}
+
+TEST_CASE("api: images compared, cameras panned, up axes named, model options checked up front" *
+          doctest::test_suite("unit")) {
+    inkwell::Image a{4, 2, std::vector<uint8_t>(4 * 2 * 4, 200)}, b = a;
+    CHECK(inkwell::compareImages(a, b).differingPixels == 0);
+    b.rgba[5] = 250;  // one channel of the second pixel, 50 off
+    inkwell::ImageDifference d = inkwell::compareImages(a, b);
+    CHECK(d.differingPixels == 1);
+    CHECK(d.pixels == 8);
+    CHECK(d.maxAbsDiff == 50);
+    CHECK(d.sameSize);
+    CHECK(inkwell::compareImages(a, b, 50).differingPixels == 0);
+    CHECK(inkwell::differenceImage(a, b).width == 4);
+    inkwell::Image c{2, 2, std::vector<uint8_t>(16, 0)};
+    CHECK_FALSE(inkwell::compareImages(a, c).sameSize);
+
+    inkwell::Camera camera;
+    const std::array<float, 3> eye = camera.eye();
+    CHECK(std::hypot(eye[0], eye[1], eye[2]) == doctest::Approx(camera.distance));
+    camera.pan(100, 0, 1000);  // a tenth of the view to the right: the target moves across the view
+    const std::array<float, 3> moved = camera.target;
+    const float along = moved[0] * eye[0] + moved[1] * eye[1] + moved[2] * eye[2];
+    CHECK(std::hypot(moved[0], moved[1], moved[2]) > 0.05f);
+    CHECK(std::abs(along) < 1e-5f);  // in the view plane
+
+    for (inkwell::Up up :
+         {inkwell::Up::X, inkwell::Up::NegX, inkwell::Up::Y, inkwell::Up::NegY, inkwell::Up::Z, inkwell::Up::NegZ})
+        CHECK(inkwell::parseUp(inkwell::upName(up)) == up);
+    CHECK(inkwell::parseUp("+z") == inkwell::Up::Z);
+    CHECK_THROWS_WITH_AS(inkwell::parseUp("w"), doctest::Contains("is not one of x, -x, y, -y, z, -z"), inkwell::Error);
+    CHECK(std::string(inkwell::styleName(inkwell::Style::Both)) == "both");
+    inkwell::ModelOptions options;
+    options.creaseAngleDeg = 0;
+    CHECK_THROWS_WITH_AS(inkwell::checkModelOptions(options), doctest::Contains("crease angle"), inkwell::Error);
 }

@@ -268,7 +268,7 @@ TEST_CASE("fidelity: sample --fidelity prints and writes both shares; files with
     std::string pts = dir.write("c.pts", "0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n0 0 1 1 0 0\n");
     run = runInkwell("sample " + pts + " --points " + (dir / "q.ply") + " --fidelity");
     CHECK(run.status == 1);
-    CHECK(run.output.find(pts + ": --fidelity needs a mesh with faces; this file has none with area") !=
+    CHECK(run.output.find(pts + ": fidelity needs a mesh with faces; this file has none with area") !=
           std::string::npos);
     CHECK(!std::filesystem::exists(dir / "q.ply"));
     run = runInkwell("fit " + kModels + "parts.obj -o " + (dir / "parts.hrbf"));

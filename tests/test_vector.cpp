@@ -706,8 +706,8 @@ TEST_CASE("vector: ticks, pages and bad options" * doctest::test_suite("cli")) {
         CHECK_FALSE(std::filesystem::exists(dir / "x.svg"));
     };
     refused("--page B5", "page 'B5' is not A3, A4, A5, letter or WxHmm with sides of 10 to 5000 mm");
-    refused("--pen-width 0", "--pen-width must be in [0.001, 10] mm (kMinPenWidth: the files give a micrometre)");
-    refused("--pen-width 0.0004", "--pen-width must be in [0.001, 10] mm (kMinPenWidth: the files give a micrometre)");
+    refused("--pen-width 0", "--pen-width must be in [0.001, 10] mm (the files give a micrometre)");
+    refused("--pen-width 0.0004", "--pen-width must be in [0.001, 10] mm (the files give a micrometre)");
     refused("--margin 200", "--margin must be at least 0 mm and leave room for the pen on the page");
     // Room on the page, but not for the pen: an empty drawing was written, exit 0 (issue 29).
     refused("--page 100x100mm --margin 49.9 --pen-width 0.3",

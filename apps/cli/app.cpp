@@ -1,11 +1,7 @@
 #include "app.h"
 
-#include "base/files.h"
-#include "base/image.h"
-#include "draw/page_metrics.h"
 #include "inkwell/ranges.h"
 #include "preset.h"
-#include "refine/spacing.h"
 
 #include <unistd.h>
 #include <algorithm>
@@ -23,12 +19,15 @@ namespace app {
 static CLI::Range countRange(const inkwell::Range& range) { return CLI::Range(uint32_t(range.lo), uint32_t(range.hi)); }
 static CLI::Range numberRange(const inkwell::Range& range) { return CLI::Range(float(range.lo), float(range.hi)); }
 
-ink::ModelOptions modelOptions(const Options& o) {
-    ink::ModelOptions m{o.controlPoints, o.fit == "global" ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity,
-                        o.creaseAngle, o.trim};
+inkwell::ModelOptions modelOptions(const Options& o) {
+    inkwell::ModelOptions m;
+    m.controlPoints = o.controlPoints;
+    m.method = o.fit == "global" ? inkwell::FitMethod::Global : inkwell::FitMethod::PartitionOfUnity;
+    m.creaseAngleDeg = o.creaseAngle;
+    m.trim = o.trim;
     // The feature lines only where they may be drawn: by the style's pen lines, or in the viewer, whose panel
     // turns them on (fit, sample and a render of dots alone skip them).
-    m.features = o.lines.creases || o.lines.boundaries || (o.command && o.command->get_name() == "view");
+    m.features = o.drawing.creases || o.drawing.boundaries || (o.command && o.command->get_name() == "view");
     return m;
 }
 
@@ -60,7 +59,7 @@ void addDeviceOptions(CLI::App* cmd, Options& o) {
 }
 
 void addRefineOptions(CLI::App* cmd, Options& o) {
-    ink::RefineOptions& r = o.refine;
+    inkwell::DrawingOptions& r = o.drawing;
     cmd->add_option("--levels", r.levels, "Refinement levels after the seeds")
         ->check(nonNegativeInteger())
         ->capture_default_str();
@@ -78,7 +77,7 @@ void addRefineOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--grid", r.grid, "Grid cells along the longest side for --seeds grid")
         ->check(nonNegativeInteger())
         ->capture_default_str();
-    cmd->add_option("--rho", r.rho0, "ρ₀ as a fraction of the bounding-box diagonal (default: half the seed spacing)");
+    cmd->add_option("--rho", r.rho, "ρ₀ as a fraction of the bounding-box diagonal (default: half the seed spacing)");
     cmd->add_option("--rho-divisor", r.rhoDivisor,
                     "ρ of a level over the next's (default: 2 for blue-noise stipples, else the report's 3)")
         ->check(CLI::Range(1.5, 4.0));
@@ -98,7 +97,7 @@ void addRefineOptions(CLI::App* cmd, Options& o) {
 }
 
 void addRenderOptions(CLI::App* cmd, Options& o) {
-    ink::RenderStyle& s = o.render;
+    inkwell::Look& s = o.look;
     cmd->add_option("--style", o.styleName,
                     "What is drawn, parts joined by '+': dots (stipple, direction: hatch-like lines of dots, or both) "
                     "and pen lines (contours, hatching), e.g. contours+hatching+stipple (docs/lines.md)")
@@ -117,7 +116,7 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
         ->check(CLI::IsMember({"auto", "cpu", "device"}))
         ->capture_default_str();
     cmd->add_option("--hatch-width", s.hatchWidth, "Hatching pen width in pixels")->capture_default_str();
-    cmd->add_option("--halo", s.haloWidth, "Paper kept clear each side of an interior contour, in pixels")
+    cmd->add_option("--halo", s.halo, "Paper kept clear each side of an interior contour, in pixels")
         ->capture_default_str();
     cmd->add_option("--creases", o.creases,
                     "Crease lines (a mesh's or a point cloud's sharp edges), on their own pen: auto draws them with "
@@ -130,10 +129,10 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
         ->capture_default_str();
     cmd->add_option("--crease-width", s.creaseWidth, "Crease pen width in pixels")->capture_default_str();
     cmd->add_option("--boundary-width", s.boundaryWidth, "Boundary pen width in pixels")->capture_default_str();
-    cmd->add_option("--hatch-spacing", o.lines.hatch.spacing,
+    cmd->add_option("--hatch-spacing", o.drawing.hatchSpacing,
                     "Spacing of the finest hatching, as a fraction of the bounding-box diagonal")
         ->capture_default_str();
-    cmd->add_option("--hatch-families", o.lines.hatch.families,
+    cmd->add_option("--hatch-families", o.drawing.hatchFamilies,
                     "Hatching families: 1; 2 to cross the first in dark tones; 3 to add a diagonal one in the darkest")
         ->check(countRange(inkwell::ranges::hatchFamilies))
         ->capture_default_str();
@@ -146,7 +145,7 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
         ->delimiter(',');
     cmd->add_option("--ink", o.ink, "Ink colour, #rrggbb")->capture_default_str();
     cmd->add_option("--paper", o.paper, "Paper colour, #rrggbb")->capture_default_str();
-    cmd->add_option("--dot-size", s.frontSize, "Dot diameter in pixels")->capture_default_str();
+    cmd->add_option("--dot-size", s.dotSize, "Dot diameter in pixels")->capture_default_str();
     cmd->add_option("--silhouette-size", s.silhouetteSize, "Silhouette dot diameter in pixels")->capture_default_str();
     cmd->add_option("--tau", s.tau, "Silhouette threshold τ on |n·v|")->capture_default_str();
     cmd->add_option("--tone", s.toneGamma, "Tone curve exponent γ; 0 draws every front dot")->capture_default_str();
@@ -155,7 +154,7 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
                     "Direction towards the key light, X Y Z as seen from the camera (x right, y up, z out; default "
                     "the upper left, -0.5 0.6 0.65); it follows the camera unless --light-fixed")
         ->expected(3);
-    cmd->add_option("--up", o.up,
+    cmd->add_option("--up", o.upName,
                     "The model's up axis, which the camera orbits: auto (the file's convention, else the shape's; "
                     "docs/usage.md), x, -x, y, -y, z or -z")
         ->capture_default_str();
@@ -166,12 +165,13 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
                   "The light follows the camera, keeping the lit side towards the eye (the default)")
         ->excludes(fixed);
     cmd->add_flag("--hidden-lines", s.hiddenLines, "Draw occluded silhouettes faint");
-    cmd->add_option("--hidden-dot-size", s.hiddenSize, "With --hidden-lines: hidden silhouette dot diameter in pixels")
+    cmd->add_option("--hidden-dot-size", s.hiddenDotSize,
+                    "With --hidden-lines: hidden silhouette dot diameter in pixels")
         ->capture_default_str();
     cmd->add_option("--hidden-contour-width", s.hiddenPenWidth,
                     "With --hidden-lines: hidden contour pen width in pixels")
         ->capture_default_str();
-    cmd->add_option("--hidden-opacity", s.hiddenInk.a,
+    cmd->add_option("--hidden-opacity", s.hiddenOpacity,
                     "With --hidden-lines: how much of the ink the hidden lines take, 0-1 (over the paper)")
         ->capture_default_str();
     cmd->add_flag("!--no-occlusion", s.occlusion, "Skip the splat depth pre-pass (dots behind the surface show)");
@@ -185,19 +185,19 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
 }
 
 void addVectorOptions(CLI::App* cmd, Options& o) {
-    ink::PageOptions& p = o.page;
+    inkwell::Page& p = o.page;
     cmd->add_option("--page", o.pageName, "SVG/PDF page: A4, A3, A5, letter or WxHmm (e.g. 300x200mm)")
         ->capture_default_str();
     cmd->add_option("--orientation", o.orientation,
                     "SVG/PDF page orientation (auto: landscape for a wide image; a WxHmm page as given)")
         ->check(CLI::IsMember({"auto", "portrait", "landscape"}))
         ->capture_default_str();
-    cmd->add_option("--margin", p.margin, "SVG/PDF margin on every side, mm")->capture_default_str();
-    cmd->add_option("--pen-width", p.penWidth, "SVG/PDF pen (stroke) width, mm")->capture_default_str();
+    cmd->add_option("--margin", p.marginMm, "SVG/PDF margin on every side, mm")->capture_default_str();
+    cmd->add_option("--pen-width", p.penWidthMm, "SVG/PDF pen (stroke) width, mm")->capture_default_str();
     cmd->add_option("--dot-style", o.dotStyle, "SVG/PDF stipples: small closed circles or short ticks")
         ->check(CLI::IsMember({"circle", "tick"}))
         ->capture_default_str();
-    cmd->add_flag("!--no-order", p.order,
+    cmd->add_flag("!--no-order", p.orderPaths,
                   "SVG/PDF: keep the paths in the device's order (no travel ordering, no end-to-end merging)");
     cmd->add_option("--simplify", p.simplify,
                     "SVG/PDF pen lines: simplification tolerance, a fraction of --pen-width (0: none)")
@@ -216,10 +216,10 @@ void addVectorOptions(CLI::App* cmd, Options& o) {
         ->capture_default_str();
 }
 
-static glm::vec4 parseColour(const std::string& text, const char* what) {
+static inkwell::Color parseColour(const std::string& text, const char* what) {
     std::string hex = text.rfind('#', 0) == 0 ? text.substr(1) : text;
     if (hex.size() != 6 || hex.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos)
-        throw ink::Error(std::string(what) + " colour '" + text + "' is not of the form #rrggbb");
+        throw inkwell::Error(std::string(what) + " colour '" + text + "' is not of the form #rrggbb");
     unsigned value = unsigned(std::stoul(hex, nullptr, 16));
     return {float((value >> 16) & 255) / 255.0f, float((value >> 8) & 255) / 255.0f, float(value & 255) / 255.0f, 1.0f};
 }
@@ -228,7 +228,7 @@ static glm::vec4 parseColour(const std::string& text, const char* what) {
 // parsePreset (preset.cpp) checks every key like the command line checks its option.
 static void applyPreset(Options& o) {
     const Preset p = parsePreset(
-        ink::readFileCapped(o.preset, kMaxPresetBytes, "file is larger than 1 MiB, far more than any preset"),
+        inkwell::readFileCapped(o.preset, kMaxPresetBytes, "file is larger than 1 MiB, far more than any preset"),
         o.preset);
     auto given = [&](const char* option) { return o.command && o.command->count(option) > 0; };
     auto set = [&](auto& target, const auto& value, const char* option) {
@@ -237,74 +237,76 @@ static void applyPreset(Options& o) {
     set(o.styleName, p.style, "--style");
     set(o.ink, p.ink, "--ink");
     set(o.paper, p.paper, "--paper");
-    set(o.render.frontSize, p.dotSize, "--dot-size");
-    set(o.render.silhouetteSize, p.silhouetteSize, "--silhouette-size");
-    set(o.render.tau, p.tau, "--tau");
-    set(o.render.toneGamma, p.tone, "--tone");
-    set(o.render.inkDensity, p.inkDensity, "--ink-density");
-    set(o.render.hiddenLines, p.hiddenLines, "--hidden-lines");
-    set(o.render.screenSpacing, p.screenSpacing, "--no-screen-spacing");
-    set(o.render.hiddenSize, p.hiddenDotSize, "--hidden-dot-size");
-    set(o.render.hiddenPenWidth, p.hiddenContourWidth, "--hidden-contour-width");
-    set(o.render.hiddenInk.a, p.hiddenOpacity, "--hidden-opacity");
-    set(o.up, p.up, "--up");
+    set(o.look.dotSize, p.dotSize, "--dot-size");
+    set(o.look.silhouetteSize, p.silhouetteSize, "--silhouette-size");
+    set(o.look.tau, p.tau, "--tau");
+    set(o.look.toneGamma, p.tone, "--tone");
+    set(o.look.inkDensity, p.inkDensity, "--ink-density");
+    set(o.look.hiddenLines, p.hiddenLines, "--hidden-lines");
+    set(o.look.screenSpacing, p.screenSpacing, "--no-screen-spacing");
+    set(o.look.hiddenDotSize, p.hiddenDotSize, "--hidden-dot-size");
+    set(o.look.hiddenPenWidth, p.hiddenContourWidth, "--hidden-contour-width");
+    set(o.look.hiddenOpacity, p.hiddenOpacity, "--hidden-opacity");
+    set(o.upName, p.up, "--up");
     if (p.lightFixed && !given("--light-fixed") && !given("--light-follows-camera")) o.lightFixed = *p.lightFixed;
     set(o.light, p.light, "--light");
-    set(o.refine.levels, p.levels, "--levels");
+    set(o.drawing.levels, p.levels, "--levels");
     o.presetLevels = bool(p.levels);
-    set(o.refine.passes, p.passes, "--passes");
+    set(o.drawing.passes, p.passes, "--passes");
     set(o.direction, p.direction, "--direction");
-    set(o.render.penWidth, p.contourWidth, "--contour-width");
-    set(o.render.hatchWidth, p.hatchWidth, "--hatch-width");
-    set(o.render.haloWidth, p.halo, "--halo");
-    if (p.hatchSpacing && !given("--hatch-spacing")) o.lines.hatch.spacing = double(*p.hatchSpacing);
-    set(o.lines.hatch.families, p.hatchFamilies, "--hatch-families");
+    set(o.look.penWidth, p.contourWidth, "--contour-width");
+    set(o.look.hatchWidth, p.hatchWidth, "--hatch-width");
+    set(o.look.halo, p.halo, "--halo");
+    if (p.hatchSpacing && !given("--hatch-spacing")) o.drawing.hatchSpacing = double(*p.hatchSpacing);
+    set(o.drawing.hatchFamilies, p.hatchFamilies, "--hatch-families");
     set(o.creases, p.creases, "--creases");
     set(o.boundaries, p.boundaries, "--boundaries");
-    set(o.render.creaseWidth, p.creaseWidth, "--crease-width");
-    set(o.render.boundaryWidth, p.boundaryWidth, "--boundary-width");
+    set(o.look.creaseWidth, p.creaseWidth, "--crease-width");
+    set(o.look.boundaryWidth, p.boundaryWidth, "--boundary-width");
 }
 
 // "--style contours+hatching+stipple": at most one dot style (stipple, direction, both) and any pen lines. Without
 // dots the stipple set is still refined: its splats give the depth the lines are tested against.
 static void parseStyle(Options& o) {
     std::string dots;
-    o.lines.contours = o.lines.hatching = false;
+    inkwell::DrawingOptions& d = o.drawing;
+    d.contours = d.hatching = false;
     if (o.styleName.empty() || o.styleName.back() == '+' || o.styleName.front() == '+' ||
         o.styleName.find("++") != std::string::npos)
-        throw ink::Error(
+        throw inkwell::Error(
             "style '" + o.styleName +
             "' has an empty part: use stipple, direction, both, contours, hatching or parts joined by '+'");
     std::stringstream parts(o.styleName);
     std::string part;
     while (std::getline(parts, part, '+')) {
-        if (part == "contours" && !o.lines.contours)
-            o.lines.contours = true;
-        else if (part == "hatching" && !o.lines.hatching)
-            o.lines.hatching = true;
+        if (part == "contours" && !d.contours)
+            d.contours = true;
+        else if (part == "hatching" && !d.hatching)
+            d.hatching = true;
         else if ((part == "stipple" || part == "direction" || part == "both") && dots.empty())
             dots = part;
         else
-            throw ink::Error("style '" + o.styleName + "': '" + part +
-                             "' is not stipple, direction, both, contours or hatching, or is given twice (parts are "
-                             "joined by '+', at most one of stipple, direction and both)");
+            throw inkwell::Error("style '" + o.styleName + "': '" + part +
+                                 "' is not stipple, direction, both, contours or hatching, or is given twice (parts "
+                                 "are joined by '+', at most one of stipple, direction and both)");
     }
-    o.lines.contourTracer = o.contourTracer == "device" ? ink::LineOptions::ContourTracer::Device
-                            : o.contourTracer == "cpu"  ? ink::LineOptions::ContourTracer::Cpu
-                                                        : ink::LineOptions::ContourTracer::Auto;
-    o.lines.fieldSolver = o.hatchField == "device" ? ink::LineOptions::FieldSolver::Device
-                          : o.hatchField == "cpu"  ? ink::LineOptions::FieldSolver::Cpu
-                                                   : ink::LineOptions::FieldSolver::Auto;
-    o.style = dots == "direction" ? DrawStyle::Direction : dots == "both" ? DrawStyle::Both : DrawStyle::Stipple;
+    auto where = [](const std::string& w) {
+        return w == "device" ? inkwell::Where::Device : w == "cpu" ? inkwell::Where::Cpu : inkwell::Where::Auto;
+    };
+    d.contourTracer = where(o.contourTracer);
+    d.hatchField = where(o.hatchField);
+    d.style = dots == "direction" ? inkwell::Style::Direction
+              : dots == "both"    ? inkwell::Style::Both
+                                  : inkwell::Style::Stipple;
     // A mesh's creases and boundaries go with the pen lines unless asked for or against.
-    const bool pen = o.lines.contours || o.lines.hatching;
-    for (auto [setting, on, option] : {std::tuple{&o.creases, &o.lines.creases, "--creases"},
-                                       std::tuple{&o.boundaries, &o.lines.boundaries, "--boundaries"}}) {
+    const bool pen = d.contours || d.hatching;
+    for (auto [setting, on, option] :
+         {std::tuple{&o.creases, &d.creases, "--creases"}, std::tuple{&o.boundaries, &d.boundaries, "--boundaries"}}) {
         if (*setting != "auto" && *setting != "on" && *setting != "off")
-            throw ink::Error(std::string(option) + " '" + *setting + "' is not auto, on or off");
+            throw inkwell::Error(std::string(option) + " '" + *setting + "' is not auto, on or off");
         *on = *setting == "on" || (*setting == "auto" && pen);
     }
-    o.render.drawDots = !dots.empty();
+    o.look.dots = !dots.empty();
 }
 
 const CLI::Validator& nonNegativeInteger() {
@@ -320,127 +322,127 @@ const CLI::Validator& nonNegativeInteger() {
 }
 
 void finishOptions(Options& o) {
-    ink::checkModelOptions(modelOptions(o));
+    inkwell::checkModelOptions(modelOptions(o));
     if (!o.preset.empty()) applyPreset(o);
-    // The refinement's numbers, before the model is loaded or fitted (planRefinement checks them again for
-    // the library's callers).
+    inkwell::DrawingOptions& d = o.drawing;
+    // The refinement's numbers, before the model is loaded or fitted (the library checks them again for its
+    // other callers).
     const CLI::Option* rho = o.command ? o.command->get_option_no_throw("--rho") : nullptr;
-    if ((rho && rho->count() > 0 && o.refine.rho0 == 0) || !ink::validRho(o.refine.rho0)) {
+    if ((rho && rho->count() > 0 && d.rho == 0) || !(d.rho == 0 || (d.rho > 0 && d.rho <= 1))) {
         char text[32];
-        std::snprintf(text, sizeof text, "%g", o.refine.rho0);
-        throw ink::Error(
+        std::snprintf(text, sizeof text, "%g", d.rho);
+        throw inkwell::Error(
             std::string("--rho ") + text +
             " must be in (0, 1]: a fraction of the bounding-box diagonal (above 1 every child is dropped)");
     }
-    if (o.refine.passes > 64) throw ink::Error("--passes must be between 1 and 64");
-    if (o.refine.grid < 2 || o.refine.grid > 512)
-        throw ink::Error("--grid " + std::to_string(o.refine.grid) + " must be between 2 and 512 cells");
+    if (d.passes > 64) throw inkwell::Error("--passes must be between 1 and 64");
+    if (d.grid < 2 || d.grid > 512)
+        throw inkwell::Error("--grid " + std::to_string(d.grid) + " must be between 2 and 512 cells");
     parseStyle(o);
     // A drawing of pen lines alone needs the refined points only for the lines' seeds and the splats' depth: two
     // levels do (the bunny: 21,000 points, refined in a fifth of the four levels' time). The viewer keeps four, for
     // the dots its panel can turn on.
     const bool levelsGiven = o.presetLevels || (o.command && o.command->count("--levels") > 0);
-    if (!o.render.drawDots && !levelsGiven && o.command && o.command->get_name() != "view")
-        o.refine.levels = std::min(o.refine.levels, 2u);
+    if (!o.look.dots && !levelsGiven && o.command && o.command->get_name() != "view") d.levels = std::min(d.levels, 2u);
     if (o.direction == "axis")
-        o.refine.direction = ink::DirectionField::Axis;
+        d.direction = inkwell::DirectionField::Axis;
     else if (o.direction == "curvature-min")
-        o.refine.direction = ink::DirectionField::CurvatureMin;
+        d.direction = inkwell::DirectionField::CurvatureMin;
     else if (o.direction == "curvature-max")
-        o.refine.direction = ink::DirectionField::CurvatureMax;
+        d.direction = inkwell::DirectionField::CurvatureMax;
     else
-        throw ink::Error("direction '" + o.direction + "' is not axis, curvature-min or curvature-max");
-    o.refine.seeds = o.seeds == "grid" ? ink::SeedMode::Grid : ink::SeedMode::ControlPoints;
-    o.refine.style = o.sampling == "direction" ? ink::SampleStyle::Direction : ink::SampleStyle::Stipple;
-    if (!o.axis.empty()) o.refine.axis = Eigen::Vector3d(o.axis[0], o.axis[1], o.axis[2]);
-    if (!(o.refine.axis.norm() > 0) || !o.refine.axis.allFinite()) throw ink::Error("--axis must be a non-zero vector");
-    o.refine.keepAllLevels = o.keepLevels == "all";
-    o.refine.distribution =
-        o.distribution == "refinement" ? ink::Distribution::Refinement : ink::Distribution::BlueNoise;
-    o.render.ink = parseColour(o.ink, "ink");
-    o.render.paper = parseColour(o.paper, "paper");
-    o.render.hiddenInk = glm::vec4(glm::vec3(o.render.ink), o.render.hiddenInk.a);  // --hidden-opacity
-    o.autoUp = o.up == "auto";
+        throw inkwell::Error("direction '" + o.direction + "' is not axis, curvature-min or curvature-max");
+    d.gridSeeds = o.seeds == "grid";
+    if (o.command && o.command->get_name() == "sample")  // sample's --style: the one set it refines
+        d.style = o.sampling == "direction" ? inkwell::Style::Direction : inkwell::Style::Stipple;
+    if (!o.axis.empty()) d.axis = {o.axis[0], o.axis[1], o.axis[2]};
+    const double axisLength = std::hypot(d.axis[0], d.axis[1], d.axis[2]);
+    if (!(axisLength > 0) || !std::isfinite(axisLength)) throw inkwell::Error("--axis must be a non-zero vector");
+    d.keepAllLevels = o.keepLevels == "all";
+    d.distribution =
+        o.distribution == "refinement" ? inkwell::Distribution::Refinement : inkwell::Distribution::BlueNoise;
+    o.look.ink = parseColour(o.ink, "ink");
+    o.look.paper = parseColour(o.paper, "paper");
+    o.autoUp = o.upName == "auto";
     if (!o.autoUp) try {
-            o.render.up = ink::parseUpAxis(o.up);
-        } catch (const ink::Error& e) {
-            throw ink::Error(std::string("--up: ") + e.what() + " or auto");
+            o.up = inkwell::parseUp(o.upName);
+        } catch (const inkwell::Error& e) {
+            throw inkwell::Error(std::string("--up: ") + e.what() + " or auto");
         }
-    if (o.lightFixed && o.lightFollows) throw ink::Error("--light-fixed and --light-follows-camera exclude each other");
-    o.render.lightFollowsCamera = !o.lightFixed;
+    if (o.lightFixed && o.lightFollows)
+        throw inkwell::Error("--light-fixed and --light-follows-camera exclude each other");
+    o.look.lightFollowsCamera = !o.lightFixed;
     if (!o.light.empty()) {
-        glm::vec3 l(o.light[0], o.light[1], o.light[2]);
-        if (!(glm::length(l) > 0) || !std::isfinite(glm::length(l)))
-            throw ink::Error("--light must be a non-zero vector");
-        o.render.light = l;
+        const float length = std::hypot(o.light[0], o.light[1], o.light[2]);
+        if (!(length > 0) || !std::isfinite(length)) throw inkwell::Error("--light must be a non-zero vector");
+        o.look.light = {o.light[0], o.light[1], o.light[2]};
     }
     // The ranges' one table: include/inkwell/ranges.h.
     namespace ranges = inkwell::ranges;
-    for (float v : {o.render.frontSize, o.render.silhouetteSize, o.render.hiddenSize})
-        ranges::dotSize.check(v, "dot sizes");
-    ranges::tau.check(o.render.tau, "--tau");
-    for (float v : {o.render.penWidth, o.render.hatchWidth, o.render.hiddenPenWidth, o.render.creaseWidth,
-                    o.render.boundaryWidth})
+    const inkwell::Look& s = o.look;
+    for (float v : {s.dotSize, s.silhouetteSize, s.hiddenDotSize}) ranges::dotSize.check(v, "dot sizes");
+    ranges::tau.check(s.tau, "--tau");
+    for (float v : {s.penWidth, s.hatchWidth, s.hiddenPenWidth, s.creaseWidth, s.boundaryWidth})
         ranges::penWidth.check(v, "pen widths");
-    ranges::hiddenOpacity.check(o.render.hiddenInk.a, "--hidden-opacity");
-    ranges::halo.check(o.render.haloWidth, "--halo");
-    ranges::hatchSpacing.check(o.lines.hatch.spacing, "--hatch-spacing");
-    ranges::toneGamma.check(o.render.toneGamma, "--tone");
-    ranges::inkDensity.check(o.render.inkDensity, "--ink-density");
+    ranges::hiddenOpacity.check(s.hiddenOpacity, "--hidden-opacity");
+    ranges::halo.check(s.halo, "--halo");
+    ranges::hatchSpacing.check(d.hatchSpacing, "--hatch-spacing");
+    ranges::toneGamma.check(s.toneGamma, "--tone");
+    ranges::inkDensity.check(s.inkDensity, "--ink-density");
     // The device-independent limit here, before any work; what fits the device is checked once it is known.
-    if (o.refine.levels >= ink::kMaxLevels)
-        throw ink::Error("--levels " + std::to_string(o.refine.levels) + " is too many: at most " +
-                         std::to_string(ink::kMaxLevels - 1) + " refinement levels");
+    if (!ranges::levels.contains(d.levels))
+        throw inkwell::Error("--levels " + std::to_string(d.levels) + " is too many: at most " +
+                             std::to_string(uint32_t(ranges::levels.hi)) + " refinement levels");
     if (o.size.size() == 2 && (o.size[0] < 1 || o.size[1] < 1 || o.size[0] > 8192 || o.size[1] > 8192))
-        throw ink::Error("--size " + std::to_string(o.size[0]) + " " + std::to_string(o.size[1]) +
-                         " is outside 1..8192 pixels a side");
-    const glm::dvec2 page = ink::parsePageSize(o.pageName);
-    o.page.width = page.x;
-    o.page.height = page.y;
-    o.page.dotStyle = o.dotStyle == "tick" ? ink::DotStyle::Tick : ink::DotStyle::Circle;
+        throw inkwell::Error("--size " + std::to_string(o.size[0]) + " " + std::to_string(o.size[1]) +
+                             " is outside 1..8192 pixels a side");
+    const inkwell::Page named = inkwell::Page::named(o.pageName);
+    o.page.widthMm = named.widthMm;
+    o.page.heightMm = named.heightMm;
+    o.page.dotStyle = o.dotStyle == "tick" ? inkwell::DotStyle::Tick : inkwell::DotStyle::Circle;
     const bool explicitSize = o.pageName.size() > 2 && (o.pageName.back() == 'm' || o.pageName.back() == 'M');
     if (o.orientation == "portrait")
-        o.page.orientation = ink::Orientation::Portrait;
+        o.page.orientation = inkwell::Orientation::Portrait;
     else if (o.orientation == "landscape")
-        o.page.orientation = ink::Orientation::Landscape;
+        o.page.orientation = inkwell::Orientation::Landscape;
     else  // auto: a page given in millimetres is taken as given
-        o.page.orientation = !explicitSize     ? ink::Orientation::Auto
-                             : page.x > page.y ? ink::Orientation::Landscape
-                                               : ink::Orientation::Portrait;
+        o.page.orientation = !explicitSize                    ? inkwell::Orientation::Auto
+                             : named.widthMm > named.heightMm ? inkwell::Orientation::Landscape
+                                                              : inkwell::Orientation::Portrait;
     ranges::simplify.check(o.page.simplify, "--simplify");
     ranges::retrace.check(o.page.retrace, "--retrace");
     ranges::merge.check(o.page.merge, "--merge");
     ranges::plotSpeed.check(o.page.drawSpeed, "--plot-speed");
     ranges::plotSpeed.check(o.page.travelSpeed, "--travel-speed");
     ranges::liftTime.check(o.page.liftSeconds, "--lift-time");
-    if (!(o.page.penWidth >= ink::kMinPenWidth && o.page.penWidth <= ink::kMaxPenWidth))
-        throw ink::Error("--pen-width must be in [0.001, 10] mm (kMinPenWidth: the files give a micrometre)");
-    // The view fits within the margins; it must be wider and taller than the pen (layoutPlot checks the view
+    if (!ranges::penWidthMm.contains(o.page.penWidthMm))
+        throw inkwell::Error("--pen-width must be in [0.001, 10] mm (the files give a micrometre)");
+    // The view fits within the margins; it must be wider and taller than the pen (the layout checks the view
     // itself once the image's proportions are known).
-    if (!(o.page.margin >= 0 && 2 * o.page.margin + o.page.penWidth < std::min(page.x, page.y)))
-        throw ink::Error("--margin must be at least 0 mm and leave room for the pen on the page");
+    if (!(o.page.marginMm >= 0 && 2 * o.page.marginMm + o.page.penWidthMm < std::min(named.widthMm, named.heightMm)))
+        throw inkwell::Error("--margin must be at least 0 mm and leave room for the pen on the page");
     if (!o.camera.empty()) {
         if (!std::isfinite(o.camera[0]) || !std::isfinite(o.camera[1]) || !(o.camera[2] > 0.05f && o.camera[2] < 100))
-            throw ink::Error("--camera needs finite angles and a distance in (0.05, 100) diagonals");
+            throw inkwell::Error("--camera needs finite angles and a distance in (0.05, 100) diagonals");
     }
 }
 
-static std::string hexColour(const glm::vec4& c) {
+static std::string hexColour(const inkwell::Color& c) {
     char text[8];
     auto byte = [](float v) { return int(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
-    std::snprintf(text, sizeof text, "#%02x%02x%02x", byte(c.r), byte(c.g), byte(c.b));
+    std::snprintf(text, sizeof text, "#%02x%02x%02x", byte(c[0]), byte(c[1]), byte(c[2]));
     return text;
 }
 
-static const char* directionName(ink::DirectionField d) {
-    return d == ink::DirectionField::Axis           ? "axis"
-           : d == ink::DirectionField::CurvatureMin ? "curvature-min"
-                                                    : "curvature-max";
+static const char* directionName(inkwell::DirectionField d) {
+    return d == inkwell::DirectionField::Axis           ? "axis"
+           : d == inkwell::DirectionField::CurvatureMin ? "curvature-min"
+                                                        : "curvature-max";
 }
 
 std::string styleName(const Options& o) {
-    std::string name = o.render.drawDots ? ink::drawStyleName(o.style) : "";
-    for (auto [on, part] : {std::pair{o.lines.contours, "contours"}, std::pair{o.lines.hatching, "hatching"}})
+    std::string name = o.look.dots ? inkwell::styleName(o.drawing.style) : "";
+    for (auto [on, part] : {std::pair{o.drawing.contours, "contours"}, std::pair{o.drawing.hatching, "hatching"}})
         if (on) name += (name.empty() ? "" : "+") + std::string(part);
     return name.empty() ? "stipple" : name;
 }
@@ -448,33 +450,33 @@ std::string styleName(const Options& o) {
 Preset presetFrom(const Options& o) {
     Preset p;
     p.style = styleName(o);
-    p.direction = directionName(o.refine.direction);
-    p.levels = o.refine.levels;
-    if (o.refine.passes > 0) p.passes = o.refine.passes;
-    p.ink = hexColour(o.render.ink);
-    p.paper = hexColour(o.render.paper);
-    p.dotSize = o.render.frontSize;
-    p.silhouetteSize = o.render.silhouetteSize;
-    p.tau = o.render.tau;
-    p.tone = o.render.toneGamma;
-    p.inkDensity = o.render.inkDensity;
-    p.hiddenLines = o.render.hiddenLines;
-    p.screenSpacing = o.render.screenSpacing;
-    p.hiddenDotSize = o.render.hiddenSize;
-    p.hiddenContourWidth = o.render.hiddenPenWidth;
-    p.hiddenOpacity = o.render.hiddenInk.a;
-    p.light = std::vector<float>{o.render.light.x, o.render.light.y, o.render.light.z};
-    p.up = o.autoUp ? "auto" : ink::upAxisName(o.render.up);
-    p.lightFixed = !o.render.lightFollowsCamera;
-    p.contourWidth = o.render.penWidth;
-    p.hatchWidth = o.render.hatchWidth;
-    p.halo = o.render.haloWidth;
-    p.hatchSpacing = float(o.lines.hatch.spacing);
-    p.hatchFamilies = o.lines.hatch.families;
+    p.direction = directionName(o.drawing.direction);
+    p.levels = o.drawing.levels;
+    if (o.drawing.passes > 0) p.passes = o.drawing.passes;
+    p.ink = hexColour(o.look.ink);
+    p.paper = hexColour(o.look.paper);
+    p.dotSize = o.look.dotSize;
+    p.silhouetteSize = o.look.silhouetteSize;
+    p.tau = o.look.tau;
+    p.tone = o.look.toneGamma;
+    p.inkDensity = o.look.inkDensity;
+    p.hiddenLines = o.look.hiddenLines;
+    p.screenSpacing = o.look.screenSpacing;
+    p.hiddenDotSize = o.look.hiddenDotSize;
+    p.hiddenContourWidth = o.look.hiddenPenWidth;
+    p.hiddenOpacity = o.look.hiddenOpacity;
+    p.light = std::vector<float>{o.look.light[0], o.look.light[1], o.look.light[2]};
+    p.up = o.autoUp ? "auto" : inkwell::upName(o.up);
+    p.lightFixed = !o.look.lightFollowsCamera;
+    p.contourWidth = o.look.penWidth;
+    p.hatchWidth = o.look.hatchWidth;
+    p.halo = o.look.halo;
+    p.hatchSpacing = float(o.drawing.hatchSpacing);
+    p.hatchFamilies = o.drawing.hatchFamilies;
     p.creases = o.creases;
     p.boundaries = o.boundaries;
-    p.creaseWidth = o.render.creaseWidth;
-    p.boundaryWidth = o.render.boundaryWidth;
+    p.creaseWidth = o.look.creaseWidth;
+    p.boundaryWidth = o.look.boundaryWidth;
     return p;
 }
 
@@ -486,7 +488,7 @@ void loadPreset(Options& o, const std::string& path) {
     t.direction = *now.direction;
     t.ink = *now.ink;
     t.paper = *now.paper;
-    t.up = *now.up;
+    t.upName = *now.up;
     t.light = *now.light;
     t.lightFixed = *now.lightFixed;
     t.lightFollows = false;
@@ -496,12 +498,12 @@ void loadPreset(Options& o, const std::string& path) {
     o = t;
 }
 
-ink::Camera cameraFrom(const Options& o) {
-    ink::Camera c;
+inkwell::Camera cameraFrom(const Options& o) {
+    inkwell::Camera c;
     if (o.autoView) c = *o.autoView;
-    c.up = o.render.up;
+    c.up = o.up;
     if (o.camera.size() == 3) {
-        c.target = glm::vec3(0);
+        c.target = {0, 0, 0};
         c.azimuthDeg = o.camera[0];
         c.elevationDeg = std::clamp(o.camera[1], -89.0f, 89.0f);
         c.distance = o.camera[2];
@@ -509,63 +511,53 @@ ink::Camera cameraFrom(const Options& o) {
     return c;
 }
 
-ViewReport resolveView(Options& o, ink::Scene& scene, float aspect) {
+ViewReport resolveView(Options& o, const inkwell::Drawing& drawing, float aspect) {
     ViewReport r;
     const auto start = Clock::now();
-    ink::ViewSamples samples;
-    if (!scene.sets.empty()) samples = ink::viewSamples(ink::readPoints(scene.ctx, scene.sets.front()->gpu()));
-    if (!o.autoUp) {
-        r.upReason = "--up";
-    } else if (auto convention = ink::formatUpAxis(o.model)) {
-        o.render.up = *convention;
-        r.upReason = "the glTF convention";
+    if (o.autoUp) {  // the file's convention (glTF: +y), else the shape's
+        r.view = drawing.firstViewReport(aspect);
+        o.up = r.view.camera.up;
+        r.upReason = r.view.upReason;
     } else {
-        const ink::UpChoice up = ink::detectUpAxis(samples);
-        o.render.up = up.up;
-        r.upReason = up.reason;
+        if (o.camera.empty()) r.view = drawing.firstViewReport(o.up, aspect);
+        r.upReason = "--up";
     }
-    r.up = ink::upAxisName(o.render.up);
+    r.up = inkwell::upName(o.up);
     o.autoView.reset();
     if (o.camera.empty()) {
-        ink::Camera c;
-        c.up = o.render.up;
-        r.view = ink::chooseView(samples, c.up);
-        c.azimuthDeg = r.view.azimuthDeg;
-        c.elevationDeg = r.view.elevationDeg;
-        ink::frameSamples(c, samples, aspect);
-        o.autoView = c;
+        o.autoView = r.view.camera;
         r.chosen = true;
-        r.distance = c.distance;
     }
     r.milliseconds = 1000.0 * secondsSince(start);
     char text[256];
     if (r.chosen)
         std::snprintf(text, sizeof text,
                       "up %s (%s); view azimuth %.0f, elevation %.0f degrees, distance %.2f (%.0f ms)", r.up.c_str(),
-                      r.upReason.c_str(), r.view.azimuthDeg, r.view.elevationDeg, r.distance, r.milliseconds);
+                      r.upReason.c_str(), r.view.camera.azimuthDeg, r.view.camera.elevationDeg, r.view.camera.distance,
+                      r.milliseconds);
     else
         std::snprintf(text, sizeof text, "up %s (%s)", r.up.c_str(), r.upReason.c_str());
-    ink::note(text);
+    note(text);
     return r;
 }
 
 json viewJson(const ViewReport& r) {
     json j = {{"up", r.up}, {"up_reason", r.upReason}, {"chosen", r.chosen}};
     if (r.chosen) {
-        j["azimuth_deg"] = r.view.azimuthDeg;
-        j["elevation_deg"] = r.view.elevationDeg;
-        j["entropy_bits"] = r.view.score;
-        j["distance"] = r.distance;
+        j["azimuth_deg"] = r.view.camera.azimuthDeg;
+        j["elevation_deg"] = r.view.camera.elevationDeg;
+        j["entropy_bits"] = float(r.view.entropyBits);
+        j["distance"] = r.view.camera.distance;
         if (r.view.frontDeg >= 0) j["front_deg"] = r.view.frontDeg;
     }
     j["milliseconds"] = r.milliseconds;
     return j;
 }
 
-ink::Reporter terminalReporter(bool quiet) {
-    ink::Reporter r;
+inkwell::Reporter terminalReporter(bool quiet) {
+    inkwell::Reporter r;
     if (!quiet)
-        r.note = [](const std::string& line) { std::fprintf(stderr, "note: %s\n", ink::escapeText(line).c_str()); };
+        r.note = [](const std::string& line) { std::fprintf(stderr, "note: %s\n", inkwell::escapeText(line).c_str()); };
     if (isatty(STDERR_FILENO))
         r.progress = [](const char* task, size_t done, size_t total) {
             if (done < total)
@@ -577,13 +569,23 @@ ink::Reporter terminalReporter(bool quiet) {
     return r;
 }
 
-inkwell::Device openDevice(const Options& o, bool validation) {
+static inkwell::Reporter gReporter;
+const inkwell::Reporter& reporter() { return gReporter; }
+void setReporter(inkwell::Reporter r) { gReporter = std::move(r); }
+void note(const std::string& line) {
+    if (gReporter.note) gReporter.note(line);
+}
+
+inkwell::Device openDevice(const Options& o, bool validation, std::vector<const char*> instanceExtensions,
+                           bool presentation) {
     inkwell::DeviceOptions options;
     options.validationMessage = [](bool error, const std::string& message) {
         std::fprintf(stderr, "validation %s: %s\n", error ? "error" : "warning", message.c_str());
     };
     options.validation = validation;
     options.device = o.device;
+    options.instanceExtensions = std::move(instanceExtensions);
+    options.presentation = presentation;
     return inkwell::Device(options);
 }
 
@@ -593,40 +595,9 @@ void checkValidation(const inkwell::Device& device) {
                              " Vulkan validation error(s); first: " + device.firstValidationError());
 }
 
-Session::Session(const Options& o, std::vector<const char*> instanceExtensions, bool presentation) {
-    ink::ContextOptions options;
-    options.validationMessage = [](bool error, const std::string& message) {
-        std::fprintf(stderr, "validation %s: %s\n", error ? "error" : "warning", message.c_str());
-    };
-    options.validation = o.validation;
-    options.device = o.device;
-    options.instanceExtensions = std::move(instanceExtensions);
-    options.presentation = presentation;
-    try {
-        ink::createContext(ctx, options);
-    } catch (...) {
-        ink::destroyContext(ctx);
-        throw;
-    }
-}
+inkwell::Model loadModel(const Options& o) { return inkwell::Model::load(o.model, modelOptions(o), reporter()); }
 
-Session::~Session() { ink::destroyContext(ctx); }
-
-void Session::checkValidation() const {
-    if (ctx.validationErrors)
-        throw ink::Error(std::to_string(ctx.validationErrors.load()) +
-                         " Vulkan validation error(s); first: " + ctx.firstValidationMessage);
-}
-
-Scene::Scene(ink::Context& ctx, const Options& o)
-    : ink::Scene(ctx, ink::loadModel(o.model, modelOptions(o)), o.style, o.refine, o.lines) {}
-
-ink::Plot writeVectorView(const ink::PointRenderer& renderer, uint32_t frame, const std::string& path,
-                          const ink::PageOptions& page) {
-    ink::Plot plot = ink::layoutPlot(renderer.vectorDrawing(frame), page);
-    ink::writePlot(path, plot);
-    return plot;
-}
+json deviceJson(const inkwell::Device& device) { return {{"device", device.name()}, {"driver", device.driver()}}; }
 
 // "42 s", "12 min 5 s", "2 h 3 min".
 static std::string duration(double seconds) {
@@ -641,18 +612,18 @@ static std::string duration(double seconds) {
     return text;
 }
 
-void printPlot(const ink::Plot& plot) {
-    for (const ink::PlotLayer& l : plot.layers)
+void printPlot(const inkwell::Plot& plot) {
+    for (const inkwell::PenLayer& l : plot.layers())
         std::printf(
             "  pen %u (%s): %zu paths (%zu given), pen-up travel %.0f mm (%.0f mm unordered), pen down %.0f "
             "mm, %zu lifts, about %s to plot\n",
-            l.pen, l.name.c_str(), l.paths.size(), l.pathsBefore, l.travelAfter, l.travelBefore, l.penDown, l.lifts,
+            l.pen, l.name.c_str(), l.paths, l.pathsGiven, l.travelAfterMm, l.travelBeforeMm, l.penDownMm, l.lifts,
             duration(l.plotSeconds).c_str());
 }
 
 void writeJson(const std::string& path, const json& j) {
     if (path.empty()) return;
-    ink::writeFileAtomically(path, j.dump(2) + "\n");  // every write and the close checked
+    inkwell::writeFileAtomically(path, j.dump(2) + "\n");  // every write and the close checked
 }
 
 }  // namespace app

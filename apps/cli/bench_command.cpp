@@ -83,7 +83,7 @@ int runBench(Options& o, const std::vector<std::string>& names, const std::strin
     }
     if (!o.model.empty())
         workloads.push_back({std::filesystem::path(o.model).filename().string(), Source::File, o.model, o.controlPoints,
-                             o.refine.levels, o.fit == "global" ? inkwell::FitMethod::Global : kPu});
+                             o.drawing.levels, o.fit == "global" ? inkwell::FitMethod::Global : kPu});
     if (workloads.empty())
         for (const Workload& w : builtinWorkloads())
             if (w.name != "torus-100k") workloads.push_back(w);
@@ -103,7 +103,8 @@ int runBench(Options& o, const std::vector<std::string>& names, const std::strin
     for (Workload& w : workloads) {
         if (w.source == Source::File && w.model.empty()) w.model = bunnyPath();
         std::vector<json> runs;
-        for (uint32_t i = 0; i < repeat; ++i) runs.push_back(json::parse(inkwell::bench(device, w, options)));
+        for (uint32_t i = 0; i < repeat; ++i)
+            runs.push_back(json::parse(inkwell::bench(device, w, options, reporter())));
         json m = medianOf(runs);
         m["device_seconds"] = deviceSeconds;
         m["screen_spacing"] = screenSpacing;  // creating the Vulkan device, once per process, not in preprocess
@@ -148,7 +149,7 @@ void addBenchCommand(CLI::App& cli, Options& o, Commands& commands) {
     bench->add_option("--fit", o.fit, "Fit for --model: pu or global")
         ->check(CLI::IsMember({"pu", "global"}))
         ->capture_default_str();
-    bench->add_option("--levels", o.refine.levels, "Levels for --model")
+    bench->add_option("--levels", o.drawing.levels, "Levels for --model")
         ->check(nonNegativeInteger())
         ->capture_default_str();
     bench->add_option("--json", *jsonPath, "Write the results as JSON");

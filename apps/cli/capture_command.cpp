@@ -1,9 +1,5 @@
 // capture (frames along an orbit, with a manifest) and compare (two PNGs against a tolerance): the tools of
 // visual regression testing (docs/capture.md).
-#include "base/common.h"
-#include "base/compare.h"
-#include "base/files.h"
-#include "base/image.h"
 #include "commands.h"
 
 #include <unistd.h>
@@ -34,13 +30,13 @@ struct CaptureOptions {
 
 struct CompareOptions {
     std::string a, b, diff;
-    unsigned threshold = ink::kCompareThreshold;
-    double maxFraction = ink::kCompareMaxFraction;
+    unsigned threshold = inkwell::kCompareThreshold;
+    double maxFraction = inkwell::kCompareMaxFraction;
 };
 
-const char* directionName(ink::DirectionField d) {
-    if (d == ink::DirectionField::Axis) return "axis";
-    return d == ink::DirectionField::CurvatureMin ? "curvature-min" : "curvature-max";
+const char* directionName(inkwell::DirectionField d) {
+    if (d == inkwell::DirectionField::Axis) return "axis";
+    return d == inkwell::DirectionField::CurvatureMin ? "curvature-min" : "curvature-max";
 }
 
 // The float as the double with its shortest decimal form: 1.6f is written 1.6, not 1.600000023841858.
@@ -52,23 +48,23 @@ double shortest(float v) {
     return d;
 }
 
-ordered vec3Json(const glm::vec3& v) { return {shortest(v.x), shortest(v.y), shortest(v.z)}; }
+ordered vec3Json(const std::array<float, 3>& v) { return {shortest(v[0]), shortest(v[1]), shortest(v[2])}; }
 
 // Everything that decides the pixels, so that a capture can be repeated from its manifest.
-ordered parametersJson(const Options& o, const Scene& scene, const CaptureOptions& c) {
-    const ink::RefineOptions& r = o.refine;
-    const ink::RenderStyle& s = o.render;
-    return {{"control_points", scene.model.fit.controlPoints},
+ordered parametersJson(const Options& o, size_t controlPoints, uint32_t passes, const CaptureOptions& c) {
+    const inkwell::DrawingOptions& r = o.drawing;
+    const inkwell::Look& s = o.look;
+    return {{"control_points", controlPoints},
             {"levels", r.levels},
-            {"passes", scene.sets.front()->gpu().plan.passes},
+            {"passes", passes},
             {"distribution", o.distribution},
             {"candidates_per_stipple", shortest(r.candidatesPerStipple)},
-            {"style", ink::drawStyleName(o.style)},
+            {"style", inkwell::styleName(r.style)},
             {"direction", directionName(r.direction)},
-            {"axis", {r.axis.x(), r.axis.y(), r.axis.z()}},
-            {"seeds", r.seeds == ink::SeedMode::Grid ? "grid" : "control"},
+            {"axis", {r.axis[0], r.axis[1], r.axis[2]}},
+            {"seeds", r.gridSeeds ? "grid" : "control"},
             {"grid", r.grid},
-            {"rho", r.rho0},
+            {"rho", r.rho},
             {"seed", r.seed},
             {"keep_levels", o.keepLevels},
             {"size", o.size},
@@ -77,7 +73,7 @@ ordered parametersJson(const Options& o, const Scene& scene, const CaptureOption
             {"tau", shortest(s.tau)},
             {"tone", shortest(s.toneGamma)},
             {"ink_density", shortest(s.inkDensity)},
-            {"dot_size", shortest(s.frontSize)},
+            {"dot_size", shortest(s.dotSize)},
             {"silhouette_size", shortest(s.silhouetteSize)},
             {"hidden_lines", s.hiddenLines},
             {"occlusion", s.occlusion},
@@ -86,10 +82,10 @@ ordered parametersJson(const Options& o, const Scene& scene, const CaptureOption
             {"paper", o.paper},
             {"light", vec3Json(s.light)},
             {"light_follows_camera", s.lightFollowsCamera},
-            {"up", ink::upAxisName(s.up)}};
+            {"up", inkwell::upName(o.up)}};
 }
 
-ordered cameraJson(const ink::Camera& c) {
+ordered cameraJson(const inkwell::Camera& c) {
     return {{"azimuth_deg", shortest(c.azimuthDeg)},
             {"elevation_deg", shortest(c.elevationDeg)},
             {"distance", shortest(c.distance)},
@@ -97,7 +93,7 @@ ordered cameraJson(const ink::Camera& c) {
 }
 
 void writeOrdered(const std::string& path, const ordered& j) {
-    ink::writeFileAtomically(path, j.dump(2) + "\n");  // every write and the close checked
+    inkwell::writeFileAtomically(path, j.dump(2) + "\n");  // every write and the close checked
 }
 
 // The output directory of one capture: created (with missing parents) up front, so that a bad path fails
@@ -120,15 +116,15 @@ public:
         fs::create_directories(path, error);
         if (error) {
             removeCreated();
-            throw ink::Error("cannot create directory '" + path + "': " + error.message());
+            throw inkwell::Error("cannot create directory '" + path + "': " + error.message());
         }
         if (!fs::is_directory(path, error))
-            throw ink::Error("cannot create directory '" + path + "': a file of that name exists");
+            throw inkwell::Error("cannot create directory '" + path + "': a file of that name exists");
     }
     ~CaptureOutput() {
         std::error_code error;
         if (!staging_.empty()) std::filesystem::remove_all(staging_, error);
-        ink::unregisterTemporary(stagingSlot_);
+        inkwell::unregisterTemporary(stagingSlot_);
         if (!committed_) removeCreated();
     }
     CaptureOutput(const CaptureOutput&) = delete;
@@ -139,9 +135,9 @@ public:
         if (staging_.empty()) {
             std::string pattern = (std::filesystem::path(path_) / ".inkwell-capture-XXXXXX").string();
             if (!::mkdtemp(pattern.data()))
-                throw ink::Error("cannot write into '" + path_ + "': " + std::strerror(errno));
+                throw inkwell::Error("cannot write into '" + path_ + "': " + std::strerror(errno));
             staging_ = pattern;
-            stagingSlot_ = ink::registerTemporaryDirectory(staging_);  // removed on SIGINT/SIGTERM/SIGHUP too
+            stagingSlot_ = inkwell::registerTemporaryDirectory(staging_);  // removed on SIGINT/SIGTERM/SIGHUP too
         }
         return staging_;
     }
@@ -152,18 +148,18 @@ public:
                 const std::vector<std::string>& stale, const std::vector<std::string>& keep) {
         namespace fs = std::filesystem;
         if (::unlink(manifestPath.c_str()) != 0 && errno != ENOENT)
-            throw ink::Error("cannot remove the old '" + manifestPath + "': " + std::strerror(errno));
+            throw inkwell::Error("cannot remove the old '" + manifestPath + "': " + std::strerror(errno));
         committed_ = true;  // from here the old capture is gone: its directories stay
         for (const std::string& name : names) {
             std::string from = (fs::path(staging_) / name).string(), to = (fs::path(path_) / name).string();
             if (::rename(from.c_str(), to.c_str()) != 0)
-                throw ink::Error("cannot write '" + to + "': " + std::strerror(errno));
+                throw inkwell::Error("cannot write '" + to + "': " + std::strerror(errno));
         }
         const std::set<std::string> fresh(names.begin(), names.end());
         for (const std::string& name : stale) {
             std::string path = (fs::path(path_) / name).string();
             bool kept = std::any_of(keep.begin(), keep.end(),
-                                    [&](const std::string& k) { return !k.empty() && ink::sameFile(path, k); });
+                                    [&](const std::string& k) { return !k.empty() && inkwell::sameFile(path, k); });
             if (!fresh.count(name) && !kept) ::unlink(path.c_str());  // best effort: no manifest names it now
         }
     }
@@ -195,7 +191,7 @@ bool isFrameName(const std::string& name) {
 std::vector<std::string> manifestFrames(const std::string& manifestPath) {
     std::vector<std::string> names;
     try {
-        std::string text = ink::readFileCapped(manifestPath, size_t(16) << 20, "too large");
+        std::string text = inkwell::readFileCapped(manifestPath, size_t(16) << 20, "too large");
         nlohmann::json m = nlohmann::json::parse(text);
         for (const auto& f : m.at("frames"))
             if (f.is_object() && f.contains("file") && f["file"].is_string() &&
@@ -209,13 +205,13 @@ std::vector<std::string> manifestFrames(const std::string& manifestPath) {
 
 int runCapture(Options& o, const CaptureOptions& c) {
     finishOptions(o);
-    if (!std::isfinite(c.orbitDeg)) throw ink::Error("--orbit must be a finite number of degrees");
+    if (!std::isfinite(c.orbitDeg)) throw inkwell::Error("--orbit must be a finite number of degrees");
     CaptureOutput output(c.directory);
     namespace fs = std::filesystem;
     std::string manifestPath = (fs::path(c.directory) / "manifest.json").string();
     // After the directory: the stats may go into it. A directory that exists but cannot be written to is
     // refused here, as is an output that is an input.
-    ink::checkOutputs({manifestPath, o.statsPath}, {o.model, o.preset});
+    inkwell::checkOutputs({manifestPath, o.statsPath}, {o.model, o.preset});
     // The frames too, before any work: none may be an input (a frame that is a link to the model), or the
     // stats, or something other than a file or link in the way.
     std::vector<std::string> names;
@@ -223,89 +219,94 @@ int runCapture(Options& o, const CaptureOptions& c) {
         names.push_back(frameName(i));
         std::string frame = (fs::path(c.directory) / names.back()).string();
         for (const std::string& input : {o.model, o.preset})
-            if (!input.empty() && ink::sameFile(frame, input))
-                throw ink::Error("cannot write '" + frame +
-                                 "': it is also an input of this command (inputs are never modified)");
-        if (!o.statsPath.empty() && ink::sameFile(frame, o.statsPath))
-            throw ink::Error("cannot write '" + o.statsPath + "': it is also frame " + std::to_string(i) +
-                             " of the capture (it is given as two outputs)");
+            if (!input.empty() && inkwell::sameFile(frame, input))
+                throw inkwell::Error("cannot write '" + frame +
+                                     "': it is also an input of this command (inputs are never modified)");
+        if (!o.statsPath.empty() && inkwell::sameFile(frame, o.statsPath))
+            throw inkwell::Error("cannot write '" + o.statsPath + "': it is also frame " + std::to_string(i) +
+                                 " of the capture (it is given as two outputs)");
         std::error_code error;
         fs::file_status st = fs::symlink_status(frame, error);
         if (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st))
-            throw ink::Error(
+            throw inkwell::Error(
                 "cannot write '" + frame + "': " +
                 (fs::is_directory(st) ? "Is a directory" : "not a regular file: only regular files are replaced"));
     }
     const std::vector<std::string> stale = manifestFrames(manifestPath);
     auto start = Clock::now();
-    Session session(o);
-    ink::checkOffscreenSize(session.ctx, o.size[0], o.size[1], std::max(1u, o.render.supersample));
-    Scene scene(session.ctx, o);
-    const ViewReport view = resolveView(o, scene, float(o.size[0]) / float(o.size[1]));
-    const ink::Camera base = cameraFrom(o);
+    inkwell::Device device = openDevice(o, o.validation);
+    device.checkImageSize(o.size[0], o.size[1], o.look.supersample);
+    const inkwell::Model model = loadModel(o);
+    const inkwell::Drawing drawing(device, model, o.drawing, reporter());
+    const ViewReport view = resolveView(o, drawing, float(o.size[0]) / float(o.size[1]));
+    const inkwell::Camera base = cameraFrom(o);
     ordered frames = ordered::array();
     {
-        ink::OffscreenRenderer renderer(session.ctx, o.size[0], o.size[1], o.render, scene.pointers(),
-                                        scene.strokes.get());
-        ink::Progress progress("capture", c.frames);
+        inkwell::Renderer renderer(drawing, o.size[0], o.size[1], o.look);
+        int percent = -1;  // the progress reported
         for (uint32_t i = 0; i < c.frames; ++i) {
-            ink::Camera camera = base;
+            inkwell::Camera camera = base;
             // From i, not accumulated frame to frame, and in double: the last of 10000 frames is as exact
             // as the first.
             camera.azimuthDeg = float(double(base.azimuthDeg) + double(c.orbitDeg) * i / c.frames);
-            scene.traceContours(camera);  // the contour of this view
-            ink::RgbaImage image = renderer.render(camera);
-            session.checkValidation();  // before writing: a frame drawn with validation errors is not kept
+            const inkwell::Image image = renderer.render(camera);  // the contour of this view traced first
+            checkValidation(device);  // before writing: a frame drawn with validation errors is not kept
             std::string staged = (fs::path(output.staging()) / names[i]).string();
             try {
-                ink::writePng(staged, image);
-            } catch (const ink::Error& e) {  // named as the user knows it, not by the staging directory
+                image.writePng(staged);
+            } catch (const inkwell::Error& e) {  // named as the user knows it, not by the staging directory
                 std::string message = e.what();
                 std::string frame = (fs::path(c.directory) / names[i]).string();
                 if (size_t at = message.find(staged); at != std::string::npos)
                     message.replace(at, staged.size(), frame);
-                throw ink::Error(message);
+                throw inkwell::Error(message);
             }
             frames.push_back({{"file", names[i]}, {"camera", cameraJson(camera)}});
-            progress.update(i + 1);
+            if (const int now = int(100.0 * double(i + 1) / double(c.frames)); reporter().progress && now != percent) {
+                percent = now;
+                reporter().progress("capture", i + 1, c.frames);
+            }
         }
+        if (reporter().progress && percent >= 0) reporter().progress("capture", c.frames, c.frames);
     }
-    session.checkValidation();
-    uint64_t points = scene.points();
+    checkValidation(device);
+    const uint64_t points = drawing.pointCount();
+    const json drawn = json::parse(drawing.statsJson());
+    const size_t controlPoints = model.report().controlPoints;
     ordered manifest = {{"model", o.model},
                         {"frames", frames},
-                        {"parameters", parametersJson(o, scene, c)},
-                        {"device", session.ctx.properties.deviceName},
-                        {"driver", session.ctx.driverInfo},
+                        {"parameters", parametersJson(o, controlPoints, drawn["refine"]["passes"].get<uint32_t>(), c)},
+                        {"device", device.name()},
+                        {"driver", device.driver()},
                         {"points", points}};
     // Written last, with the stats, both or neither: a manifest says the capture is complete.
-    ink::OutputBatch outputs;
+    inkwell::OutputBatch outputs;
     writeOrdered(manifestPath, manifest);
     double seconds = secondsSince(start);
-    writeJson(o.statsPath, {{"control_points", scene.model.fit.controlPoints},
-                            {"fit", fitJson(scene.model)},
-                            {"refine", {{"seconds", scene.refineSeconds}, {"points", points}}},
+    writeJson(o.statsPath, {{"control_points", controlPoints},
+                            {"fit", json::parse(model.statsJson())},
+                            {"refine", {{"seconds", drawn["refine"]["seconds"]}, {"points", points}}},
                             {"frames", c.frames},
                             {"view", viewJson(view)},
                             {"seconds", seconds},
-                            {"device", session.ctx.properties.deviceName},
-                            {"driver", session.ctx.driverInfo}});
+                            {"device", device.name()},
+                            {"driver", device.driver()}});
     // Everything is written: only renames (and the stale frames' removal) are left.
     output.commit(manifestPath, names, stale, {o.model, o.preset, o.statsPath});
     outputs.commit();
-    std::printf("%s: %zu control points, %llu points, %u frames, %.2f s -> %s\n", o.model.c_str(),
-                scene.model.fit.controlPoints, (unsigned long long)points, c.frames, seconds, manifestPath.c_str());
+    std::printf("%s: %zu control points, %llu points, %u frames, %.2f s -> %s\n", o.model.c_str(), controlPoints,
+                (unsigned long long)points, c.frames, seconds, manifestPath.c_str());
     return 0;
 }
 
 // readPng, but a missing file gets the system's reason as the model loaders give it (stb says "can't fopen").
-ink::RgbaImage readImage(const std::string& path) {
+inkwell::Image readImage(const std::string& path) {
     errno = 0;
     if (std::FILE* f = std::fopen(path.c_str(), "rb"))
         std::fclose(f);
     else
-        throw ink::Error("cannot open '" + path + "': " + std::strerror(errno));
-    return ink::readPng(path);
+        throw inkwell::Error("cannot open '" + path + "': " + std::strerror(errno));
+    return inkwell::Image::readPng(path);
 }
 
 std::string defaultDiffPath(const std::string& b) {
@@ -317,27 +318,25 @@ std::string defaultDiffPath(const std::string& b) {
 int runCompare(const CompareOptions& c) {
     std::string diffPath = c.diff.empty() ? defaultDiffPath(c.b) : c.diff;
     for (const std::string& input : {c.a, c.b})  // never over a reference: refused before the images are read
-        if (ink::sameFile(diffPath, input))
-            throw ink::Error("cannot write '" + diffPath +
-                             "': it is also an input of this command (inputs are never modified)");
-    ink::RgbaImage a = readImage(c.a), b = readImage(c.b);
+        if (inkwell::sameFile(diffPath, input))
+            throw inkwell::Error("cannot write '" + diffPath +
+                                 "': it is also an input of this command (inputs are never modified)");
+    inkwell::Image a = readImage(c.a), b = readImage(c.b);
     if (a.width != b.width || a.height != b.height) {
         std::printf("images differ in size: '%s' is %ux%u, '%s' is %ux%u\n", c.a.c_str(), a.width, a.height,
                     c.b.c_str(), b.width, b.height);
         return 1;
     }
-    uint8_t threshold = uint8_t(c.threshold);
-    ink::CompareResult result = ink::compareImages(a, b, threshold);
-    if (ink::withinTolerance(result, c.maxFraction)) {
-        std::printf("%s\n", ink::describe(result).c_str());
+    const inkwell::ImageDifference result = inkwell::compareImages(a, b, c.threshold);
+    if (result.sameSize && result.differingFraction <= c.maxFraction) {
+        std::printf("%s\n", result.text.c_str());
         return 0;
     }
-    ink::RgbaImage diff = ink::diffImage(a, b, threshold);
+    inkwell::Image diff = inkwell::differenceImage(a, b, c.threshold);
     a = {};  // the inputs go before the diff is encoded: three images of 2^26 pixels at most at any time
     b = {};
-    ink::writePng(diffPath, diff);
-    std::printf("%s: over %.3f%%, diff -> %s\n", ink::describe(result).c_str(), 100.0 * c.maxFraction,
-                diffPath.c_str());
+    diff.writePng(diffPath);
+    std::printf("%s: over %.3f%%, diff -> %s\n", result.text.c_str(), 100.0 * c.maxFraction, diffPath.c_str());
     return 1;
 }
 

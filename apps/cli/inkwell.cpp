@@ -27,22 +27,21 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return cli.exit(e);
     }
-    const ink::Reporter reporter = app::terminalReporter(quiet);
-    ink::ScopedReporter reporting(reporter);
+    app::setReporter(app::terminalReporter(quiet));
     try {
         for (auto& [command, run] : commands)
             if (command->parsed()) {
                 options.command = command;  // a --preset asks it which options the user gave
                 return run();
             }
-    } catch (const ink::Error& e) {
-        std::fprintf(stderr, "inkwell: %s\n", ink::escapeText(e.what()).c_str());  // no raw bytes of a file
+    } catch (const inkwell::Error& e) {
+        std::fprintf(stderr, "inkwell: %s\n", inkwell::escapeText(e.what()).c_str());  // no raw bytes of a file
         return 1;
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "inkwell: out of memory\n");
         return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "inkwell: internal error: %s\n", ink::escapeText(e.what()).c_str());
+        std::fprintf(stderr, "inkwell: internal error: %s\n", inkwell::escapeText(e.what()).c_str());
         return 2;
     }
     return 0;

@@ -13,7 +13,7 @@ int runValidate(Options& o) {
     inkwell::Device device = openDevice(o, true);
     inkwell::ModelOptions model;
     model.controlPoints = o.controlPoints ? o.controlPoints : 200;
-    const std::vector<inkwell::SelfCheck> checks = inkwell::selfCheck(device, o.model, model);
+    const std::vector<inkwell::SelfCheck> checks = inkwell::selfCheck(device, o.model, model, reporter());
     size_t failures = 0, points = 0;
     for (const inkwell::SelfCheck& check : checks) {
         points += check.points;

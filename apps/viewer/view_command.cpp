@@ -1,14 +1,12 @@
-// view: the interactive viewer. A GLFW window, a FIFO swapchain and two frames in flight; every frame the
-// same PointRenderer as `render` draws straight into the swapchain image (no readback unless a screenshot
-// is asked for), and the settings panel (viewer_panel.h) beside it. The keys, the mouse and the panel only set
-// state; the frame loop applies it between frames. New refinements run on a worker thread.
+// view: the interactive viewer, an application of the public API (include/inkwell/). A GLFW window, a FIFO
+// swapchain and two frames in flight; every frame an inkwell::FrameRecorder draws straight into the swapchain
+// image (no readback unless a screenshot is asked for), and the settings panel (viewer_panel.h) beside it. The
+// keys, the mouse and the panel only set state; the frame loop applies it between frames. New refinements run on
+// a worker thread (Drawing::prepare), and are put in place between frames (Drawing::apply).
 #include "../cli/commands.h"
 #include "../cli/preset.h"
-#include "base/files.h"
-#include "base/image.h"
-#include "gpu/swapchain.h"
-#include "vector/vector.h"
 #include "viewer_panel.h"
+#include "vulkan.h"
 
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
@@ -22,6 +20,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -39,7 +38,7 @@ constexpr double kTitleInterval = 0.5;           // seconds between window title
 
 // Where the L key sends the light, as seen from the default camera (x right, y up, z towards the viewer); it
 // stays fixed to the model unless --light-follows-camera.
-constexpr std::array<glm::vec3, 5> kLights{{
+constexpr std::array<std::array<float, 3>, 5> kLights{{
     {-0.5f, 0.6f, 0.65f},    // upper left: the default
     {0.5f, 0.6f, 0.65f},     // upper right
     {0.0f, 0.0f, 1.0f},      // from the viewer
@@ -77,18 +76,18 @@ struct GlfwLibrary {
         const char* display = std::getenv("DISPLAY");
         const char* wayland = std::getenv("WAYLAND_DISPLAY");
         if ((!display || !*display) && (!wayland || !*wayland))
-            throw ink::Error(
+            throw inkwell::Error(
                 "cannot open a window: no display (set DISPLAY, or run under xvfb-run); "
                 "use 'inkwell render' for headless output");
         if (!glfwInit()) {
             const char* why = nullptr;
             glfwGetError(&why);
-            throw ink::Error(std::string("cannot open a window: ") + (why ? why : "GLFW failed to start") +
-                             " (run under xvfb-run, or use 'inkwell render' for headless output)");
+            throw inkwell::Error(std::string("cannot open a window: ") + (why ? why : "GLFW failed to start") +
+                                 " (run under xvfb-run, or use 'inkwell render' for headless output)");
         }
         if (!glfwVulkanSupported()) {
             glfwTerminate();
-            throw ink::Error("cannot open a window: GLFW finds no Vulkan loader with surface support");
+            throw inkwell::Error("cannot open a window: GLFW finds no Vulkan loader with surface support");
         }
     }
     ~GlfwLibrary() { glfwTerminate(); }
@@ -98,7 +97,7 @@ struct GlfwLibrary {
     static std::vector<const char*> instanceExtensions() {
         uint32_t count = 0;
         const char** names = glfwGetRequiredInstanceExtensions(&count);
-        if (!names) throw ink::Error("cannot open a window: Vulkan cannot present to this window system");
+        if (!names) throw inkwell::Error("cannot open a window: Vulkan cannot present to this window system");
         return {names, names + count};
     }
 };
@@ -113,7 +112,7 @@ struct Window {
         if (!handle) {
             const char* why = nullptr;
             glfwGetError(&why);
-            throw ink::Error(std::string("cannot open a window: ") + (why ? why : "unknown GLFW error"));
+            throw inkwell::Error(std::string("cannot open a window: ") + (why ? why : "unknown GLFW error"));
         }
     }
     ~Window() { glfwDestroyWindow(handle); }
@@ -127,8 +126,7 @@ struct Surface {
     Surface(VkInstance i, GLFWwindow* window) : instance(i) {
         VkResult r = glfwCreateWindowSurface(instance, window, nullptr, &surface);
         if (r != VK_SUCCESS)
-            throw ink::Error(std::string("cannot create a Vulkan surface for the window (") + ink::vkResultName(r) +
-                             ")");
+            throw inkwell::Error("cannot create a Vulkan surface for the window (" + viewer::resultName(r) + ")");
     }
     ~Surface() { vkDestroySurfaceKHR(instance, surface, nullptr); }
     Surface(const Surface&) = delete;
@@ -139,59 +137,44 @@ struct Frame {
     VkCommandBuffer cmd = VK_NULL_HANDLE;
     VkFence done = VK_NULL_HANDLE;          // created signalled: the first wait returns at once
     VkSemaphore acquired = VK_NULL_HANDLE;  // the swapchain image is ready to be drawn into
-    ink::Buffer capture;                    // only while this frame takes a screenshot
-    VkExtent2D captured{};                  // the drawing's extent in it
 };
 
-// The refinement options a change of which needs a new refinement.
-bool sameRefinement(const ink::RefineOptions& a, const ink::RefineOptions& b) {
-    return a.levels == b.levels && a.passes == b.passes && a.direction == b.direction &&
+// The options a change of which needs a new refinement (the panel's and the keys').
+bool sameRefinement(const inkwell::DrawingOptions& a, const inkwell::DrawingOptions& b) {
+    return a.style == b.style && a.levels == b.levels && a.passes == b.passes && a.direction == b.direction &&
            a.distribution == b.distribution;
 }
 
 // The pen-line options a change of which needs the lines traced again (the hatching, or the seeds of both).
-bool sameHatching(const ink::LineOptions& a, const ink::LineOptions& b) {
+bool sameHatching(const inkwell::DrawingOptions& a, const inkwell::DrawingOptions& b) {
     return a.hatching == b.hatching &&
-           (!a.hatching || (a.hatch.spacing == b.hatch.spacing && a.hatch.families == b.hatch.families));
+           (!a.hatching || (a.hatchSpacing == b.hatchSpacing && a.hatchFamilies == b.hatchFamilies));
 }
-bool sameLines(const ink::LineOptions& a, const ink::LineOptions& b) {
-    return a.contours == b.contours && sameHatching(a, b);
+bool sameLines(const inkwell::DrawingOptions& a, const inkwell::DrawingOptions& b) {
+    return a.contours == b.contours && a.creases == b.creases && a.boundaries == b.boundaries && sameHatching(a, b);
 }
+bool anyLines(const inkwell::DrawingOptions& o) { return o.contours || o.hatching || o.creases || o.boundaries; }
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // A new refinement, or new pen lines over the current one, made on a worker thread while the window keeps
-// handling events. The frames stop meanwhile: the device runs one queue in order, so a frame submitted after the
-// refinement would wait for it anyway, and the worker has the queue and the engine's command pool to itself
-// (Scene::build, Scene::traceLines).
+// handling events (Drawing::prepare). The frames stop meanwhile: the device runs one queue in order, so a frame
+// submitted after the refinement would wait for it anyway, and the worker has the queue to itself.
 struct RefineJob {
     bool refine = true;  // new point sets; else only the pen lines of the current ones
-    DrawStyle style;
-    ink::RefineOptions options;
-    ink::LineOptions lines;
+    inkwell::DrawingOptions options;
     std::thread thread;
     std::atomic<bool> finished{false}, tracing{false};
     std::atomic<uint32_t> permille{0};
-    ink::Scene::Sets sets;  // the rest is written by the worker before `finished`, read after
-    ink::Scene::TracedLines traced;
-    uint64_t points = 0;
-    double seconds = 0;
+    inkwell::Drawing::Pending pending;  // the rest is written by the worker before `finished`, read after
     std::string error;
     std::vector<std::string> notes;
 };
 
-// Moves the camera target in the view plane by a mouse movement in pixels: the point under the cursor
-// follows it at the target's depth.
-void pan(ink::Camera& c, double dx, double dy, uint32_t height) {
-    glm::mat4 view = c.view();
-    glm::vec3 right(view[0][0], view[1][0], view[2][0]);
-    glm::vec3 up(view[0][1], view[1][1], view[2][1]);
-    float viewHeight = 2.0f * c.distance * std::tan(glm::radians(c.fovyDeg) * 0.5f);
-    float perPixel = viewHeight / float(std::max(1u, height));
-    c.target += (-float(dx) * right + float(dy) * up) * perPixel;
-}
-
 class Viewer {
 public:
-    Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene, GLFWwindow* window, VkSurfaceKHR surface);
+    Viewer(Options& o, const ViewOptions& v, inkwell::Device& device, const viewer::Gpu& gpu,
+           const inkwell::Model& model, inkwell::Drawing& drawing, GLFWwindow* window, VkSurfaceKHR surface);
     ~Viewer() { release(); }
     Viewer(const Viewer&) = delete;
     Viewer& operator=(const Viewer&) = delete;
@@ -217,13 +200,9 @@ private:
     bool panelDrawn() const;
     void buildPanel(double frameMs);
     // Whether the options ask for other point sets or pen lines than those drawn.
-    bool stale() const {
-        return o_.style != appliedStyle_ || !sameRefinement(o_.refine, appliedRefine_) ||
-               !sameLines(o_.lines, appliedLines_);
-    }
+    bool stale() const { return !sameRefinement(o_.drawing, applied_) || !sameLines(o_.drawing, applied_); }
     void startRefinement();
     void finishRefinement();
-    void applyLines(ink::Scene::TracedLines traced);  // new pen lines, and a renderer over them
     void copyCamera();
     void pasteCamera();
     void savePng(const std::string& path, uint32_t width, uint32_t height);
@@ -237,16 +216,18 @@ private:
 
     Options& o_;
     ViewOptions v_;
-    ink::Context& ctx_;
-    Scene& scene_;
+    inkwell::Device& device_;
+    const viewer::Gpu& gpu_;
+    inkwell::Drawing& drawing_;
+    size_t controlPoints_;
     GLFWwindow* window_;
     VkSurfaceKHR surface_;
     VkSurfaceFormatKHR format_{};
-    ink::Swapchain swapchain_;
+    viewer::Swapchain swapchain_;
     VkCommandPool pool_ = VK_NULL_HANDLE;
     std::array<Frame, kFramesInFlight> frames_{};
     uint32_t current_ = 0;
-    std::unique_ptr<ink::PointRenderer> renderer_;
+    std::unique_ptr<inkwell::FrameRecorder> recorder_;
     uint64_t points_ = 0;
 
     std::unique_ptr<ViewerPanel> panel_;
@@ -254,14 +235,12 @@ private:
     std::string message_;     // the panel's last line: what was saved, loaded or refused
     std::string pngDefault_;  // the panel's PNG file to begin with
 
-    ink::Camera camera_, home_;
-    std::optional<ink::Camera> autoHome_;          // the first picture of `--up auto`, for the panel's "auto" up entry
-    glm::vec3 tracedEye_{NAN}, previousEye_{NAN};  // where the contours were traced from; the last frame's eye
-    double traceSeconds_ = INFINITY;               // how long the last trace of the contour took
-    DrawStyle appliedStyle_;
-    ink::RefineOptions appliedRefine_;
-    ink::LineOptions appliedLines_;
-    float toneGamma_;  // what T restores
+    inkwell::Camera camera_, home_;
+    std::optional<inkwell::Camera> autoHome_;  // the first picture of `--up auto`, for the panel's "auto" up entry
+    std::array<float, 3> previousEye_{kNaN, kNaN, kNaN};  // the last frame's eye
+    bool traced_ = false;                                 // a contour was traced (its time is known)
+    inkwell::DrawingOptions applied_;                     // of the sets and lines drawn
+    float toneGamma_;                                     // what T restores
     size_t light_ = 0;
     double lastX_ = 0, lastY_ = 0;
     bool resized_ = false, quit_ = false, restyle_ = true, rerefine_ = false, screenshotKey_ = false;
@@ -271,43 +250,45 @@ private:
 
 Viewer& viewerOf(GLFWwindow* w) { return *static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
 
-Viewer::Viewer(Options& o, const ViewOptions& v, ink::Context& ctx, Scene& scene, GLFWwindow* window,
-               VkSurfaceKHR surface)
+Viewer::Viewer(Options& o, const ViewOptions& v, inkwell::Device& device, const viewer::Gpu& gpu,
+               const inkwell::Model& model, inkwell::Drawing& drawing, GLFWwindow* window, VkSurfaceKHR surface)
     : o_(o),
       v_(v),
-      ctx_(ctx),
-      scene_(scene),
+      device_(device),
+      gpu_(gpu),
+      drawing_(drawing),
+      controlPoints_(model.report().controlPoints),
       window_(window),
       surface_(surface),
       camera_(cameraFrom(o)),
       home_(camera_),
-      autoHome_(o.autoUp && o.autoView ? std::optional<ink::Camera>(camera_) : std::nullopt),
-      appliedStyle_(o.style),
-      appliedRefine_(o.refine),
-      appliedLines_(o.lines),
-      toneGamma_(o.render.toneGamma > 0 ? o.render.toneGamma : 1.5f) {
+      autoHome_(o.autoUp && o.autoView ? std::optional<inkwell::Camera>(camera_) : std::nullopt),
+      applied_(o.drawing),
+      toneGamma_(o.look.toneGamma > 0 ? o.look.toneGamma : 1.5f) {
+    const VkDevice vk = gpu.vk.device;
     try {
-        format_ = ink::chooseSurfaceFormat(ctx, surface);
+        std::string warning;
+        format_ = viewer::chooseSurfaceFormat(gpu, surface, warning);
+        if (!warning.empty()) note(warning);
         VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
         poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-        poolInfo.queueFamilyIndex = ctx.queueFamily;
-        VK_CHECK(vkCreateCommandPool(ctx.device, &poolInfo, nullptr, &pool_));
+        poolInfo.queueFamilyIndex = gpu.vk.queueFamily;
+        VIEWER_CHECK(vkCreateCommandPool(vk, &poolInfo, nullptr, &pool_));
         for (Frame& f : frames_) {
             VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
             alloc.commandPool = pool_;
             alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
             alloc.commandBufferCount = 1;
-            VK_CHECK(vkAllocateCommandBuffers(ctx.device, &alloc, &f.cmd));
+            VIEWER_CHECK(vkAllocateCommandBuffers(vk, &alloc, &f.cmd));
             VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
             fenceInfo.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-            VK_CHECK(vkCreateFence(ctx.device, &fenceInfo, nullptr, &f.done));
+            VIEWER_CHECK(vkCreateFence(vk, &fenceInfo, nullptr, &f.done));
             VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-            VK_CHECK(vkCreateSemaphore(ctx.device, &semaphoreInfo, nullptr, &f.acquired));
+            VIEWER_CHECK(vkCreateSemaphore(vk, &semaphoreInfo, nullptr, &f.acquired));
         }
-        renderer_ = std::make_unique<ink::PointRenderer>(ctx, scene.pointers(), format_.format, kFramesInFlight,
-                                                         scene.strokes.get());
-        points_ = scene.points();
-        panel_ = std::make_unique<ViewerPanel>(ctx, window, format_.format, kFramesInFlight);
+        recorder_ = std::make_unique<inkwell::FrameRecorder>(drawing, format_.format, kFramesInFlight, o.look);
+        points_ = drawing.pointCount();
+        panel_ = std::make_unique<ViewerPanel>(gpu, window, format_.format, kFramesInFlight);
         if (v.noPanel) panel_->toggle();
     } catch (...) {
         release();
@@ -350,18 +331,17 @@ void Viewer::release() {
     glfwSetCursorEnterCallback(window_, nullptr);
     glfwSetWindowFocusCallback(window_, nullptr);
     glfwSetWindowUserPointer(window_, nullptr);
-    vkDeviceWaitIdle(ctx_.device);
+    vkDeviceWaitIdle(gpu_.vk.device);
     panel_.reset();
-    renderer_.reset();
+    recorder_.reset();
     for (Frame& f : frames_) {
-        if (f.capture.buffer) ink::destroyBuffer(ctx_, f.capture);
-        vkDestroySemaphore(ctx_.device, f.acquired, nullptr);
-        vkDestroyFence(ctx_.device, f.done, nullptr);
+        vkDestroySemaphore(gpu_.vk.device, f.acquired, nullptr);
+        vkDestroyFence(gpu_.vk.device, f.done, nullptr);
         f = Frame{};
     }
-    vkDestroyCommandPool(ctx_.device, pool_, nullptr);  // frees the command buffers
+    vkDestroyCommandPool(gpu_.vk.device, pool_, nullptr);  // frees the command buffers
     pool_ = VK_NULL_HANDLE;
-    ink::destroySwapchain(ctx_, swapchain_);
+    viewer::destroySwapchain(gpu_, swapchain_);
 }
 
 void Viewer::onKey(int key, int scancode, int action, int mods) {
@@ -372,34 +352,34 @@ void Viewer::onKey(int key, int scancode, int action, int mods) {
     }
     bool press = action == GLFW_PRESS, repeat = action == GLFW_REPEAT;
     if (!press && !(repeat && (key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET))) return;
-    ink::RenderStyle& s = o_.render;
+    inkwell::Look& s = o_.look;
     switch (key) {
         case GLFW_KEY_ESCAPE:
         case GLFW_KEY_Q:
             quit_ = true;
             break;
         case GLFW_KEY_1:
-            o_.style = DrawStyle::Stipple;
-            s.drawDots = true;
+            o_.drawing.style = inkwell::Style::Stipple;
+            s.dots = true;
             restyle_ = true;
             break;
         case GLFW_KEY_2:
-            o_.style = DrawStyle::Direction;
-            s.drawDots = true;
+            o_.drawing.style = inkwell::Style::Direction;
+            s.dots = true;
             restyle_ = true;
             break;
         case GLFW_KEY_3:
-            o_.style = DrawStyle::Both;
-            s.drawDots = true;
+            o_.drawing.style = inkwell::Style::Both;
+            s.dots = true;
             restyle_ = true;
             break;
         case GLFW_KEY_EQUAL:  // '+' is shift+'=' on most layouts; '=' alone counts too
         case GLFW_KEY_KP_ADD:
-            o_.refine.levels = std::min(o_.refine.levels + 1, kMaxLevels);
+            o_.drawing.levels = std::min(o_.drawing.levels + 1, kMaxLevels);
             break;
         case GLFW_KEY_MINUS:
         case GLFW_KEY_KP_SUBTRACT:
-            o_.refine.levels = o_.refine.levels > 0 ? o_.refine.levels - 1 : 0;
+            o_.drawing.levels = o_.drawing.levels > 0 ? o_.drawing.levels - 1 : 0;
             break;
         case GLFW_KEY_LEFT_BRACKET:
             s.tau = std::max(0.0f, s.tau - 0.02f);
@@ -435,18 +415,18 @@ void Viewer::onKey(int key, int scancode, int action, int mods) {
         {
             // With `--up auto` at the start, "auto" takes the place of the axis it found: the cycle goes on from
             // it to the next axis, and back to it (and to its first picture) where that axis would come.
-            static constexpr ink::UpAxis kOrder[] = {ink::UpAxis::PosY, ink::UpAxis::PosZ, ink::UpAxis::PosX,
-                                                     ink::UpAxis::NegY, ink::UpAxis::NegZ, ink::UpAxis::NegX};
+            static constexpr inkwell::Up kOrder[] = {inkwell::Up::Y,    inkwell::Up::Z,    inkwell::Up::X,
+                                                     inkwell::Up::NegY, inkwell::Up::NegZ, inkwell::Up::NegX};
             size_t k = 0;
-            while (kOrder[k] != s.up) ++k;
-            const ink::UpAxis next = kOrder[(k + 1) % 6];
+            while (kOrder[k] != o_.up) ++k;
+            const inkwell::Up next = kOrder[(k + 1) % 6];
             if (autoHome_ && !o_.autoUp && next == autoHome_->up) {
-                s.up = next;
+                o_.up = next;
                 camera_ = home_ = *autoHome_;
                 o_.autoUp = true;
             } else {
-                s.up = next;
-                camera_.up = home_.up = s.up;
+                o_.up = next;
+                camera_.up = home_.up = o_.up;
                 o_.autoUp = false;  // chosen: a saved preset keeps it
             }
             restyle_ = true;  // the light is fixed to the model as seen from the default camera of this axis
@@ -505,7 +485,7 @@ void Viewer::onCursor(double x, double y) {
     bool shift = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
                  glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
     if (right || (left && shift)) {
-        pan(camera_, dx, dy, swapchain_.extent.height);
+        camera_.pan(dx, dy, swapchain_.extent.height);
     } else if (left) {
         // Grab-and-turn: dragging right turns the model right, i.e. the camera goes left around it.
         camera_.azimuthDeg = std::fmod(camera_.azimuthDeg - float(dx) * 0.3f, 360.0f);
@@ -529,53 +509,46 @@ bool Viewer::ensureSwapchain() {
     if (swapchain_.swapchain && !resized_) return true;
     int width = 0, height = 0;
     glfwGetFramebufferSize(window_, &width, &height);
-    if (!ink::createSwapchain(ctx_, swapchain_, surface_, format_, {uint32_t(width), uint32_t(height)})) return false;
+    if (!viewer::createSwapchain(gpu_, swapchain_, surface_, format_, {uint32_t(width), uint32_t(height)}))
+        return false;
     resized_ = false;
     if (panel_) panel_->swapchainChanged();
     if (!v_.screenshot.empty() && !swapchain_.copyable)
-        throw ink::Error("this window system's images cannot be copied, so --screenshot cannot work");
+        throw inkwell::Error("this window system's images cannot be copied, so --screenshot cannot work");
     return true;
 }
 
 // Starts a new refinement for the style and refinement options asked for, or new pen lines over the current
-// one, on a worker thread. Contours switched on or off over lines already traced need no tracing: at once.
+// one, on a worker thread. Lines switched on or off over lines already traced need no tracing: at once.
 void Viewer::startRefinement() {
     rerefine_ = false;
-    const bool refine = o_.style != appliedStyle_ || !sameRefinement(o_.refine, appliedRefine_);
-    if (!refine && sameHatching(o_.lines, appliedLines_) && (appliedLines_.any() || !o_.lines.any())) {
-        applyLines({o_.lines, scene_.samples, scene_.hatching, scene_.hatchStats, scene_.hatchSeconds});
-        say(std::string("contours ") + (o_.lines.contours ? "on" : "off"), false);
+    const bool refine = !sameRefinement(o_.drawing, applied_);
+    if (!refine && sameHatching(o_.drawing, applied_) && (anyLines(applied_) || !anyLines(o_.drawing))) {
+        drawing_.apply(drawing_.prepare(o_.drawing, reporter()));  // nothing to make or trace
+        applied_ = o_.drawing;
+        restyle_ = true;
+        say(std::string("contours ") + (o_.drawing.contours ? "on" : "off"), false);
         return;
     }
     job_ = std::make_unique<RefineJob>();
     RefineJob* job = job_.get();
     job->refine = refine;
-    job->style = o_.style;
-    job->options = o_.refine;
-    job->lines = o_.lines;
+    job->options = o_.drawing;
+    job->tracing = !refine;
     job->thread = std::thread([this, job] {
-        const size_t sets = job->style == DrawStyle::Both ? 2 : 1;
+        const size_t sets = job->options.style == inkwell::Style::Both ? 2 : 1;
         size_t setsDone = 0;
-        ink::Reporter reporter;
-        reporter.progress = [&](const char*, size_t done, size_t total) {
+        inkwell::Reporter progress;
+        progress.progress = [&](const char*, size_t done, size_t total) {
             job->permille =
                 uint32_t(1000 * (double(setsDone) + double(done) / double(std::max<size_t>(total, 1))) / double(sets));
             if (done >= total) setsDone = std::min(setsDone + 1, sets);
+            if (setsDone == sets) job->tracing = true;  // the sets are made: the lines next
         };
-        reporter.note = [job](const std::string& line) { job->notes.push_back(line); };
-        ink::ScopedReporter scoped(reporter);
+        progress.note = [job](const std::string& line) { job->notes.push_back(line); };
         try {
-            auto start = Clock::now();
-            if (job->refine) {
-                job->sets = scene_.build(job->style, job->options);
-                job->seconds = secondsSince(start);
-                for (auto& set : job->sets)
-                    for (const ink::LevelStats& l : ink::readLevelStats(ctx_, set->gpu())) job->points += l.kept;
-            }
-            job->tracing = true;
-            job->traced = scene_.traceLines(job->refine ? job->sets : scene_.sets, job->lines);
+            job->pending = drawing_.prepare(job->options, progress);
         } catch (const std::exception& e) {
-            job->sets.clear();  // before the main thread touches the device again
             job->error = e.what();
         }
         job->finished = true;
@@ -583,55 +556,40 @@ void Viewer::startRefinement() {
     });
 }
 
-// New pen lines: the renderer holds the old strokes' descriptors, so it is made again over the new ones.
-void Viewer::applyLines(ink::Scene::TracedLines traced) {
-    VK_CHECK(vkDeviceWaitIdle(ctx_.device));
-    renderer_.reset();
-    appliedLines_ = traced.options;
-    scene_.setLines(std::move(traced));
-    renderer_ = std::make_unique<ink::PointRenderer>(ctx_, scene_.pointers(), format_.format, kFramesInFlight,
-                                                     scene_.strokes.get());
-    tracedEye_ = glm::vec3(NAN);
-    restyle_ = true;  // the new renderer's style block is empty
-}
-
-// Swaps in the finished refinement or lines (or, if it failed, says why and keeps the drawing as it was).
+// Puts the finished refinement or lines in place (or, if it failed, says why and keeps the drawing as it was).
+// The recorder draws the new sets and lines from its next frame.
 void Viewer::finishRefinement() {
     job_->thread.join();
     std::unique_ptr<RefineJob> job = std::move(job_);
-    for (const std::string& line : job->notes) ink::note(line);
+    for (const std::string& line : job->notes) note(line);
     if (!job->error.empty()) {
         // Too many points for this device, say: keep viewing what was there.
-        o_.style = appliedStyle_;
-        o_.refine = appliedRefine_;
-        o_.lines = appliedLines_;
-        say(job->error + "; keeping " + styleName(o_) + " at " + std::to_string(appliedRefine_.levels) + " levels",
-            true);
+        o_.drawing = applied_;
+        say(job->error + "; keeping " + styleName(o_) + " at " + std::to_string(applied_.levels) + " levels", true);
         return;
     }
+    const bool refined = job->pending.refined(), traced = job->pending.traced();
+    const double seconds = job->pending.seconds(), traceSeconds = job->pending.traceSeconds();
+    const size_t strokes = job->pending.hatchStrokes();
+    drawing_.apply(std::move(job->pending));
+    applied_ = job->options;
+    restyle_ = true;
     std::string message;
-    if (job->refine) {
-        VK_CHECK(vkDeviceWaitIdle(ctx_.device));
-        renderer_.reset();  // it holds descriptors of the old refinement's buffers
-        scene_.replace(std::move(job->sets), job->seconds, ink::Scene::TracedLines{});
-        appliedStyle_ = job->style;
-        appliedRefine_ = job->options;
-        points_ = job->points;
+    if (refined) {
+        points_ = drawing_.pointCount();
         char line[160];
         std::snprintf(line, sizeof line, "refined %s at %u levels in %.2f s: %llu points",
-                      ink::drawStyleName(appliedStyle_), appliedRefine_.levels, job->seconds,
-                      (unsigned long long)points_);
+                      inkwell::styleName(applied_.style), applied_.levels, seconds, (unsigned long long)points_);
         message = line;
     }
-    if (job->traced.options.hatching) {
+    if (traced && applied_.hatching) {
         char line[120];
         std::snprintf(line, sizeof line, "%shatching traced in %.2f s: %zu strokes", message.empty() ? "" : "; ",
-                      job->traced.seconds, job->traced.hatching.size());
+                      traceSeconds, strokes);
         message += line;
-    } else if (!job->refine) {
-        message = std::string("pen lines: ") + (job->lines.contours ? "contours" : "none");
+    } else if (!refined) {
+        message = std::string("pen lines: ") + (applied_.contours ? "contours" : "none");
     }
-    applyLines(std::move(job->traced));
     say(message, false);
     // Changed again while it ran: once more.
     if (stale()) rerefine_ = true;
@@ -643,8 +601,8 @@ void Viewer::copyCamera() {
     c.azimuthDeg = camera_.azimuthDeg;
     c.elevationDeg = camera_.elevationDeg;
     c.distance = camera_.distance;
-    c.target = std::array<float, 3>{camera_.target.x, camera_.target.y, camera_.target.z};
-    c.up = ink::upAxisName(o_.render.up);
+    c.target = camera_.target;
+    c.up = inkwell::upName(o_.up);
     c.fovDeg = camera_.fovyDeg;
     c.freeOrbit = camera_.freeOrbit;
     const std::string text = cameraJson(c);
@@ -656,23 +614,23 @@ void Viewer::copyCamera() {
 void Viewer::pasteCamera() {
     const char* clipboard = glfwGetClipboardString(window_);
     try {
-        if (!clipboard) throw ink::Error("the clipboard holds no text");
+        if (!clipboard) throw inkwell::Error("the clipboard holds no text");
         const CameraText c = parseCameraText(clipboard);
         if (c.up) {
-            o_.render.up = ink::parseUpAxis(*c.up);
-            home_.up = o_.render.up;
+            o_.up = inkwell::parseUp(*c.up);
+            home_.up = o_.up;
             o_.autoUp = false;
             restyle_ = true;  // the light is given about the up axis
         }
-        camera_.up = o_.render.up;
+        camera_.up = o_.up;
         if (c.freeOrbit) camera_.freeOrbit = *c.freeOrbit;
         camera_.azimuthDeg = c.azimuthDeg;
         camera_.elevationDeg = camera_.freeOrbit ? c.elevationDeg : std::clamp(c.elevationDeg, -89.0f, 89.0f);
         camera_.distance = std::clamp(c.distance, 0.1f, 50.0f);
-        if (c.target) camera_.target = glm::vec3((*c.target)[0], (*c.target)[1], (*c.target)[2]);
+        if (c.target) camera_.target = *c.target;
         if (c.fovDeg) camera_.fovyDeg = std::clamp(*c.fovDeg, 10.0f, 100.0f);
         say("pasted the camera", false);
-    } catch (const ink::Error& e) {
+    } catch (const inkwell::Error& e) {
         say(std::string("camera not pasted: ") + e.what(), true);
     }
 }
@@ -681,7 +639,7 @@ void Viewer::pasteCamera() {
 void Viewer::say(const std::string& line, bool error) {
     message_ = line;
     if (error)
-        ink::note(line);
+        note(line);
     else
         std::printf("view: %s\n", line.c_str());
     std::fflush(stdout);
@@ -699,7 +657,7 @@ bool Viewer::panelDrawn() const { return panel_ && drawingExtent().width < swapc
 void Viewer::buildPanel(double frameMs) {
     PanelInfo info;
     info.model = std::filesystem::path(o_.model).filename().string();
-    info.controlPoints = scene_.model.fit.controlPoints;
+    info.controlPoints = controlPoints_;
     info.points = points_;
     info.frameMs = frameMs;
     info.refining = rerefine_ || job_;
@@ -708,18 +666,18 @@ void Viewer::buildPanel(double frameMs) {
     info.message = message_;
     info.screenshotPath = v_.screenshot.empty() ? "inkwell-view-N.png (the first free N)" : v_.screenshot;
     info.drawing = drawingExtent();
-    info.autoUp = autoHome_ ? ink::upAxisName(autoHome_->up) : nullptr;
+    info.autoUp = autoHome_ ? inkwell::upName(autoHome_->up) : nullptr;
     if (pngDefault_.empty()) pngDefault_ = nextDrawingPath();
     info.pngPath = pngDefault_;
     PanelActions a = panel_->build(o_, camera_, info);
     if (a.restyle) restyle_ = true;
     if (a.rerefine) rerefine_ = true;
     if (a.upChanged) {
-        camera_.up = home_.up = o_.render.up;
+        camera_.up = home_.up = o_.up;
         o_.autoUp = false;
     }
     if (a.upAuto && autoHome_) {
-        o_.render.up = autoHome_->up;
+        o_.up = autoHome_->up;
         camera_ = home_ = *autoHome_;
         o_.autoUp = true;
     }
@@ -731,29 +689,29 @@ void Viewer::buildPanel(double frameMs) {
         try {
             savePng(a.pngPath, a.pngSize[0], a.pngSize[1]);
             say("saved " + a.pngPath, false);
-        } catch (const ink::Error& e) {
+        } catch (const inkwell::Error& e) {
             say(std::string("not saved: ") + e.what(), true);
         }
     }
     if (a.savePreset) {
         try {
-            ink::checkOutputs({a.presetPath}, {o_.model});
-            ink::OutputBatch now;  // at once, even inside the --screenshot batch
-            ink::writeFileAtomically(a.presetPath, presetJson(presetFrom(o_)));
+            inkwell::checkOutputs({a.presetPath}, {o_.model});
+            inkwell::OutputBatch now;  // at once, even inside the --screenshot batch
+            inkwell::writeFileAtomically(a.presetPath, presetJson(presetFrom(o_)));
             now.commit();
             say("saved preset " + a.presetPath, false);
-        } catch (const ink::Error& e) {
+        } catch (const inkwell::Error& e) {
             say(std::string("preset not saved: ") + e.what(), true);
         }
     }
     if (a.loadPreset) {
         try {
             loadPreset(o_, a.presetPath);
-            camera_.up = home_.up = o_.render.up;
+            camera_.up = home_.up = o_.up;
             restyle_ = true;
             if (stale()) rerefine_ = true;
             say("loaded preset " + a.presetPath, false);
-        } catch (const ink::Error& e) {
+        } catch (const inkwell::Error& e) {
             say(e.what(), true);
         }
     }
@@ -762,19 +720,15 @@ void Viewer::buildPanel(double frameMs) {
 // What `inkwell render -o path` draws with the same options and camera at width × height: a PNG supersampled as
 // it does, or (.svg, .pdf) the frame's marks laid out on the page of the --page options.
 void Viewer::savePng(const std::string& path, uint32_t width, uint32_t height) {
-    ink::checkOutputs({path}, {o_.model, o_.preset});
-    ink::checkOffscreenSize(ctx_, width, height, o_.render.supersample);
-    if (scene_.lines.contours && camera_.eye() != tracedEye_) {  // the pen lines of this view, as render's
-        scene_.traceContours(camera_);
-        tracedEye_ = camera_.eye();
-    }
-    ink::OffscreenRenderer offscreen(ctx_, width, height, o_.render, scene_.pointers(), scene_.strokes.get());
-    ink::RgbaImage image = offscreen.render(camera_);
-    ink::OutputBatch now;  // at once, even inside the --screenshot batch
-    if (ink::isVectorPath(path))
-        ink::writePlot(path, ink::layoutPlot(offscreen.vectorDrawing(), o_.page));
+    inkwell::checkOutputs({path}, {o_.model, o_.preset});
+    device_.checkImageSize(width, height, o_.look.supersample);
+    inkwell::Renderer offscreen(drawing_, width, height, o_.look);
+    const inkwell::Image image = offscreen.render(camera_);  // the pen lines of this view, as render's
+    inkwell::OutputBatch now;                                // at once, even inside the --screenshot batch
+    if (inkwell::Plot::isVectorPath(path))
+        offscreen.plot(o_.page).write(path);
     else
-        ink::writePng(path, image);
+        image.writePng(path);
     now.commit();
 }
 
@@ -783,33 +737,33 @@ void Viewer::record(Frame& f, uint32_t index, bool capture) {
     // tracer on a GPU, a few milliseconds), else once the eye stops (a frame without motion; the CPU tracer on
     // lavapipe takes 35–45 ms for the bunny), the last view's contour drawn while it moves (docs/lines.md).
     constexpr double kTraceBudget = 0.008;
-    const bool moving = camera_.eye() != previousEye_;
-    if (scene_.lines.contours && camera_.eye() != tracedEye_ && (!moving || traceSeconds_ < kTraceBudget)) {
-        const auto start = std::chrono::steady_clock::now();
-        scene_.traceContours(camera_);
-        traceSeconds_ = secondsSince(start);
-        tracedEye_ = camera_.eye();
-    }
-    previousEye_ = camera_.eye();
+    const std::array<float, 3> eye = camera_.eye();
+    const bool moving = eye != previousEye_;
+    const bool trace = !moving || (traced_ && drawing_.contourSeconds() < kTraceBudget);
+    traced_ |= trace && applied_.contours;
+    previousEye_ = eye;
     VkCommandBuffer cmd = f.cmd;
-    VK_CHECK(vkResetCommandBuffer(cmd, 0));
+    VIEWER_CHECK(vkResetCommandBuffer(cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
+    VIEWER_CHECK(vkBeginCommandBuffer(cmd, &begin));
     if (restyle_) {
-        renderer_->setStyle(cmd, o_.render, 1.0f);
+        recorder_->setLook(o_.look);
         restyle_ = false;
     }
     // The acquire semaphore is waited on at colour output: the image's transition comes after that stage. The
     // drawing takes the window's left part; the panel, drawn after it (and after a screenshot's copy), the rest.
     const bool panel = panelDrawn();
-    ink::FrameTarget target{
-        swapchain_.images[index], swapchain_.views[index], drawingExtent(),
+    inkwell::FrameTarget target{
+        swapchain_.images[index],
+        swapchain_.views[index],
+        drawingExtent(),
         panel ? panel_->layoutBefore(swapchain_, drawingExtent().width) : VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
-        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT};
-    renderer_->recordFrame(cmd, camera_, target, current_, capture ? &f.capture : nullptr);
+        VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+        capture};
+    recorder_->record(cmd, camera_, target, current_, trace);
     if (panel) panel_->record(cmd, swapchain_, index, target.extent.width);
-    VK_CHECK(vkEndCommandBuffer(cmd));
+    VIEWER_CHECK(vkEndCommandBuffer(cmd));
 }
 
 void Viewer::submitAndPresent(Frame& f, uint32_t index, bool suboptimal) {
@@ -828,7 +782,7 @@ void Viewer::submitAndPresent(Frame& f, uint32_t index, bool suboptimal) {
     submit.pCommandBufferInfos = &cmdInfo;
     submit.signalSemaphoreInfoCount = 1;
     submit.pSignalSemaphoreInfos = &signal;
-    VK_CHECK(vkQueueSubmit2(ctx_.queue, 1, &submit, f.done));
+    VIEWER_CHECK(vkQueueSubmit2(gpu_.vk.queue, 1, &submit, f.done));
 
     VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
     present.waitSemaphoreCount = 1;
@@ -836,35 +790,30 @@ void Viewer::submitAndPresent(Frame& f, uint32_t index, bool suboptimal) {
     present.swapchainCount = 1;
     present.pSwapchains = &swapchain_.swapchain;
     present.pImageIndices = &index;
-    VkResult presented = vkQueuePresentKHR(ctx_.queue, &present);
+    VkResult presented = vkQueuePresentKHR(gpu_.vk.queue, &present);
     if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR || suboptimal)
         resized_ = true;  // recreated before the next frame
     else
-        VK_CHECK(presented);
+        VIEWER_CHECK(presented);
 }
 
 // Draws and presents one frame, saving it to `screenshot` when that is not empty. False when the
 // swapchain was out of date and nothing was drawn (it is recreated before the next try).
 bool Viewer::drawFrame(const std::string& screenshot) {
     Frame& f = frames_[current_];
-    VK_CHECK(vkWaitForFences(ctx_.device, 1, &f.done, VK_TRUE, UINT64_MAX));
+    VIEWER_CHECK(vkWaitForFences(gpu_.vk.device, 1, &f.done, VK_TRUE, UINT64_MAX));
     uint32_t index = 0;
     VkResult acquired =
-        vkAcquireNextImageKHR(ctx_.device, swapchain_.swapchain, UINT64_MAX, f.acquired, VK_NULL_HANDLE, &index);
+        vkAcquireNextImageKHR(gpu_.vk.device, swapchain_.swapchain, UINT64_MAX, f.acquired, VK_NULL_HANDLE, &index);
     if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
         resized_ = true;
         return false;
     }
-    if (acquired != VK_SUBOPTIMAL_KHR) VK_CHECK(acquired);
+    if (acquired != VK_SUBOPTIMAL_KHR) VIEWER_CHECK(acquired);
     // Only now: a frame that returned above must leave the fence signalled for the next wait.
-    VK_CHECK(vkResetFences(ctx_.device, 1, &f.done));
+    VIEWER_CHECK(vkResetFences(gpu_.vk.device, 1, &f.done));
 
-    bool capture = !screenshot.empty();
-    if (capture) {
-        f.captured = drawingExtent();
-        VkDeviceSize bytes = VkDeviceSize(f.captured.width) * f.captured.height * 4;
-        f.capture = ink::createBuffer(ctx_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, ink::MemoryUse::Readback);
-    }
+    const bool capture = !screenshot.empty();
     record(f, index, capture);
     submitAndPresent(f, index, acquired == VK_SUBOPTIMAL_KHR);
     if (capture) saveCapture(f, screenshot);
@@ -873,15 +822,8 @@ bool Viewer::drawFrame(const std::string& screenshot) {
 }
 
 void Viewer::saveCapture(Frame& f, const std::string& path) {
-    VK_CHECK(vkWaitForFences(ctx_.device, 1, &f.done, VK_TRUE, UINT64_MAX));
-    // The drawing, at the extent the frame was recorded with: never the panel.
-    VkExtent2D extent = f.captured;
-    ink::RgbaImage image{extent.width, extent.height, {}};
-    const uint8_t* mapped = static_cast<const uint8_t*>(f.capture.mapped);
-    image.pixels.assign(mapped, mapped + f.capture.size);
-    ink::destroyBuffer(ctx_, f.capture);
-    ink::swizzleToRgba(format_.format, image.pixels);
-    ink::writePng(path, image);
+    VIEWER_CHECK(vkWaitForFences(gpu_.vk.device, 1, &f.done, VK_TRUE, UINT64_MAX));
+    recorder_->captured(current_).writePng(path);  // the drawing, at the extent the frame was recorded with
 }
 
 std::string Viewer::nextScreenshotPath() {
@@ -899,7 +841,7 @@ void Viewer::saveVector() {
         if (!std::filesystem::exists(name)) path = name;
     }
     uint32_t frame = (current_ + kFramesInFlight - 1) % kFramesInFlight;  // drawFrame moved on past it
-    writeVectorView(*renderer_, frame, path, o_.page);
+    recorder_->plot(frame, o_.page).write(path);
     std::printf("view: saved %s\n", path.c_str());
     std::fflush(stdout);  // scripts wait for it
 }
@@ -914,7 +856,7 @@ std::string Viewer::nextDrawingPath() const {
 void Viewer::updateTitle(double averageMs) {
     char title[256];
     std::snprintf(title, sizeof(title), "inkwell view - %s - %s, %u levels - %llu points - %.1f ms",
-                  std::filesystem::path(o_.model).filename().c_str(), styleName(o_).c_str(), o_.refine.levels,
+                  std::filesystem::path(o_.model).filename().c_str(), styleName(o_).c_str(), o_.drawing.levels,
                   (unsigned long long)points_, averageMs);
     glfwSetWindowTitle(window_, title);
 }
@@ -962,9 +904,9 @@ ViewResult Viewer::run() {
         bool drawn = false;
         try {
             drawn = drawFrame(screenshot);
-        } catch (const ink::Error& e) {
+        } catch (const inkwell::Error& e) {
             if (!fromKey) throw;
-            ink::note(std::string("screenshot not saved: ") + e.what());  // an S key failure keeps the view
+            note(std::string("screenshot not saved: ") + e.what());  // an S key failure keeps the view
             screenshotKey_ = false;
             continue;
         }
@@ -982,9 +924,9 @@ ViewResult Viewer::run() {
             try {
                 saveVector();
                 savedVectorLast = last;
-            } catch (const ink::Error& e) {
+            } catch (const inkwell::Error& e) {
                 if (!vectorKey_) throw;
-                ink::note(std::string("drawing not saved: ") + e.what());  // a V key failure keeps the view
+                note(std::string("drawing not saved: ") + e.what());  // a V key failure keeps the view
             }
             vectorKey_ = false;
         }
@@ -1011,56 +953,58 @@ ViewResult Viewer::run() {
             std::printf("view: saved %s\n", v_.screenshot.c_str());
             savedLast = true;
         }
-    if (!v_.screenshot.empty() && !savedLast) ink::note("no frame to save to " + v_.screenshot + " (minimized?)");
+    if (!v_.screenshot.empty() && !savedLast) note("no frame to save to " + v_.screenshot + " (minimized?)");
     if (!v_.vector.empty() && !savedVectorLast) {
         if (result.frames > 0)
             saveVector();  // closed before the last frame: the frame drawn last
         else
-            ink::note("no frame to save to " + v_.vector + " (minimized?)");
+            note("no frame to save to " + v_.vector + " (minimized?)");
     }
-    VK_CHECK(vkDeviceWaitIdle(ctx_.device));
+    VIEWER_CHECK(vkDeviceWaitIdle(gpu_.vk.device));
     result.extent = swapchain_.extent;
     result.points = points_;
-    result.controlPoints = scene_.model.fit.controlPoints;
+    result.controlPoints = controlPoints_;
     return result;
 }
 
 int runView(Options& o, const ViewOptions& v) {
     finishOptions(o);
-    ink::checkOutputs({v.screenshot, v.vector, o.statsPath}, {o.model, o.preset});  // before the window opens
-    if (!v.vector.empty() && !ink::isVectorPath(v.vector))
-        throw ink::Error("--vector '" + v.vector + "' is not an .svg or .pdf file");
+    inkwell::checkOutputs({v.screenshot, v.vector, o.statsPath}, {o.model, o.preset});  // before the window opens
+    if (!v.vector.empty() && !inkwell::Plot::isVectorPath(v.vector))
+        throw inkwell::Error("--vector '" + v.vector + "' is not an .svg or .pdf file");
     VkExtent2D size = kDefaultWindow;
     if (o.command && o.command->count("--size")) size = {o.size[0], o.size[1]};
 
     GlfwLibrary glfw;
     Window window(size, "inkwell view - " + std::filesystem::path(o.model).filename().string());
-    Session session(o, GlfwLibrary::instanceExtensions(), true);
+    inkwell::Device device = openDevice(o, o.validation, GlfwLibrary::instanceExtensions(), true);
     ViewResult result;
     // With --screenshot or --vector (every save then goes to that one file), they and the stats are renamed into place
     // together once both are written; S-key screenshots to fresh names are saved at once.
-    std::optional<ink::OutputBatch> outputs;
+    std::optional<inkwell::OutputBatch> outputs;
     if (!v.screenshot.empty() || !v.vector.empty()) outputs.emplace();
     {
-        Surface surface(session.ctx.instance, window.handle);
-        ink::checkPresentSupport(session.ctx, surface.surface);
-        Scene scene(session.ctx, o);
+        const viewer::Gpu gpu(device);
+        Surface surface(gpu.vk.instance, window.handle);
+        viewer::checkPresentSupport(gpu, surface.surface);
+        const inkwell::Model model = loadModel(o);
+        inkwell::Drawing drawing(device, model, o.drawing, reporter());
         // For the drawing's part of the window (the panel takes its right side unless --no-panel); R returns to it.
-        const uint32_t drawing =
+        const uint32_t width =
             !v.noPanel && size.width > ViewerPanel::kWidth + 16 ? size.width - ViewerPanel::kWidth : size.width;
-        resolveView(o, scene, float(drawing) / float(size.height));
+        resolveView(o, drawing, float(width) / float(size.height));
         glfwShowWindow(window.handle);
-        Viewer viewer(o, v, session.ctx, scene, window.handle, surface.surface);
+        Viewer viewer(o, v, device, gpu, model, drawing, window.handle, surface.surface);
         result = viewer.run();
     }
-    session.checkValidation();
+    checkValidation(device);
 
     double medianMs = medianFrameMs(result.frameMs);
     json stats = {{"frames", result.frames},      {"panel", result.panel},
                   {"median_frame_ms", medianMs},  {"frame_ms", result.frameMs},
                   {"width", result.extent.width}, {"height", result.extent.height},
                   {"points", result.points},      {"control_points", result.controlPoints}};
-    stats.update(deviceJson(session.ctx));
+    stats.update(deviceJson(device));
     writeJson(o.statsPath, stats);
     if (outputs) outputs->commit();
     std::printf("view: %u frames, median %.2f ms (%ux%u%s, %llu points)\n", result.frames, medianMs,

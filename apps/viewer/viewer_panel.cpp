@@ -26,7 +26,7 @@ namespace {
 
 // ImGui's backend reports Vulkan failures through this hook.
 void checkVk(VkResult result) {
-    if (result < 0) throw ink::Error(std::string("the viewer's panel: ") + ink::vkResultName(result));
+    if (result < 0) throw inkwell::Error(std::string("the viewer's panel: ") + viewer::resultName(result));
 }
 
 // The mouse and keys, for the "?" help (docs/viewer.md has the same table).
@@ -52,8 +52,8 @@ constexpr const char* kHelp[][2] = {
     {"ctrl + click a slider", "type a value"},
 };
 
-constexpr ink::UpAxis kUpOrder[] = {ink::UpAxis::PosY, ink::UpAxis::PosZ, ink::UpAxis::PosX,
-                                    ink::UpAxis::NegY, ink::UpAxis::NegZ, ink::UpAxis::NegX};
+constexpr inkwell::Up kUpOrder[] = {inkwell::Up::Y,    inkwell::Up::Z,    inkwell::Up::X,
+                                    inkwell::Up::NegY, inkwell::Up::NegZ, inkwell::Up::NegX};
 constexpr char kUpNames[] = "y\0z\0x\0-y\0-z\0-x\0";
 
 // The sliders span the usual part of each setting's range; every span lies within the range of the one table
@@ -106,7 +106,9 @@ bool sliderOnRelease(const char* label, double& value, float lo, float hi, const
 
 }  // namespace
 
-ViewerPanel::ViewerPanel(ink::Context& ctx, GLFWwindow* window, VkFormat format, uint32_t framesInFlight) : ctx_(ctx) {
+ViewerPanel::ViewerPanel(const viewer::Gpu& gpu, GLFWwindow* window, VkFormat format, uint32_t framesInFlight)
+    : gpu_(gpu) {
+    const VkDevice device = gpu.vk.device;
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
@@ -121,7 +123,7 @@ ViewerPanel::ViewerPanel(ink::Context& ctx, GLFWwindow* window, VkFormat format,
     style.Colors[ImGuiCol_WindowBg].w = 1.0f;  // opaque: nothing of the frame's undefined pixels shows through
     try {
         if (!ImGui_ImplGlfw_InitForVulkan(window, false))  // the viewer forwards the events it gets
-            throw ink::Error("the viewer's panel cannot start on this window");
+            throw inkwell::Error("the viewer's panel cannot start on this window");
 
         VkAttachmentDescription attachment{};
         attachment.format = format;
@@ -162,13 +164,13 @@ ViewerPanel::ViewerPanel(ink::Context& ctx, GLFWwindow* window, VkFormat format,
         passInfo.pSubpasses = &subpass;
         passInfo.dependencyCount = 2;
         passInfo.pDependencies = dependencies;
-        VK_CHECK(vkCreateRenderPass(ctx.device, &passInfo, nullptr, &renderPass_));
+        VIEWER_CHECK(vkCreateRenderPass(device, &passInfo, nullptr, &renderPass_));
 
         // The panel's own image: cleared to the panel's background, drawn, left for copying.
         attachment.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
         attachment.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
         attachment.finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-        VK_CHECK(vkCreateRenderPass(ctx.device, &passInfo, nullptr, &cachePass_));
+        VIEWER_CHECK(vkCreateRenderPass(device, &passInfo, nullptr, &cachePass_));
 
         // The font texture's one descriptor.
         VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1};
@@ -177,21 +179,21 @@ ViewerPanel::ViewerPanel(ink::Context& ctx, GLFWwindow* window, VkFormat format,
         poolInfo.maxSets = 1;
         poolInfo.poolSizeCount = 1;
         poolInfo.pPoolSizes = &size;
-        VK_CHECK(vkCreateDescriptorPool(ctx.device, &poolInfo, nullptr, &descriptorPool_));
+        VIEWER_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &descriptorPool_));
 
         ImGui_ImplVulkan_InitInfo init{};
-        init.Instance = ctx.instance;
-        init.PhysicalDevice = ctx.physicalDevice;
-        init.Device = ctx.device;
-        init.QueueFamily = ctx.queueFamily;
-        init.Queue = ctx.queue;
+        init.Instance = gpu.vk.instance;
+        init.PhysicalDevice = gpu.vk.physicalDevice;
+        init.Device = device;
+        init.QueueFamily = gpu.vk.queueFamily;
+        init.Queue = gpu.vk.queue;
         init.DescriptorPool = descriptorPool_;
         init.MinImageCount = std::max(2u, framesInFlight);
         init.ImageCount = std::max(2u, framesInFlight);
         init.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
         init.CheckVkResultFn = checkVk;
-        if (!ImGui_ImplVulkan_Init(&init, renderPass_)) throw ink::Error("the viewer's panel cannot start");
-        ink::submitAndWait(ctx, [](VkCommandBuffer cmd) { ImGui_ImplVulkan_CreateFontsTexture(cmd); });
+        if (!ImGui_ImplVulkan_Init(&init, renderPass_)) throw inkwell::Error("the viewer's panel cannot start");
+        viewer::submitAndWait(gpu, [](VkCommandBuffer cmd) { ImGui_ImplVulkan_CreateFontsTexture(cmd); });
         ImGui_ImplVulkan_DestroyFontUploadObjects();
     } catch (...) {
         release();
@@ -209,26 +211,25 @@ void ViewerPanel::release() {
         ImGui::DestroyContext();
     }
     releaseFramebuffers();
-    vkDestroyDescriptorPool(ctx_.device, descriptorPool_, nullptr);
-    vkDestroyRenderPass(ctx_.device, renderPass_, nullptr);
-    vkDestroyRenderPass(ctx_.device, cachePass_, nullptr);
+    vkDestroyDescriptorPool(gpu_.vk.device, descriptorPool_, nullptr);
+    vkDestroyRenderPass(gpu_.vk.device, renderPass_, nullptr);
+    vkDestroyRenderPass(gpu_.vk.device, cachePass_, nullptr);
     descriptorPool_ = VK_NULL_HANDLE;
     renderPass_ = cachePass_ = VK_NULL_HANDLE;
 }
 
 void ViewerPanel::releaseFramebuffers() {
-    for (VkFramebuffer f : framebuffers_) vkDestroyFramebuffer(ctx_.device, f, nullptr);
+    for (VkFramebuffer f : framebuffers_) vkDestroyFramebuffer(gpu_.vk.device, f, nullptr);
     framebuffers_.clear();
-    vkDestroyFramebuffer(ctx_.device, cacheFramebuffer_, nullptr);
+    vkDestroyFramebuffer(gpu_.vk.device, cacheFramebuffer_, nullptr);
     cacheFramebuffer_ = VK_NULL_HANDLE;
-    if (cache_.image) ink::destroyImage(ctx_, cache_);
-    cache_ = ink::Image{};
+    if (cache_.image) viewer::destroyImage(gpu_, cache_);
     cacheValid_ = false;
 }
 
 // Straight into the swapchain image when something of the panel (a popup, the help) lies over the drawing, or
 // the swapchain's images cannot be copied into.
-bool ViewerPanel::direct(const ink::Swapchain& swapchain, uint32_t drawingWidth) const {
+bool ViewerPanel::direct(const viewer::Swapchain& swapchain, uint32_t drawingWidth) const {
     if (!swapchain.copyTarget) return true;
     const ImDrawData* data = ImGui::GetDrawData();
     if (!data || !data->Valid) return false;
@@ -239,19 +240,18 @@ bool ViewerPanel::direct(const ink::Swapchain& swapchain, uint32_t drawingWidth)
     return false;
 }
 
-VkImageLayout ViewerPanel::layoutBefore(const ink::Swapchain& swapchain, uint32_t drawingWidth) const {
+VkImageLayout ViewerPanel::layoutBefore(const viewer::Swapchain& swapchain, uint32_t drawingWidth) const {
     return direct(swapchain, drawingWidth) ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL
                                            : VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
 }
 
 void ViewerPanel::ensureCache(VkFormat format, VkExtent2D extent) {
     if (cache_.image && cache_.extent.width == extent.width && cache_.extent.height == extent.height) return;
-    if (cache_.image) VK_CHECK(vkDeviceWaitIdle(ctx_.device));  // an earlier frame may still copy from it
-    vkDestroyFramebuffer(ctx_.device, cacheFramebuffer_, nullptr);
-    if (cache_.image) ink::destroyImage(ctx_, cache_);
-    cache_ = ink::createImage(ctx_, extent.width, extent.height, format,
-                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                              VK_IMAGE_ASPECT_COLOR_BIT);
+    if (cache_.image) VIEWER_CHECK(vkDeviceWaitIdle(gpu_.vk.device));  // an earlier frame may still copy from it
+    vkDestroyFramebuffer(gpu_.vk.device, cacheFramebuffer_, nullptr);
+    if (cache_.image) viewer::destroyImage(gpu_, cache_);
+    cache_ = viewer::createImage(gpu_, extent, format,
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
     VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
     info.renderPass = cachePass_;
     info.attachmentCount = 1;
@@ -259,7 +259,7 @@ void ViewerPanel::ensureCache(VkFormat format, VkExtent2D extent) {
     info.width = extent.width;
     info.height = extent.height;
     info.layers = 1;
-    VK_CHECK(vkCreateFramebuffer(ctx_.device, &info, nullptr, &cacheFramebuffer_));
+    VIEWER_CHECK(vkCreateFramebuffer(gpu_.vk.device, &info, nullptr, &cacheFramebuffer_));
     cacheValid_ = false;
 }
 
@@ -288,7 +288,7 @@ static void signature(const ImDrawData& data, std::vector<uint8_t>& out) {
 bool ViewerPanel::wantsMouse() const { return shown_ && built_ && ImGui::GetIO().WantCaptureMouse; }
 bool ViewerPanel::wantsKeyboard() const { return shown_ && built_ && ImGui::GetIO().WantCaptureKeyboard; }
 
-PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo& info) {
+PanelActions ViewerPanel::build(Options& o, inkwell::Camera& camera, const PanelInfo& info) {
     PanelActions a;
     // ImGui makes every frame's triangles anew; most frames nothing in the panel changed (a cursor blinks in an
     // edited field, hence its exception; and once a second the panel is made anyway).
@@ -327,60 +327,63 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
         }
     }
 
-    ink::RenderStyle& s = o.render;
+    inkwell::Look& s = o.look;
+    inkwell::DrawingOptions& d = o.drawing;
     if (ImGui::CollapsingHeader("Style", ImGuiTreeNodeFlags_DefaultOpen)) {
         // The style's parts: the dots (none: the stipple set only gives the lines their depth) and the pen lines.
-        int dots = s.drawDots ? int(o.style) + 1 : 0;
+        int dots = s.dots ? int(d.style) + 1 : 0;
         if (ImGui::Combo("dots", &dots, "none\0stipple\0direction\0both\0")) {
-            s.drawDots = dots > 0;
-            const DrawStyle style = dots > 0 ? DrawStyle(dots - 1) : DrawStyle::Stipple;
-            a.rerefine = style != o.style;
-            o.style = style;
+            s.dots = dots > 0;
+            const inkwell::Style style = dots > 0 ? inkwell::Style(dots - 1) : inkwell::Style::Stipple;
+            a.rerefine = style != d.style;
+            d.style = style;
             a.restyle = true;
         }
-        bool contours = o.lines.contours, hatching = o.lines.hatching;
+        bool contours = d.contours, hatching = d.hatching;
         a.rerefine |= ImGui::Checkbox("contours", &contours);
         ImGui::SameLine();
         a.rerefine |= ImGui::Checkbox("hatching", &hatching);
-        if (contours != o.lines.contours || hatching != o.lines.hatching) {
-            o.lines.contours = contours;
-            o.lines.hatching = hatching;
-            if (!s.drawDots && !o.lines.any()) {  // something is drawn: the stipples back
-                s.drawDots = true;
+        if (contours != d.contours || hatching != d.hatching) {
+            d.contours = contours;
+            d.hatching = hatching;
+            if (!s.dots &&
+                !(d.contours || d.hatching || d.creases || d.boundaries)) {  // something is drawn: the stipples back
+                s.dots = true;
                 a.restyle = true;
             }
         }
-        if (o.lines.hatching) {
-            a.rerefine |= sliderOnRelease("hatch spacing", o.lines.hatch.spacing, kHatchSpacingSpan.lo,
-                                          kHatchSpacingSpan.hi, "%.4f", spacingEdit_);
+        if (d.hatching) {
+            a.rerefine |= sliderOnRelease("hatch spacing", d.hatchSpacing, kHatchSpacingSpan.lo, kHatchSpacingSpan.hi,
+                                          "%.4f", spacingEdit_);
             if (ImGui::IsItemHovered()) ImGui::SetTooltip("of the finest hatching, a fraction of the diagonal");
-            int families = int(o.lines.hatch.families);
+            int families = int(d.hatchFamilies);
             ImGui::RadioButton("one family", &families, 1);
             ImGui::SameLine();
             ImGui::RadioButton("crossed", &families, 2);
             ImGui::SameLine();
             ImGui::RadioButton("+ diagonal", &families, 3);
-            if (uint32_t(families) != o.lines.hatch.families) {
-                o.lines.hatch.families = uint32_t(families);
+            if (uint32_t(families) != d.hatchFamilies) {
+                d.hatchFamilies = uint32_t(families);
                 a.rerefine = true;
             }
         }
-        a.rerefine |= sliderOnRelease("levels", o.refine.levels, 0, 8, levelsEdit_);
-        if (o.style != DrawStyle::Direction) {
-            int d = o.refine.distribution == ink::Distribution::BlueNoise ? 0 : 1;
-            if (ImGui::Combo("stipples", &d, "blue noise\0refinement\0")) {
-                o.refine.distribution = d == 0 ? ink::Distribution::BlueNoise : ink::Distribution::Refinement;
+        a.rerefine |= sliderOnRelease("levels", d.levels, 0, 8, levelsEdit_);
+        if (d.style != inkwell::Style::Direction) {
+            int distribution = d.distribution == inkwell::Distribution::BlueNoise ? 0 : 1;
+            if (ImGui::Combo("stipples", &distribution, "blue noise\0refinement\0")) {
+                d.distribution =
+                    distribution == 0 ? inkwell::Distribution::BlueNoise : inkwell::Distribution::Refinement;
                 a.rerefine = true;
             }
         }
-        if (o.style != DrawStyle::Stipple) {
-            int d = int(o.refine.direction);
-            if (ImGui::Combo("direction", &d, "axis\0curvature-min\0curvature-max\0")) {
-                o.refine.direction = ink::DirectionField(d);
+        if (d.style != inkwell::Style::Stipple) {
+            int direction = int(d.direction);
+            if (ImGui::Combo("direction", &direction, "axis\0curvature-min\0curvature-max\0")) {
+                d.direction = inkwell::DirectionField(direction);
                 a.rerefine = true;
             }
         }
-        a.rerefine |= sliderOnRelease("passes", o.refine.passes, 0, 8, passesEdit_);
+        a.rerefine |= sliderOnRelease("passes", d.passes, 0, 8, passesEdit_);
         if (ImGui::IsItemHovered()) ImGui::SetTooltip("independent sets of level-1 children; 0: the default");
     }
     if (ImGui::CollapsingHeader("Drawing", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -397,58 +400,57 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
             changed |= ImGui::SliderFloat("ink density", &s.inkDensity, kInkDensitySpan.lo, kInkDensitySpan.hi, "%.2f",
                                           ImGuiSliderFlags_AlwaysClamp);
         }
-        if (s.drawDots) {  // the dots' own settings
-            changed |= ImGui::SliderFloat("dot size (px)", &s.frontSize, kDotSpan.lo, kDotSpan.hi, "%.2f",
+        if (s.dots) {  // the dots' own settings
+            changed |= ImGui::SliderFloat("dot size (px)", &s.dotSize, kDotSpan.lo, kDotSpan.hi, "%.2f",
                                           ImGuiSliderFlags_AlwaysClamp);
             changed |= ImGui::SliderFloat("silhouette (px)", &s.silhouetteSize, kDotSpan.lo, kDotSpan.hi, "%.2f",
                                           ImGuiSliderFlags_AlwaysClamp);
             changed |= ImGui::SliderFloat("tau (silhouette)", &s.tau, kTauSpan.lo, kTauSpan.hi, "%.2f",
                                           ImGuiSliderFlags_AlwaysClamp);
         }
-        if (o.lines.contours) {
+        if (d.contours) {
             changed |= ImGui::SliderFloat("contour pen (px)", &s.penWidth, kContourPenSpan.lo, kContourPenSpan.hi,
                                           "%.2f", ImGuiSliderFlags_AlwaysClamp);
-            changed |= ImGui::SliderFloat("halo (px)", &s.haloWidth, kHaloSpan.lo, kHaloSpan.hi, "%.1f",
+            changed |= ImGui::SliderFloat("halo (px)", &s.halo, kHaloSpan.lo, kHaloSpan.hi, "%.1f",
                                           ImGuiSliderFlags_AlwaysClamp);
         }
-        if (o.lines.hatching)
+        if (d.hatching)
             changed |= ImGui::SliderFloat("hatch pen (px)", &s.hatchWidth, kFinePenSpan.lo, kFinePenSpan.hi, "%.2f",
                                           ImGuiSliderFlags_AlwaysClamp);
         changed |= ImGui::Checkbox("hidden lines", &s.hiddenLines);
         ImGui::SameLine();
         changed |= ImGui::Checkbox("occlusion", &s.occlusion);
-        if (s.drawDots && s.toneGamma > 0.0f) {
+        if (s.dots && s.toneGamma > 0.0f) {
             ImGui::SameLine();
             changed |= ImGui::Checkbox("spacing", &s.screenSpacing);
         }
         if (s.hiddenLines) {
-            if (s.drawDots)
-                changed |= ImGui::SliderFloat("hidden dots (px)", &s.hiddenSize, kHiddenDotSpan.lo, kHiddenDotSpan.hi,
-                                              "%.2f", ImGuiSliderFlags_AlwaysClamp);
-            if (o.lines.contours)
+            if (s.dots)
+                changed |= ImGui::SliderFloat("hidden dots (px)", &s.hiddenDotSize, kHiddenDotSpan.lo,
+                                              kHiddenDotSpan.hi, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+            if (d.contours)
                 changed |= ImGui::SliderFloat("hidden pen (px)", &s.hiddenPenWidth, kFinePenSpan.lo, kFinePenSpan.hi,
                                               "%.2f", ImGuiSliderFlags_AlwaysClamp);
-            changed |= ImGui::SliderFloat("hidden ink", &s.hiddenInk.a, kHiddenInkSpan.lo, kHiddenInkSpan.hi, "%.2f",
+            changed |= ImGui::SliderFloat("hidden ink", &s.hiddenOpacity, kHiddenInkSpan.lo, kHiddenInkSpan.hi, "%.2f",
                                           ImGuiSliderFlags_AlwaysClamp);
             if (ImGui::IsItemHovered()) ImGui::SetTooltip("how much of the ink the hidden lines take (opacity)");
         }
         // The light as two angles: around the view axis from straight ahead, and up from the horizon.
-        glm::vec3 l = glm::normalize(s.light);
-        float azimuth = glm::degrees(std::atan2(l.x, l.z)), elevation = glm::degrees(std::asin(l.y));
+        const float length = std::hypot(s.light[0], s.light[1], s.light[2]);
+        constexpr float kDegrees = 57.29577951308232f;
+        float azimuth = kDegrees * std::atan2(s.light[0], s.light[2]),
+              elevation = kDegrees * std::asin(std::clamp(s.light[1] / length, -1.0f, 1.0f));
         bool light = ImGui::SliderFloat("light azimuth", &azimuth, -180.0f, 180.0f, "%.0f deg");
         light |= ImGui::SliderFloat("light elevation", &elevation, -90.0f, 90.0f, "%.0f deg");
         if (light) {
-            float az = glm::radians(azimuth), el = glm::radians(elevation);
-            s.light = glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+            const float az = azimuth / kDegrees, el = elevation / kDegrees;
+            s.light = {std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)};
             changed = true;
         }
         changed |= ImGui::Checkbox("light follows the camera", &s.lightFollowsCamera);
         const ImGuiColorEditFlags colour = ImGuiColorEditFlags_DisplayHex | ImGuiColorEditFlags_NoOptions;
-        if (ImGui::ColorEdit3("ink", &s.ink.x, colour)) {
-            s.hiddenInk = glm::vec4(glm::vec3(s.ink), s.hiddenInk.a);
-            changed = true;
-        }
-        changed |= ImGui::ColorEdit3("paper", &s.paper.x, colour);
+        changed |= ImGui::ColorEdit3("ink", s.ink.data(), colour);  // the hidden lines' ink follows it
+        changed |= ImGui::ColorEdit3("paper", s.paper.data(), colour);
         a.restyle |= changed;
     }
     if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -476,12 +478,12 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
             std::string(kUpNames, sizeof(kUpNames) - 1);
         int up = o.autoUp && info.autoUp
                      ? 0
-                     : offset + int(std::find(std::begin(kUpOrder), std::end(kUpOrder), s.up) - std::begin(kUpOrder));
+                     : offset + int(std::find(std::begin(kUpOrder), std::end(kUpOrder), o.up) - std::begin(kUpOrder));
         if (ImGui::Combo("up axis", &up, names.c_str())) {
             if (up < offset) {
                 a.upAuto = a.restyle = true;
             } else {
-                s.up = kUpOrder[up - offset];
+                o.up = kUpOrder[up - offset];
                 a.upChanged = a.restyle = true;
             }
         }
@@ -502,7 +504,7 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
         if (ImGui::Button("as options")) {
             char text[160];
             std::snprintf(text, sizeof text, "--camera %.2f %.2f %.3f --up %s", camera.azimuthDeg, camera.elevationDeg,
-                          camera.distance, ink::upAxisName(s.up));
+                          camera.distance, inkwell::upName(o.up));
             ImGui::SetClipboardText(text);
         }
         if (ImGui::IsItemHovered()) ImGui::SetTooltip("--camera AZ EL DIST --up AXIS on the clipboard, for render");
@@ -545,13 +547,13 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
     // A mesh's feature lines, each on its own pen (docs/lines.md): last and closed at first, so that the sections
     // above keep their places. The switches set --creases and --boundaries.
     if (ImGui::CollapsingHeader("Creases and boundaries")) {
-        bool creases = o.lines.creases, boundaries = o.lines.boundaries;
+        bool creases = d.creases, boundaries = d.boundaries;
         a.rerefine |= ImGui::Checkbox("creases", &creases);
         ImGui::SameLine();
         a.rerefine |= ImGui::Checkbox("boundaries", &boundaries);
-        if (creases != o.lines.creases || boundaries != o.lines.boundaries) {
-            o.lines.creases = creases;
-            o.lines.boundaries = boundaries;
+        if (creases != d.creases || boundaries != d.boundaries) {
+            d.creases = creases;
+            d.boundaries = boundaries;
             o.creases = creases ? "on" : "off";
             o.boundaries = boundaries ? "on" : "off";
         }
@@ -590,7 +592,8 @@ PanelActions ViewerPanel::build(Options& o, ink::Camera& camera, const PanelInfo
     return a;
 }
 
-void ViewerPanel::record(VkCommandBuffer cmd, const ink::Swapchain& swapchain, uint32_t index, uint32_t drawingWidth) {
+void ViewerPanel::record(VkCommandBuffer cmd, const viewer::Swapchain& swapchain, uint32_t index,
+                         uint32_t drawingWidth) {
     ImDrawData* data = ImGui::GetDrawData();  // the last built frame's
     if (!direct(swapchain, drawingWidth)) {
         const VkExtent2D extent{swapchain.extent.width - drawingWidth, swapchain.extent.height};
@@ -629,9 +632,9 @@ void ViewerPanel::record(VkCommandBuffer cmd, const ink::Swapchain& swapchain, u
         vkCmdCopyImage(cmd, cache_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, swapchain.images.at(index),
                        VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
         // Presentation waits on the submission's semaphore.
-        ink::imageBarrier(cmd, swapchain.images.at(index), VK_IMAGE_ASPECT_COLOR_BIT,
-                          VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
-                          VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_NONE, 0);
+        viewer::imageBarrier(cmd, swapchain.images.at(index), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                             VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_2_COPY_BIT,
+                             VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_NONE, 0);
         return;
     }
     cacheValid_ = false;  // drawn again once the popup is gone
@@ -645,7 +648,7 @@ void ViewerPanel::record(VkCommandBuffer cmd, const ink::Swapchain& swapchain, u
             info.height = swapchain.extent.height;
             info.layers = 1;
             VkFramebuffer framebuffer;
-            VK_CHECK(vkCreateFramebuffer(ctx_.device, &info, nullptr, &framebuffer));
+            VIEWER_CHECK(vkCreateFramebuffer(gpu_.vk.device, &info, nullptr, &framebuffer));
             framebuffers_.push_back(framebuffer);
         }
     VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "../cli/app.h"
-#include "gpu/swapchain.h"
+#include "vulkan.h"
 
 #include <cstdint>
 #include <string>
@@ -56,7 +56,7 @@ public:
     static constexpr uint32_t kWidth = 320;  // pixels, at the window's right
 
     // `framesInFlight`: the panel's vertex buffers are used in turn, one set a frame.
-    ViewerPanel(ink::Context& ctx, GLFWwindow* window, VkFormat format, uint32_t framesInFlight);
+    ViewerPanel(const viewer::Gpu& gpu, GLFWwindow* window, VkFormat format, uint32_t framesInFlight);
     ~ViewerPanel();
     ViewerPanel(const ViewerPanel&) = delete;
     ViewerPanel& operator=(const ViewerPanel&) = delete;
@@ -85,32 +85,32 @@ public:
 
     // Builds the panel's widgets for one frame over `o` and `camera` (edited in place), unless nothing came in or
     // changed since the last frame's (then it asks for nothing).
-    PanelActions build(Options& o, ink::Camera& camera, const PanelInfo& info);
+    PanelActions build(Options& o, inkwell::Camera& camera, const PanelInfo& info);
     // The layout the drawing leaves the swapchain image in for record(): TRANSFER_DST_OPTIMAL when the panel is
     // copied in from its own image (the panel alone, on a swapchain that takes copies), else
     // COLOR_ATTACHMENT_OPTIMAL (a popup over the drawing: drawn straight into the swapchain image).
-    VkImageLayout layoutBefore(const ink::Swapchain& swapchain, uint32_t drawingWidth) const;
+    VkImageLayout layoutBefore(const viewer::Swapchain& swapchain, uint32_t drawingWidth) const;
     // Records the panel into swapchain image `index` after the drawing, leaving it in PRESENT_SRC_KHR. The panel's
     // own image is drawn again only when the panel's triangles changed (ImGui draws them anew every frame, but
     // they change only when something in the panel does); every frame copies it in. The swapchain's views are
     // those of its last (re)creation.
-    void record(VkCommandBuffer cmd, const ink::Swapchain& swapchain, uint32_t index, uint32_t drawingWidth);
+    void record(VkCommandBuffer cmd, const viewer::Swapchain& swapchain, uint32_t index, uint32_t drawingWidth);
     // After the swapchain was recreated (the device is idle then): the framebuffers follow on the next record.
     void swapchainChanged() { releaseFramebuffers(); }
 
 private:
     void releaseFramebuffers();
     void release();
-    bool direct(const ink::Swapchain& swapchain, uint32_t drawingWidth) const;
+    bool direct(const viewer::Swapchain& swapchain, uint32_t drawingWidth) const;
     void ensureCache(VkFormat format, VkExtent2D extent);
 
-    ink::Context& ctx_;
+    const viewer::Gpu& gpu_;
     VkRenderPass renderPass_ = VK_NULL_HANDLE;
     VkDescriptorPool descriptorPool_ = VK_NULL_HANDLE;
     std::vector<VkFramebuffer> framebuffers_;
     // The panel drawn once: its image (the window's right part), the render pass that clears and draws it, and
     // the signature of the triangles it holds.
-    ink::Image cache_;
+    viewer::Image cache_;
     VkRenderPass cachePass_ = VK_NULL_HANDLE;
     VkFramebuffer cacheFramebuffer_ = VK_NULL_HANDLE;
     std::vector<uint8_t> drawn_, signature_;

@@ -106,7 +106,9 @@ void checkScene(ink::Context& ctx, const std::string& name, const ink::Model& mo
 
 }  // namespace
 
-std::vector<SelfCheck> selfCheck(Device& device, const std::string& model, const ModelOptions& options) {
+std::vector<SelfCheck> selfCheck(Device& device, const std::string& model, const ModelOptions& options,
+                                 const Reporter& reporter) {
+    ink::ScopedReporter reporting(reporter);
     struct Source {
         std::string name;
         ink::Model model;
@@ -139,7 +141,8 @@ double peakMemoryMb() {
 
 }  // namespace
 
-std::string bench(Device& device, const BenchWorkload& w, const BenchOptions& o) {
+std::string bench(Device& device, const BenchWorkload& w, const BenchOptions& o, const Reporter& reporter) {
+    ink::ScopedReporter reporting(reporter);
     if (o.frames < 1 || o.frames > 10000) throw Error("frames must be between 1 and 10000");
     ink::Context& ctx = Access::context(device);
     const ink::Distribution distribution =

@@ -4,6 +4,7 @@
 
 #include "inkwell/inkwell.h"
 
+#include "base/common.h"
 #include "draw/camera.h"
 #include "draw/render_style.h"
 #include "draw/scene.h"
@@ -32,10 +33,13 @@ struct Drawing::Impl {
     glm::vec3 tracedEye{NAN};               // where the contours on the device were traced from
     // Counts refine(), which replaces the sets: a renderer made before draws them again from new descriptors.
     uint64_t generation = 0;
+    Reporter reporter;       // the last one given (the constructor's, refine's): the notes of later work go there
+    DrawingOptions options;  // of the sets and lines in place
     Impl(ink::Context& ctx, const ink::Model& model, const DrawingOptions& o);
     // The contours of the view from `camera`, traced again when the eye moved.
     void traceFor(const ink::Camera& camera) {
         if (!scene.lines.contours || camera.eye() == tracedEye) return;
+        ink::ScopedReporter reporting(reporter);
         scene.traceContours(camera);
         tracedEye = camera.eye();
     }
@@ -50,6 +54,8 @@ struct Access {
 
 // The public values as the engine takes them, each checked against its range (ranges.h) first.
 namespace api {
+Eigen::Vector3d toEigen(const Vec3& v);
+Vec3 toVec3(const Eigen::Vector3d& v);
 ink::Camera toCamera(const Camera& c);
 ink::RenderStyle toStyle(const Look& look);
 ink::RefineOptions toRefine(const DrawingOptions& o);

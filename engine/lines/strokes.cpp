@@ -19,7 +19,6 @@ namespace {
 constexpr VkShaderStageFlags kStages =
     VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
 // The interface with lines.comp, lines_stamp.comp, line.vert and line.frag: spirv_shaders/shared/lines.h.
-constexpr uint32_t kGroup = gpu::GROUP_SIZE;
 constexpr uint32_t kTexelsPerSegment = gpu::LINE_TEXELS;
 constexpr VkDeviceSize kSegmentBytes = kTexelsPerSegment * 16;
 constexpr VkDeviceSize kDrawListHeader = 16;  // the draw list's VkDrawIndirectCommand, then the segments
@@ -262,7 +261,7 @@ void LineRenderer::recordCull(VkCommandBuffer cmd, const glm::mat4& view, const 
             vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(p), &p);
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &f.lists[kind].descriptors.set,
                                     0, nullptr);
-            vkCmdDispatch(cmd, (count + kGroup - 1) / kGroup, 1, 1);
+            vkCmdDispatch(cmd, (count + gpu::GROUP_SIZE - 1) / gpu::GROUP_SIZE, 1, 1);
         }
     };
     dispatch(cull_, true);
@@ -285,7 +284,7 @@ void LineRenderer::recordStamp(VkCommandBuffer cmd, uint32_t frame) {
         vkCmdPushConstants(cmd, layout_, kStages, 0, sizeof(p), &p);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &f.lists[kind].descriptors.set, 0,
                                 nullptr);
-        vkCmdDispatch(cmd, (count + kGroup - 1) / kGroup, 1, 1);  // at most every segment shows
+        vkCmdDispatch(cmd, (count + gpu::GROUP_SIZE - 1) / gpu::GROUP_SIZE, 1, 1);  // at most every segment shows
     }
 }
 

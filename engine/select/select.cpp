@@ -27,7 +27,6 @@ namespace {
 using Push = gpu::SelectParams;
 using Counts = gpu::SelectCounts;
 
-constexpr uint32_t kGroup = gpu::GROUP_SIZE;
 constexpr uint32_t kPhaseGroup = gpu::PHASE_GROUP_SIZE;  // select_phase.comp's workgroup
 constexpr VkDeviceSize kCandidateDispatch = offsetof(Counts, candidateDispatch);
 constexpr VkDeviceSize poolDispatch(uint32_t s) {
@@ -58,7 +57,7 @@ void createSelection(Context& ctx, GpuSelection& s, const Surface& hrbf, const R
     s.bucketCount = createBuffer(ctx, scanned * 4, storage, MemoryUse::Device);
     s.bucketStart = createBuffer(ctx, scanned * 4, storage, MemoryUse::Device);
     s.backFill = createBuffer(ctx, buckets * 4, storage, MemoryUse::Device);
-    s.blockSums = createBuffer(ctx, (groups(scanned, kGroup) + 1) * 4, storage, MemoryUse::Device);
+    s.blockSums = createBuffer(ctx, (groups(scanned, gpu::GROUP_SIZE) + 1) * 4, storage, MemoryUse::Device);
     s.counts = createBuffer(ctx, sizeof(Counts),
                             storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                             MemoryUse::Device);
@@ -133,7 +132,7 @@ void recordSelection(VkCommandBuffer cmd, const GpuSelection& s) {
         if (n == UINT32_MAX)
             dispatchIndirect(s.scan, p, kCandidateDispatch);
         else
-            dispatch(s.scan, p, groups(n, kGroup));
+            dispatch(s.scan, p, groups(n, gpu::GROUP_SIZE));
         passBarrier();
         p.phase = 1;
         dispatch(s.scan, p, 1);
@@ -142,7 +141,7 @@ void recordSelection(VkCommandBuffer cmd, const GpuSelection& s) {
         if (n == UINT32_MAX)
             dispatchIndirect(s.scan, p, kCandidateDispatch);
         else
-            dispatch(s.scan, p, groups(n, kGroup));
+            dispatch(s.scan, p, groups(n, gpu::GROUP_SIZE));
         passBarrier();
     };
     auto clear = [&](std::initializer_list<const Buffer*> buffers, VkDeviceSize bytes) {
@@ -182,7 +181,7 @@ void recordSelection(VkCommandBuffer cmd, const GpuSelection& s) {
         passBarrier();
         dispatchIndirect(s.cover, push, poolDispatch(k));
         passBarrier();
-        dispatch(s.sort, push, groups(buckets, kGroup));
+        dispatch(s.sort, push, groups(buckets, gpu::GROUP_SIZE));
         passBarrier();
         for (uint32_t phase = 0; phase < 8; ++phase) {
             push.phase = phase;

@@ -24,7 +24,8 @@ struct SelfCheck {
 // Checks a sphere and a torus fitted to built-in points, and `model` too when it is not empty (fitted with
 // `options`). Run it on a Device made with DeviceOptions::validation, and read its validationErrors() after:
 // a check that passes with validation messages has failed.
-std::vector<SelfCheck> selfCheck(Device& device, const std::string& model = {}, const ModelOptions& options = {});
+std::vector<SelfCheck> selfCheck(Device& device, const std::string& model = {}, const ModelOptions& options = {},
+                                 const Reporter& reporter = {});
 
 // ---- Benchmarks (`inkwell bench`) ---------------------------------------------------------------------
 
@@ -56,6 +57,7 @@ struct BenchOptions {
 // beside it), the first view's contour, the renderer, then `frames` frames of 1024². Returns the figures as one
 // JSON object (docs/performance.md names its fields: fit_seconds, refine_seconds, preprocess_ms, frame_ms_median,
 // select_ms, cpu_refine_seconds, page, ...).
-std::string bench(Device& device, const BenchWorkload& workload, const BenchOptions& options = {});
+std::string bench(Device& device, const BenchWorkload& workload, const BenchOptions& options = {},
+                  const Reporter& reporter = {});
 
 }  // namespace inkwell

@@ -31,7 +31,6 @@ std::string escapeText(std::string_view s);
 // "PATH: tooLarge". Errors name the file and the system's reason.
 std::string readFileCapped(const std::string& path, size_t maxBytes, const std::string& tooLarge);
 
-
 // Calls write(tmpPath) and renames tmpPath over path (or, inside an OutputBatch, leaves the rename to its
 // commit()); on any failure removes tmpPath and throws inkwell::Error. write must check its own writes.
 void writeAtomically(const std::string& path, const std::function<void(const std::string& tmpPath)>& write);

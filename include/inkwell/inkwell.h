@@ -49,6 +49,9 @@ struct ModelOptions {
     // Drops what the input does not support: the fit's caps over an open scan's holes, and its stray sheets away
     // from the data where its far field takes over (docs/lines.md).
     bool trim = true;
+    // Looks for the crease and boundary lines (Drawing::creases; a 10⁶-point scan's creases take 2 s): off where
+    // none will be drawn.
+    bool features = true;
 };
 
 struct FitReport {
@@ -61,8 +64,18 @@ struct FitReport {
     double maxNormalAngleDeg = 0;  // max angle between ∇f and the given normal at the centres
     // The error at every input point (not only the control points), evaluated as the device evaluates.
     double inputMaxDistance = 0, inputMaxAngleDeg = 0;
-    size_t patches = 0;  // PartitionOfUnity: the local HRBFs
+    size_t patches = 0;      // PartitionOfUnity: the local HRBFs
+    size_t faceSamples = 0;  // a mesh's: points sampled on its faces besides its vertices
+    double loadSeconds = 0;  // reading the file
 };
+
+// A .hrbf file: the binary version 3 (float patches, compact, fast to load) or text (versions 1 and 2, for
+// interchange; 17 digits, exact). docs/hrbf-format.md.
+enum class HrbfFormat { Binary, Text };
+
+// Throws the Error Model::load and Model::fit would for these options (a crease angle outside (0, 180), more
+// control points than the fit takes), before any work.
+void checkModelOptions(const ModelOptions& options);
 
 // An HRBF implicit surface f = 0, fitted so that f(p_i) = 0 and ∇f(p_i) = n_i at the control points. Cheap to
 // copy (shared, immutable).
@@ -76,9 +89,12 @@ public:
     static Model fit(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
                      const ModelOptions& options = {}, const Reporter& reporter = {});
     // Writes the fitted model as .hrbf (docs/hrbf-format.md), atomically.
-    void save(const std::string& path) const;
+    void save(const std::string& path, HrbfFormat format = HrbfFormat::Binary) const;
 
     FitReport report() const;
+    // The fit's figures as one JSON object: method, seconds, residual and errors, the time of each phase, the
+    // patches and their seams (docs/usage.md, "Stats JSON": `fit`).
+    std::string statsJson() const;
     // f and ∇f at x, in the input's units (f is negative inside, for closed surfaces with outward normals).
     double value(const Vec3& x) const;
     Vec3 gradient(const Vec3& x) const;
@@ -141,6 +157,9 @@ struct AdoptedDevice {
 
 class Device {
 public:
+    // The Vulkan devices there are, in the order DeviceOptions::device's index counts them.
+    static std::vector<std::string> list();
+
     explicit Device(const DeviceOptions& options = {});
     explicit Device(const AdoptedDevice& device);
     ~Device();
@@ -153,6 +172,13 @@ public:
     uint32_t validationErrors() const;
     uint32_t validationWarnings() const;
     std::string firstValidationError() const;
+    // The Vulkan objects it made or adopted, for an application that draws beside it (its swapchain, its UI).
+    // Inkwell submits to the queue from its own calls: the application keeps its submissions out of them (Vulkan
+    // wants a queue externally synchronized).
+    AdoptedDevice handles() const;
+    // Throws the Error a Renderer of this size would, before any work: an image (supersample times larger)
+    // beyond the device's limits.
+    void checkImageSize(uint32_t width, uint32_t height, uint32_t supersample = 1) const;
 
 private:
     struct Impl;
@@ -168,11 +194,22 @@ enum class Style {
     Direction,  // hatch-like lines of dots along a direction field
     Both,       // both sets, drawn together
 };
+const char* styleName(Style style);  // "stipple", "direction", "both"
 
 enum class Distribution {
     BlueNoise,   // stipples selected from the refined points, evenly spaced, with progressive ranks (default)
     Refinement,  // every refined point, with a random tone value (the report's look)
 };
+
+// The field Style::Direction's lines of dots follow.
+enum class DirectionField {
+    Axis,          // across DrawingOptions::axis
+    CurvatureMin,  // the principal directions
+    CurvatureMax,
+};
+
+// Where a piece of work runs: Auto picks the device where it is a GPU, else the CPU (docs/lines.md).
+enum class Where { Auto, Cpu, Device };
 
 struct DrawingOptions {
     Style style = Style::Stipple;  // the dots (Look::dots turns them off, e.g. for pen lines alone)
@@ -186,12 +223,29 @@ struct DrawingOptions {
     // draws them with contours or hatching.
     bool creases = false;
     bool boundaries = false;
-    float hatchSpacing = 0.007f;  // of the bounding-box diagonal, the finest level (the coarse one is twice this)
+    double hatchSpacing = 0.007;  // of the bounding-box diagonal, the finest level (the coarse one is twice this)
     uint32_t hatchFamilies = 3;   // 1; 2 to cross the first in dark tones; 3 with a diagonal one in the darkest
     Distribution distribution = Distribution::BlueNoise;
     uint32_t levels = 4;                // refinement levels after the seeds (each about 4× the points)
     float candidatesPerStipple = 4.0f;  // blue noise: keep about one refined point in this many (2..16)
     uint32_t seed = 1;
+    // The refinement (docs/algorithm.md): independent sets of children of the seeds (0: 1 for blue-noise
+    // stipples, else the report's 2); ρ₀, a fraction of the diagonal in (0, 1] (0: half the seed spacing); ρ of
+    // a level over the next's in [1.5, 4] (0: 2 for blue-noise stipples, else the report's 3); the seeds, the
+    // control points or a jittered grid of `grid` cells along the longest side (2..512) projected onto the
+    // surface; every level kept, or only the last.
+    uint32_t passes = 0;
+    double rho = 0;
+    double rhoDivisor = 0;
+    bool gridSeeds = false;
+    uint32_t grid = 32;
+    bool keepAllLevels = true;
+    DirectionField direction = DirectionField::Axis;
+    Vec3 axis{0, 1, 0};  // DirectionField::Axis: in the input's coordinates, not zero
+    // Where each view's contour is traced and the hatching's cross field solved (the device only for a
+    // partition-of-unity fit).
+    Where contourTracer = Where::Auto;
+    Where hatchField = Where::Auto;
 };
 
 // A point as drawn: on the surface, in the input's units.
@@ -202,7 +256,8 @@ struct Point {
     uint32_t level;  // the refinement level that made it
 };
 
-struct Camera;  // below
+struct Camera;     // below
+struct FirstView;  // below
 
 // A stroke of the pen: a polyline on the surface, in the input's units.
 struct Polyline {
@@ -227,6 +282,36 @@ public:
     // recorders of this drawing stay valid: each draws the new sets from its next render() or record() (a
     // FrameRecorder's command buffers recorded before refine() must be recorded again, not resubmitted).
     void refine(const DrawingOptions& options, const Reporter& reporter = {});
+    // refine() in two halves, for an application that keeps its window responsive meanwhile: prepare() makes the
+    // new sets and traces their pen lines without touching the current ones (only the pen lines, where the
+    // options change nothing else; nothing at all, where they change only which lines are drawn). It may run on
+    // another thread than the frames if the application records and submits nothing on the device's queue until
+    // it returns. apply() waits for the device to be idle and puts the result in place; a prepare() that threw
+    // left the drawing as it was.
+    class Pending {
+    public:
+        Pending();
+        ~Pending();
+        Pending(Pending&&) noexcept;
+        Pending& operator=(Pending&&) noexcept;
+        bool refined() const;         // new point sets (else new or the same pen lines over the current ones)
+        double seconds() const;       // making the sets
+        bool traced() const;          // the hatching traced again
+        double traceSeconds() const;  // tracing the pen lines
+        size_t hatchStrokes() const;
+
+    private:
+        friend class Drawing;
+        struct Impl;
+        std::unique_ptr<Impl> impl_;
+    };
+    Pending prepare(const DrawingOptions& options, const Reporter& reporter = {}) const;
+    void apply(Pending&& pending);
+    // The options of the sets and lines in place (the constructor's, or the last refine() or apply()).
+    DrawingOptions options() const;
+    // How long the last trace of the contour took, seconds (0 before any; the CPU's tracer takes 35–45 ms for
+    // the 684-point bunny on lavapipe, the device's a few ms on a GPU).
+    double contourSeconds() const;
     size_t sets() const;
     // The points set `set` draws (reads them back), and the same written as binary PLY with rank and level.
     std::vector<Point> points(size_t set = 0) const;
@@ -242,9 +327,17 @@ public:
     Up firstUp() const;
     Camera firstView(float aspect = 1.0f) const;
     Camera firstView(Up up, float aspect = 1.0f) const;
+    // The same with the reasons: why this up axis, and the view's viewpoint entropy.
+    FirstView firstViewReport(float aspect = 1.0f) const;
+    FirstView firstViewReport(Up up, float aspect = 1.0f) const;
     // The model's crease and boundary lines on the surface (all of them, whatever DrawingOptions asks drawn).
     std::vector<Polyline> creases() const;
     std::vector<Polyline> boundaries() const;
+    // The points of all sets, and the refinement's and the pen lines' figures as one JSON object: `refine`
+    // (seconds, points, each set's levels: candidates, kept, dropped by reason, device ms; the host's ms) and
+    // `lines` (hatching, creases, boundaries, the last contour traced) (docs/usage.md, "Stats JSON").
+    uint64_t pointCount() const;
+    std::string statsJson() const;
 
 private:
     struct Impl;
@@ -254,10 +347,40 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+// A model's refined points read back without drawing them (`inkwell sample`): made on `device`, or with none on
+// the CPU (the multi-threaded reference, no Vulkan), as a Drawing of DrawingOptions::style Stipple or Direction
+// makes its one set (no pen lines, no trimming).
+class Samples {
+public:
+    Samples(Device* device, const Model& model, const DrawingOptions& options, const Reporter& reporter = {});
+    ~Samples();
+    Samples(Samples&&) noexcept;
+    Samples& operator=(Samples&&) noexcept;
+
+    // The points as drawn: the stipples selected, or every refined point where nothing is selected.
+    size_t size() const;
+    std::vector<Point> points() const;
+    // Every refined point before the selection, in the input's units (what a fidelity measure wants).
+    std::vector<Vec3> refined() const;
+    // The points as drawn, binary PLY with rank and level (Drawing::writePly's format), atomically.
+    void writePly(const std::string& path) const;
+    // `refine` (seconds, points, levels), `select` (candidates, radius, area, each stage's stipples, seconds or
+    // device ms), `device` and `driver` (or "cpu"), and with `spacing` the nearest-neighbour spacing of the points
+    // and their rank prefixes (docs/usage.md, "Stats JSON").
+    std::string statsJson(bool spacing = false) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
 // ---- Drawing it ---------------------------------------------------------------------------------------
 
 // The model's up axis (scans and CAD models are often Z).
 enum class Up { X, NegX, Y, NegY, Z, NegZ };
+// "x", "-x", "y", "-y", "z", "-z" (and "+x", ...); throws naming the text.
+Up parseUp(const std::string& name);
+const char* upName(Up up);
 
 // An orbit camera around the model's centre. Its defaults are a fixed three-quarter view; Drawing::firstView
 // chooses one for the model (what `inkwell render` shows by default).
@@ -273,6 +396,21 @@ struct Camera {
     // false: a turntable, the up axis stays up. true: a free orbit that tumbles over the poles, the view's up
     // following the orbit (the viewer's "free" camera).
     bool freeOrbit = false;
+
+    // Where the eye is, in bounding-box diagonals from the centre (two cameras with the same eye see the same
+    // contour).
+    std::array<float, 3> eye() const;
+    // Moves the target in the view plane by a mouse movement of (dx, dy) pixels in a view `height` pixels
+    // high: the point under the cursor follows it at the target's depth.
+    void pan(double dx, double dy, uint32_t height);
+};
+
+// Drawing::firstViewReport: the first picture's camera and why.
+struct FirstView {
+    Camera camera;
+    std::string upReason;  // "the glTF convention", "flat: its thinnest axis", ... ("given" for a given axis)
+    double entropyBits = 0;
+    float frontDeg = -1;  // the azimuth the model faces, where its shape says (else -1)
 };
 
 // How the points become ink. Renderer, FrameRecorder and setLook check every value against the range given
@@ -307,13 +445,30 @@ struct Look {
     std::array<float, 3> light{-0.5f, 0.6f, 0.65f};
     bool lightFollowsCamera = true;
     uint32_t supersample = 2;  // Renderer only: draw this many times larger and filter down, 1 to 4
+    bool occlusion = true;     // off: no depth pre-pass, the dots behind the surface show
 };
 
 struct Image {
     uint32_t width = 0, height = 0;
-    std::vector<uint8_t> rgba;                     // rows top to bottom
-    void writePng(const std::string& path) const;  // atomically
+    std::vector<uint8_t> rgba;                      // rows top to bottom
+    void writePng(const std::string& path) const;   // atomically
+    static Image readPng(const std::string& path);  // any PNG, as RGBA; throws naming the file
 };
+
+// Two images compared pixel by pixel (regression checks: `inkwell compare`): a pixel differs when a channel
+// differs by more than `threshold`.
+struct ImageDifference {
+    uint32_t maxAbsDiff = 0;  // the largest channel difference (255 for images of different sizes)
+    size_t differingPixels = 0, pixels = 0;
+    double differingFraction = 0;
+    bool sameSize = true;
+    std::string text;  // "12 of 65536 pixels (0.018%) differ by more than 8; max difference 40"
+};
+constexpr uint32_t kCompareThreshold = 8;
+constexpr double kCompareMaxFraction = 0.0025;  // the share of pixels that may differ in a match
+ImageDifference compareImages(const Image& a, const Image& b, uint32_t threshold = kCompareThreshold);
+// The differing pixels marked (red over a faded `a`).
+Image differenceImage(const Image& a, const Image& b, uint32_t threshold = kCompareThreshold);
 
 // ---- Vector output (pen plotters, print) ----------------------------------------------------------------
 
@@ -331,6 +486,11 @@ struct Page {
     double penWidthMm = 0.3;  // every path's stroke width
     DotStyle dotStyle = DotStyle::Circle;
     bool orderPaths = true;  // order each pen's paths for short pen-up travel (else the points' order)
+    // Pen lines before they are written, as fractions of the pen width: simplified to `simplify`, stretches
+    // within `retrace` of one already drawn dropped, ends within `merge` joined (with orderPaths only).
+    double simplify = 0.2, retrace = 0.25, merge = 0.5;
+    // The plot-time estimate: pen-down and pen-up speeds, mm/s, and the time of one lift.
+    double drawSpeed = 25, travelSpeed = 75, liftSeconds = 0.15;
     // "A3", "A4", "A5", "letter" or "WxHmm"; throws naming the text.
     static Page named(const std::string& size);
 };
@@ -343,7 +503,29 @@ struct PenLayer {
     size_t paths = 0;
     double travelBeforeMm = 0, travelAfterMm = 0, penDownMm = 0;
     size_t lifts = 0;        // pen lifts, one a path
-    double plotSeconds = 0;  // estimated at 25 mm/s pen down, 75 mm/s pen up and 0.15 s a lift
+    double plotSeconds = 0;  // estimated by the page's time model (25 mm/s pen down, 75 up, 0.15 s a lift)
+    size_t pathsGiven = 0;   // the paths as the frame gave them, before merging and clipping
+};
+
+// A frame's marks laid out on a page (Renderer::plot): written as often as wanted, to SVG or PDF.
+class Plot {
+public:
+    // The same bytes for the same frame and page; SVG or PDF by the extension (.svg, .pdf), atomically.
+    void write(const std::string& path) const;
+    std::vector<PenLayer> layers() const;
+    // The layers' figures (paths and vertices before and after simplifying and merging, travel, lifts, time)
+    // and the page's as one JSON object (docs/usage.md, "Stats JSON": `vector`).
+    std::string statsJson() const;
+    // A path ending in .svg or .pdf (any case).
+    static bool isVectorPath(const std::string& path);
+
+    struct Impl;
+
+private:
+    friend class Renderer;
+    friend class FrameRecorder;
+    explicit Plot(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
+    std::shared_ptr<const Impl> impl_;
 };
 
 // Draws into an image of its own and reads it back.
@@ -361,6 +543,10 @@ public:
     // written as SVG (an Inkscape layer a pen) or PDF by the extension of `path` (.svg, .pdf), atomically.
     // The same frame and page give the same bytes. docs/file-formats.md describes the files.
     std::vector<PenLayer> writeVector(const std::string& path, const Page& page = {}) const;
+    Plot plot(const Page& page = {}) const;
+    // The last render's stipples on the page, one object a point set: the front dots drawn, how many larger,
+    // the outline's, and their spacing in windows of 128 pixels (docs/usage.md, "Stats JSON": `stipples`).
+    std::string statsJson() const;
 
 private:
     struct Impl;
@@ -377,6 +563,9 @@ struct FrameTarget {
     VkImageLayout finalLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
     // The stages the frame's first use of the image must follow (where the application's semaphore waits).
     VkPipelineStageFlags2 previousStages = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+    // Also copy the drawing into a buffer of the recorder's (FrameRecorder::captured); the image must have been
+    // made with VK_IMAGE_USAGE_TRANSFER_SRC_BIT.
+    bool capture = false;
 };
 
 // Records frames into the application's command buffers: compute passes (visibility, dot selection,
@@ -391,10 +580,17 @@ public:
 
     // Takes effect in the next recorded frame (recorded into it, after the frames before have read the old one).
     void setLook(const Look& look);
-    void record(VkCommandBuffer cmd, const Camera& camera, const FrameTarget& target, uint32_t frame);
+    // With `traceContours` false the contour last traced is drawn instead of this view's (an application whose
+    // trace takes longer than its frame budget, Drawing::contourSeconds, traces once the eye stops).
+    void record(VkCommandBuffer cmd, const Camera& camera, const FrameTarget& target, uint32_t frame,
+                bool traceContours = true);
+    // The drawing of slot `frame`, recorded with FrameTarget::capture, as RGBA: call it once the application
+    // waited for that frame's submission.
+    Image captured(uint32_t frame) const;
     // Renderer::writeVector for the last frame recorded in slot `frame`, in the target's pixels; waits for the
     // device to be idle first (the frame must have been submitted).
     std::vector<PenLayer> writeVector(const std::string& path, uint32_t frame, const Page& page = {}) const;
+    Plot plot(uint32_t frame, const Page& page = {}) const;
 
 private:
     struct Impl;

@@ -57,6 +57,7 @@ constexpr Range candidatesPerStipple{2, 16};
 constexpr Range supersample{1, 4};  // an integer: render this many times larger and filter down
 constexpr Range passes{1, 64};      // an integer
 // Plots (SVG, PDF).
+constexpr Range penWidthMm{0.001, 10, false, false, "mm"};  // the files give a micrometre
 constexpr Range simplify{0, 1, false, false, "pen widths"};
 constexpr Range retrace{0, 1, false, false, "pen widths"};
 constexpr Range merge{0, 2, false, false, "pen widths"};
