@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the low-poly test models of tests/test_fidelity.cpp into tests/models/ (OBJ, outward windings):
+"""Writes the low-poly test models of tests/gpu/test_fidelity.cpp into tests/models/ (OBJ, outward windings):
 
   spider.obj      a body (a low-poly ellipsoid) and eight long thin legs, each a square tube through hip, knee
                   and foot: every leg face is a long, skinny triangle, with no vertex along its length

@@ -2,7 +2,7 @@
 # Runs the tests that draw on a Vulkan device — CTest labels gpu, golden, cli and viewer: every test but the
 # unit ones — on whatever device is present (a GPU when there is one, else lavapipe, as the commands choose),
 # after building what they need. Prints the device, the summary, and each skipped test with its reason (a test
-# that cannot check something on this device says so and counts as skipped, never as passed; tests/skip.h).
+# that cannot check something on this device says so and counts as skipped, never as passed; tests/support/skip.h).
 # Extra arguments go to ctest (-R name, -j N, ...). Exit status: ctest's.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -4,7 +4,7 @@
 # dependencies; docs/robustness.md). Warnings are errors. The unit and command-line tests run; the drawing-heavy
 # ones (labels gpu, golden and viewer; the capture, vector and fidelity suites and the cube's SVG test, which
 # draw large frames or fit and draw many times on lavapipe) run in the release build only. `--all` runs every
-# test. Leaks inside libraries we do not build (the validation layer) are suppressed by tests/lsan.supp;
+# test. Leaks inside libraries we do not build (the validation layer) are suppressed by tests/support/lsan.supp;
 # undefined behaviour in our code ends the program (-fno-sanitize-recover=undefined).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,7 +13,7 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DINKWELL_SANITIZE=ON -DINKW
 cmake --build build-asan -j"$(nproc)"
 # A sanitizer's report exits 86, never 1 (bad input) or 0, so that no test can mistake one for the other.
 export ASAN_OPTIONS="detect_leaks=1:check_initialization_order=1:exitcode=86"
-export LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0:exitcode=86"
+export LSAN_OPTIONS="suppressions=$root/tests/support/lsan.supp:print_suppressions=0:exitcode=86"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:exitcode=86"
 cd build-asan
 if [ "${1:-}" = --all ]; then

@@ -514,10 +514,12 @@ inkwell::Camera cameraFrom(const Options& o) {
 ViewReport resolveView(Options& o, const inkwell::Drawing& drawing, float aspect) {
     ViewReport r;
     const auto start = Clock::now();
-    if (o.autoUp) {  // the file's convention (glTF: +y), else the shape's
+    if (o.autoUp && o.camera.empty()) {  // the file's convention (glTF: +y), else the shape's; and the view
         r.view = drawing.firstViewReport(aspect);
         o.up = r.view.camera.up;
         r.upReason = r.view.upReason;
+    } else if (o.autoUp) {  // the up axis alone: the camera is given
+        o.up = drawing.firstUp(&r.upReason);
     } else {
         if (o.camera.empty()) r.view = drawing.firstViewReport(o.up, aspect);
         r.upReason = "--up";

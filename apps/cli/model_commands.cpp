@@ -39,26 +39,29 @@ static json fidelityJson(const inkwell::Fidelity& f) {
 static int runSample(Options& o, const std::string& pointsPath) {
     finishOptions(o);
     inkwell::checkOutputs({pointsPath, o.statsPath}, {o.model, o.preset});
-    if (o.fidelity) {  // refused before any work: the mesh it measures against is the input, not a fitted model
+    // The mesh --fidelity measures against (the input, not a fitted model), read before any other work so that a
+    // file without faces is refused first.
+    std::optional<inkwell::FidelityMesh> mesh;
+    if (o.fidelity) {
         std::string ext = std::filesystem::path(o.model).extension().string();
         std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
         if (ext == ".hrbf")
             throw inkwell::Error(o.model +
                                  ": --fidelity measures against the input mesh; give the mesh, not a fitted .hrbf");
+        mesh.emplace(o.model);
     }
     // The device first: without one there is no point in fitting.
     std::optional<inkwell::Device> device;
     if (o.backend != "cpu") device.emplace(openDevice(o, o.validation));
     const inkwell::Model model = loadModel(o);
-    const inkwell::Samples samples(device ? &*device : nullptr, model, o.drawing, reporter());
+    const inkwell::Samples samples(device ? &*device : nullptr, model, o.drawing, o.fidelity, reporter());
     if (device) checkValidation(*device);
     json stats = json::parse(samples.statsJson(!o.statsPath.empty()));  // nearest neighbours: only when asked
     stats["control_points"] = model.report().controlPoints;
     stats["fit"] = json::parse(model.statsJson());
     if (o.fidelity) {
         auto start = Clock::now();
-        const inkwell::Fidelity f =
-            inkwell::measureFidelity(o.model, samples.refined(), 0.01, reporter(), o.creaseAngle);
+        const inkwell::Fidelity f = mesh->measure(samples.refined(), 0.01, reporter(), o.creaseAngle);
         stats["fidelity"] = fidelityJson(f);
         stats["fidelity"]["seconds"] = secondsSince(start);
         std::printf(

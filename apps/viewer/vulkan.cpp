@@ -1,36 +1,51 @@
 #include "vulkan.h"
 
 #include <algorithm>
+#include <cstring>
 #include <utility>
 
 namespace viewer {
 
 std::string resultName(VkResult result) {
     switch (result) {
-        case VK_ERROR_OUT_OF_HOST_MEMORY:
-            return "VK_ERROR_OUT_OF_HOST_MEMORY";
-        case VK_ERROR_OUT_OF_DEVICE_MEMORY:
-            return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
-        case VK_ERROR_INITIALIZATION_FAILED:
-            return "VK_ERROR_INITIALIZATION_FAILED";
-        case VK_ERROR_DEVICE_LOST:
-            return "VK_ERROR_DEVICE_LOST";
-        case VK_ERROR_EXTENSION_NOT_PRESENT:
-            return "VK_ERROR_EXTENSION_NOT_PRESENT";
-        case VK_ERROR_SURFACE_LOST_KHR:
-            return "VK_ERROR_SURFACE_LOST_KHR";
-        case VK_ERROR_NATIVE_WINDOW_IN_USE_KHR:
-            return "VK_ERROR_NATIVE_WINDOW_IN_USE_KHR";
-        case VK_ERROR_OUT_OF_DATE_KHR:
-            return "VK_ERROR_OUT_OF_DATE_KHR";
+#define VIEWER_RESULT(r) \
+    case r:              \
+        return #r;
+        VIEWER_RESULT(VK_NOT_READY)
+        VIEWER_RESULT(VK_TIMEOUT)
+        VIEWER_RESULT(VK_INCOMPLETE)
+        VIEWER_RESULT(VK_SUBOPTIMAL_KHR)
+        VIEWER_RESULT(VK_ERROR_OUT_OF_HOST_MEMORY)
+        VIEWER_RESULT(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+        VIEWER_RESULT(VK_ERROR_INITIALIZATION_FAILED)
+        VIEWER_RESULT(VK_ERROR_DEVICE_LOST)
+        VIEWER_RESULT(VK_ERROR_MEMORY_MAP_FAILED)
+        VIEWER_RESULT(VK_ERROR_LAYER_NOT_PRESENT)
+        VIEWER_RESULT(VK_ERROR_EXTENSION_NOT_PRESENT)
+        VIEWER_RESULT(VK_ERROR_FEATURE_NOT_PRESENT)
+        VIEWER_RESULT(VK_ERROR_INCOMPATIBLE_DRIVER)
+        VIEWER_RESULT(VK_ERROR_TOO_MANY_OBJECTS)
+        VIEWER_RESULT(VK_ERROR_FORMAT_NOT_SUPPORTED)
+        VIEWER_RESULT(VK_ERROR_SURFACE_LOST_KHR)
+        VIEWER_RESULT(VK_ERROR_NATIVE_WINDOW_IN_USE_KHR)
+        VIEWER_RESULT(VK_ERROR_OUT_OF_DATE_KHR)
+#undef VIEWER_RESULT
         default:
             return "VkResult " + std::to_string(int(result));
     }
 }
 
-void vkFail(const char* call, VkResult result) {
-    if (result == VK_ERROR_DEVICE_LOST) throw inkwell::Error("the Vulkan device was lost (" + std::string(call) + ")");
-    throw inkwell::Error(std::string(call) + " failed with " + resultName(result));
+// As the library's: one line, and a sentence of their own for the failures a user can meet.
+void vkFail(const char* call, VkResult result, const char* file, int line) {
+    const char* base = std::strrchr(file, '/');
+    const std::string where = std::string(base ? base + 1 : file) + ":" + std::to_string(line);
+    if (result == VK_ERROR_DEVICE_LOST)
+        throw inkwell::Error("the Vulkan device was lost (driver crash or GPU reset) in " + std::string(call) + " at " +
+                             where);
+    if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY)
+        throw inkwell::Error("out of " + std::string(result == VK_ERROR_OUT_OF_DEVICE_MEMORY ? "device" : "host") +
+                             " memory in " + call + " at " + where + ": ask for fewer points or a smaller window");
+    throw inkwell::Error(std::string(call) + " failed with " + resultName(result) + " at " + where);
 }
 
 Gpu::Gpu(const inkwell::Device& device) : vk(device.handles()), name(device.name()) {

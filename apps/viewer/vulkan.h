@@ -13,15 +13,15 @@
 #include <vector>
 
 // For calls that fail only through a bug or a driver out of memory: throws inkwell::Error naming the call.
-#define VIEWER_CHECK(call)                                                                     \
-    do {                                                                                       \
-        VkResult viewerCheckResult_ = (call);                                                  \
-        if (viewerCheckResult_ != VK_SUCCESS) ::viewer::vkFail(#call, viewerCheckResult_);     \
+#define VIEWER_CHECK(call)                                                                                     \
+    do {                                                                                                       \
+        VkResult viewerCheckResult_ = (call);                                                                  \
+        if (viewerCheckResult_ != VK_SUCCESS) ::viewer::vkFail(#call, viewerCheckResult_, __FILE__, __LINE__); \
     } while (0)
 
 namespace viewer {
 
-[[noreturn]] void vkFail(const char* call, VkResult result);
+[[noreturn]] void vkFail(const char* call, VkResult result, const char* file, int line);
 std::string resultName(VkResult result);
 
 // The device's handles and what the viewer made on it for itself: a command pool for its one-off submissions.

@@ -217,19 +217,33 @@ Vec3 Model::gradient(const Vec3& x) const {
 
 // ---- Fidelity
 
-Fidelity measureFidelity(const std::string& meshPath, const std::vector<Vec3>& points, double tolerance,
-                         const Reporter& reporter, double creaseAngleDeg) {
-    ink::ScopedReporter reporting(reporter);
-    if (!(tolerance > 0)) throw Error("the fidelity tolerance must be positive (it is in bounding-box diagonals)");
-    if (!(creaseAngleDeg > 0 && creaseAngleDeg < 180)) throw Error("the crease angle must be in (0, 180) degrees");
+struct FidelityMesh::Impl {
+    ink::OrientedPoints mesh;
+};
+
+FidelityMesh::FidelityMesh(const std::string& meshPath) {
     ink::OrientedPoints mesh = ink::loadPoints(meshPath);
     double area = 0;
     for (double a : ink::triangleAreas(mesh)) area += a;
     if (!(area > 0)) throw Error(meshPath + ": fidelity needs a mesh with faces; this file has none with area");
+    impl_ = std::make_shared<const Impl>(Impl{std::move(mesh)});
+}
+
+Fidelity measureFidelity(const std::string& meshPath, const std::vector<Vec3>& points, double tolerance,
+                         const Reporter& reporter, double creaseAngleDeg) {
+    ink::ScopedReporter reporting(reporter);
+    return FidelityMesh(meshPath).measure(points, tolerance, reporter, creaseAngleDeg);
+}
+
+Fidelity FidelityMesh::measure(const std::vector<Vec3>& points, double tolerance, const Reporter& reporter,
+                               double creaseAngleDeg) const {
+    ink::ScopedReporter reporting(reporter);
+    if (!(tolerance > 0)) throw Error("the fidelity tolerance must be positive (it is in bounding-box diagonals)");
+    if (!(creaseAngleDeg > 0 && creaseAngleDeg < 180)) throw Error("the crease angle must be in (0, 180) degrees");
     std::vector<Eigen::Vector3d> at;
     at.reserve(points.size());
     for (const Vec3& p : points) at.push_back(toEigen(p));
-    ink::Fidelity f = ink::measureFidelity(mesh, at, tolerance, 0, creaseAngleDeg);
+    ink::Fidelity f = ink::measureFidelity(impl_->mesh, at, tolerance, 0, creaseAngleDeg);
     return {f.tolerance,   f.surfaceSamples, f.points,      f.coverage,   f.coverageP99,
             f.coverageMax, f.accuracy,       f.accuracyP99, f.accuracyMax};
 }
@@ -263,7 +277,8 @@ AdoptedDevice Device::handles() const {
     return {c.instance, c.physicalDevice, c.device, c.queue, c.queueFamily, c.float64, c.bufferDeviceAddress};
 }
 void Device::checkImageSize(uint32_t width, uint32_t height, uint32_t supersample) const {
-    ink::checkOffscreenSize(impl_->ctx, width, height, std::max(1u, supersample));
+    if (!ranges::supersample.contains(supersample)) throw Error("supersample must be 1 to 4");
+    ink::checkOffscreenSize(impl_->ctx, width, height, supersample);
 }
 
 }  // namespace inkwell

@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 namespace inkwell {
 
@@ -47,47 +48,46 @@ std::vector<Polyline> toPolylines(const std::vector<ink::PenStroke>& strokes, co
     return out;
 }
 
-Drawing::Impl::Impl(ink::Context& ctx, const ink::Model& model, const DrawingOptions& o)
-    : scene(ctx, model, api::toDrawStyle(o.style), api::toRefine(o), api::toLines(o)) {}
+Drawing::Impl::Impl(ink::Context& ctx, std::shared_ptr<const ink::Model> model, const DrawingOptions& o)
+    : scene(ctx, std::move(model), api::toDrawStyle(o.style), api::toRefine(o), api::toLines(o)) {}
 
 Drawing::Drawing(Device& device, const Model& model, const DrawingOptions& options, const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
-    impl_ = std::make_unique<Impl>(device.impl_->ctx, model.impl_->model, options);
+    // The model's fit shared, not copied (the aliasing constructor: the Model's own count keeps it alive).
+    impl_ = std::make_unique<Impl>(device.impl_->ctx,
+                                   std::shared_ptr<const ink::Model>(model.impl_, &model.impl_->model), options);
     impl_->convention = model.impl_->convention;
     impl_->reporter = reporter;
     impl_->options = options;
 }
 
-Up Drawing::firstUp() const {
-    if (impl_->convention) return Up(int(*impl_->convention));
-    ink::Scene& scene = impl_->scene;
-    if (scene.sets.empty()) return Up::Y;
-    return Up(int(ink::detectUpAxis(ink::viewSamples(ink::readPoints(scene.ctx, scene.sets[0]->gpu()))).up));
+namespace {
+
+// The first set's points as the first view samples them (at most 20,000, read back once).
+ink::ViewSamples firstSamples(ink::Scene& scene) {
+    return scene.sets.empty() ? ink::ViewSamples{} : ink::viewSamples(ink::readPoints(scene.ctx, scene.sets[0]->gpu()));
 }
 
-Camera Drawing::firstView(float aspect) const { return firstView(firstUp(), aspect); }
-
-Camera Drawing::firstView(Up up, float aspect) const { return firstViewReport(up, aspect).camera; }
-
-FirstView Drawing::firstViewReport(float aspect) const {
-    const ink::Scene& scene = impl_->scene;
-    if (impl_->convention) {
-        FirstView v = firstViewReport(Up(int(*impl_->convention)), aspect);
-        v.upReason = "the glTF convention";
-        return v;
+Up upOf(const std::optional<ink::UpAxis>& convention, const ink::ViewSamples& samples, bool empty,
+        std::string* reason) {
+    std::string why;
+    Up up = Up::Y;
+    if (convention) {
+        why = "the glTF convention";
+        up = Up(int(*convention));
+    } else if (empty) {
+        why = "no points";
+    } else {
+        const ink::UpChoice choice = ink::detectUpAxis(samples);
+        why = choice.reason;
+        up = Up(int(choice.up));
     }
-    if (scene.sets.empty()) return firstViewReport(Up::Y, aspect);
-    const ink::UpChoice up = ink::detectUpAxis(ink::viewSamples(ink::readPoints(scene.ctx, scene.sets[0]->gpu())));
-    FirstView v = firstViewReport(Up(int(up.up)), aspect);
-    v.upReason = up.reason;
-    return v;
+    if (reason) *reason = why;
+    return up;
 }
 
-FirstView Drawing::firstViewReport(Up up, float aspect) const {
-    if (!(aspect >= 0.01f && aspect <= 100.0f)) throw Error("firstView: aspect must be in [0.01, 100]");
-    ink::Scene& scene = impl_->scene;
-    ink::ViewSamples samples;
-    if (!scene.sets.empty()) samples = ink::viewSamples(ink::readPoints(scene.ctx, scene.sets[0]->gpu()));
+FirstView viewOf(const ink::ViewSamples& samples, Up up, float aspect) {
+    if (!(aspect > 0) || !std::isfinite(aspect)) throw Error("firstView: aspect must be a positive width / height");
     ink::Camera c;
     c.up = ink::UpAxis(int(up));
     const ink::ViewChoice view = ink::chooseView(samples, c.up);
@@ -106,6 +106,29 @@ FirstView Drawing::firstViewReport(Up up, float aspect) const {
     out.frontDeg = view.frontDeg;
     return out;
 }
+
+}  // namespace
+
+Up Drawing::firstUp(std::string* reason) const {
+    ink::Scene& scene = impl_->scene;
+    const ink::ViewSamples samples = impl_->convention ? ink::ViewSamples{} : firstSamples(scene);
+    return upOf(impl_->convention, samples, scene.sets.empty(), reason);
+}
+
+Camera Drawing::firstView(float aspect) const { return firstViewReport(aspect).camera; }
+
+Camera Drawing::firstView(Up up, float aspect) const { return firstViewReport(up, aspect).camera; }
+
+FirstView Drawing::firstViewReport(float aspect) const {
+    ink::Scene& scene = impl_->scene;
+    const ink::ViewSamples samples = firstSamples(scene);
+    std::string reason;
+    FirstView v = viewOf(samples, upOf(impl_->convention, samples, scene.sets.empty(), &reason), aspect);
+    v.upReason = reason;
+    return v;
+}
+
+FirstView Drawing::firstViewReport(Up up, float aspect) const { return viewOf(firstSamples(impl_->scene), up, aspect); }
 
 uint64_t Drawing::pointCount() const { return impl_->scene.points(); }
 
@@ -141,6 +164,8 @@ void Drawing::refine(const DrawingOptions& options, const Reporter& reporter) {
 }
 
 struct Drawing::Pending::Impl {
+    const Drawing::Impl* drawing = nullptr;  // prepared for this drawing, at this generation
+    uint64_t generation = 0;
     DrawingOptions options;
     bool refine = false, traced = false;
     ink::Scene::Sets sets;
@@ -163,17 +188,16 @@ namespace {
 // Whether two options make the same point sets.
 bool sameSets(const DrawingOptions& a, const DrawingOptions& b) {
     return a.style == b.style && a.levels == b.levels && a.passes == b.passes && a.direction == b.direction &&
-           a.axis == b.axis && a.distribution == b.distribution &&
-           a.candidatesPerStipple == b.candidatesPerStipple && a.seed == b.seed && a.rho == b.rho &&
-           a.rhoDivisor == b.rhoDivisor && a.gridSeeds == b.gridSeeds && a.grid == b.grid &&
-           a.keepAllLevels == b.keepAllLevels;
+           a.axis == b.axis && a.distribution == b.distribution && a.candidatesPerStipple == b.candidatesPerStipple &&
+           a.seed == b.seed && a.rho == b.rho && a.rhoDivisor == b.rhoDivisor && a.gridSeeds == b.gridSeeds &&
+           a.grid == b.grid && a.keepAllLevels == b.keepAllLevels;
 }
 
 // Whether two options trace the same hatching (and the same seeds for the contour).
 bool sameHatching(const DrawingOptions& a, const DrawingOptions& b) {
-    return a.hatching == b.hatching && (!a.hatching || (a.hatchSpacing == b.hatchSpacing &&
-                                                        a.hatchFamilies == b.hatchFamilies &&
-                                                        a.hatchField == b.hatchField));
+    return a.hatching == b.hatching &&
+           (!a.hatching ||
+            (a.hatchSpacing == b.hatchSpacing && a.hatchFamilies == b.hatchFamilies && a.hatchField == b.hatchField));
 }
 
 }  // namespace
@@ -186,6 +210,8 @@ Drawing::Pending Drawing::prepare(const DrawingOptions& options, const Reporter&
     Pending pending;
     pending.impl_ = std::make_unique<Pending::Impl>();
     Pending::Impl& p = *pending.impl_;
+    p.drawing = impl_.get();
+    p.generation = impl_->generation;
     p.options = options;
     p.refine = !sameSets(options, impl_->options);
     if (!p.refine && sameHatching(options, impl_->options) && (scene.lines.any() || !lines.any())) {
@@ -205,6 +231,8 @@ Drawing::Pending Drawing::prepare(const DrawingOptions& options, const Reporter&
 void Drawing::apply(Pending&& pending) {
     if (!pending.impl_) throw Error("Drawing::apply: nothing prepared");
     Pending::Impl& p = *pending.impl_;
+    if (p.drawing != impl_.get() || p.generation != impl_->generation)
+        throw Error("Drawing::apply: prepared for another drawing, or before this one changed (prepare it again)");
     ink::Scene& scene = impl_->scene;
     if (p.refine)
         scene.replace(std::move(p.sets), p.seconds, std::move(p.lines));
@@ -218,7 +246,7 @@ void Drawing::apply(Pending&& pending) {
 
 DrawingOptions Drawing::options() const { return impl_->options; }
 
-double Drawing::contourSeconds() const { return impl_->scene.contourStats.seconds; }
+double Drawing::contourSeconds() const { return impl_->traceSeconds; }
 
 std::vector<Polyline> Drawing::hatching() const {
     return toPolylines(impl_->scene.hatching, impl_->scene.model.surface.frame);

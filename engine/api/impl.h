@@ -12,6 +12,7 @@
 #include "refine/refine_plan.h"
 #include "surface/model.h"
 
+#include <chrono>
 #include <cmath>
 #include <optional>
 
@@ -35,14 +36,17 @@ struct Drawing::Impl {
     uint64_t generation = 0;
     Reporter reporter;       // the last one given (the constructor's, refine's): the notes of later work go there
     DrawingOptions options;  // of the sets and lines in place
-    Impl(ink::Context& ctx, const ink::Model& model, const DrawingOptions& o);
+    Impl(ink::Context& ctx, std::shared_ptr<const ink::Model> model, const DrawingOptions& o);
     // The contours of the view from `camera`, traced again when the eye moved.
     void traceFor(const ink::Camera& camera) {
         if (!scene.lines.contours || camera.eye() == tracedEye) return;
         ink::ScopedReporter reporting(reporter);
-        scene.traceContours(camera);
+        const auto start = std::chrono::steady_clock::now();
+        scene.traceContours(camera);  // traced, trimmed, snapped to the feature lines and on the device
+        traceSeconds = ink::secondsSince(start);
         tracedEye = camera.eye();
     }
+    double traceSeconds = 0;  // the last traceFor's, wall clock
 };
 
 // The engine objects behind the public ones, for the library's code beside api.cpp.

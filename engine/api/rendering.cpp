@@ -17,7 +17,24 @@ namespace inkwell {
 
 // ---- Rendering
 
-void Image::writePng(const std::string& path) const { ink::writePng(path, {width, height, rgba}); }
+namespace {
+
+// A public Image's pixels, checked: its rgba holds width × height × 4 bytes.
+ink::PixelsView pixels(const Image& image, const char* what) {
+    if (image.rgba.size() != size_t(image.width) * image.height * 4)
+        throw Error(std::string(what) + ": an Image's rgba must hold width × height × 4 bytes (" +
+                    std::to_string(image.width) + " × " + std::to_string(image.height) + " × 4, not " +
+                    std::to_string(image.rgba.size()) + ")");
+    return {image.width, image.height, image.rgba.data()};
+}
+
+}  // namespace
+
+void Image::writePng(const std::string& path) const {
+    pixels(*this, "Image::writePng");
+    if (width == 0 || height == 0) throw Error("cannot write '" + path + "': the image is empty");
+    ink::writePng(path, width, height, rgba.data());
+}
 
 Image Image::readPng(const std::string& path) {
     ink::RgbaImage image = ink::readPng(path);
@@ -25,14 +42,16 @@ Image Image::readPng(const std::string& path) {
 }
 
 ImageDifference compareImages(const Image& a, const Image& b, uint32_t threshold) {
-    const ink::CompareResult r = ink::compareImages({a.width, a.height, a.rgba}, {b.width, b.height, b.rgba},
-                                                    uint8_t(std::min(threshold, 255u)));
+    if (threshold > 255) throw Error("compareImages: the threshold must be in [0, 255]");
+    const ink::CompareResult r =
+        ink::compareImages(pixels(a, "compareImages"), pixels(b, "compareImages"), uint8_t(std::min(threshold, 255u)));
     return {r.maxAbsDiff, r.differingPixels, r.pixels, r.differingFraction, r.sameSize, ink::describe(r)};
 }
 
 Image differenceImage(const Image& a, const Image& b, uint32_t threshold) {
-    ink::RgbaImage d = ink::diffImage({a.width, a.height, a.rgba}, {b.width, b.height, b.rgba},
-                                      uint8_t(std::min(threshold, 255u)));
+    if (threshold > 255) throw Error("differenceImage: the threshold must be in [0, 255]");
+    ink::RgbaImage d =
+        ink::diffImage(pixels(a, "differenceImage"), pixels(b, "differenceImage"), uint8_t(std::min(threshold, 255u)));
     return {d.width, d.height, std::move(d.pixels)};
 }
 
@@ -106,9 +125,8 @@ void Plot::write(const std::string& path) const {
 std::vector<PenLayer> Plot::layers() const {
     std::vector<PenLayer> layers;
     for (const ink::PlotLayer& l : impl_->plot.layers)
-        layers.push_back(
-            {l.pen, l.name, l.paths.size(), l.travelBefore, l.travelAfter, l.penDown, l.lifts, l.plotSeconds,
-             l.pathsBefore});
+        layers.push_back({l.pen, l.name, l.paths.size(), l.travelBefore, l.travelAfter, l.penDown, l.lifts,
+                          l.plotSeconds, l.pathsBefore});
     return layers;
 }
 
@@ -192,14 +210,14 @@ std::vector<PenLayer> Renderer::writeVector(const std::string& path, const Page&
 Plot Renderer::plot(const Page& page) const {
     ink::OffscreenRenderer& renderer = impl_->current();
     if (!impl_->rendered) throw Error("Renderer::plot: no frame of the drawing's points rendered yet");
-    return Plot(std::make_shared<const Plot::Impl>(Plot::Impl{ink::layoutPlot(renderer.vectorDrawing(), toPage(page))}));
+    return Plot(
+        std::make_shared<const Plot::Impl>(Plot::Impl{ink::layoutPlot(renderer.vectorDrawing(), toPage(page))}));
 }
 
 std::string Renderer::statsJson() const {
     ink::OffscreenRenderer& renderer = impl_->current();
     if (!impl_->rendered) throw Error("Renderer::statsJson: no frame of the drawing's points rendered yet");
-    return api::pageJson(renderer, impl_->drawing.scene.pointers().size(), impl_->style, impl_->width,
-                         impl_->height)
+    return api::pageJson(renderer, impl_->drawing.scene.pointers().size(), impl_->style, impl_->width, impl_->height)
         .dump();
 }
 
@@ -248,7 +266,8 @@ struct FrameRecorder::Impl {
 };
 
 FrameRecorder::FrameRecorder(const Drawing& drawing, VkFormat colorFormat, uint32_t framesInFlight, const Look& look) {
-    impl_ = std::make_unique<Impl>(*drawing.impl_, colorFormat, std::max(1u, framesInFlight), api::toStyle(look));
+    if (framesInFlight < 1 || framesInFlight > 16) throw Error("framesInFlight must be 1 to 16");
+    impl_ = std::make_unique<Impl>(*drawing.impl_, colorFormat, framesInFlight, api::toStyle(look));
 }
 
 FrameRecorder::~FrameRecorder() = default;
@@ -275,12 +294,14 @@ void FrameRecorder::record(VkCommandBuffer cmd, const Camera& camera, const Fram
         impl_->restyle = false;
     }
     if (traceContours) impl_->drawing.traceFor(api::toCamera(camera));  // waits for the device when the eye moved
+    // The slot's previous submission is done (the application waited for it): its capture buffer may go, kept
+    // only while the slot's frames are captured.
+    ink::Context& ctx = impl_->drawing.scene.ctx;
+    ink::Buffer& b = impl_->captures[frame];
+    const VkDeviceSize bytes = VkDeviceSize(target.extent.width) * target.extent.height * 4;
+    if (b.buffer && (!target.capture || b.size != bytes)) ink::destroyBuffer(ctx, b);
     ink::Buffer* capture = nullptr;
-    if (target.capture) {  // the slot's previous submission is done: its buffer may go
-        ink::Context& ctx = impl_->drawing.scene.ctx;
-        ink::Buffer& b = impl_->captures[frame];
-        const VkDeviceSize bytes = VkDeviceSize(target.extent.width) * target.extent.height * 4;
-        if (b.buffer && b.size != bytes) ink::destroyBuffer(ctx, b);
+    if (target.capture) {
         if (!b.buffer) b = ink::createBuffer(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, ink::MemoryUse::Readback);
         impl_->captured[frame] = target.extent;
         capture = &b;
@@ -291,7 +312,8 @@ void FrameRecorder::record(VkCommandBuffer cmd, const Camera& camera, const Fram
 
 Image FrameRecorder::captured(uint32_t frame) const {
     if (frame >= impl_->frames || !impl_->captures[frame].buffer)
-        throw Error("FrameRecorder::captured: frame " + std::to_string(frame) + " was not recorded with capture");
+        throw Error("FrameRecorder::captured: frame " + std::to_string(frame) +
+                    "'s last recording was not made with FrameTarget::capture");
     const ink::Buffer& b = impl_->captures[frame];
     Image image{impl_->captured[frame].width, impl_->captured[frame].height, {}};
     const uint8_t* mapped = static_cast<const uint8_t*>(b.mapped);

@@ -25,11 +25,13 @@ api::json selectJson(const ink::SelectPlan& plan, size_t candidates, const std::
 
 struct Samples::Impl {
     std::vector<ink::PointRecord> points, refined;
+    bool keptRefined = false;
     ink::Frame frame;
     api::json stats;
 };
 
-Samples::Samples(Device* device, const Model& model, const DrawingOptions& options, const Reporter& reporter)
+Samples::Samples(Device* device, const Model& model, const DrawingOptions& options, bool keepRefined,
+                 const Reporter& reporter)
     : impl_(std::make_unique<Impl>()) {
     ink::ScopedReporter reporting(reporter);
     if (options.style == Style::Both) throw Error("Samples make one set: a style of Stipple or Direction");
@@ -45,7 +47,8 @@ Samples::Samples(Device* device, const Model& model, const DrawingOptions& optio
         ink::RefinePlan plan = ink::planRefinement(surface, refine, ink::kMaxCpuPoints);
         impl_->points = ink::refineOnCpu(surface, refine, plan, &levels);
         stats["refine"]["seconds"] = ink::secondsSince(start);
-        impl_->refined = impl_->points;
+        if (keepRefined) impl_->refined = impl_->points;
+        impl_->keptRefined = keepRefined;
         if (refine.selects()) {
             start = Clock::now();
             ink::SelectPlan selectPlan = ink::planSelection(surface, plan, ink::selectOptions(refine));
@@ -67,11 +70,13 @@ Samples::Samples(Device* device, const Model& model, const DrawingOptions& optio
     stats["refine"]["seconds"] = ink::secondsSince(start);
     levels = ink::readLevelStats(ctx, r);
     if (r.selection) {
-        stats["select"] = selectJson(r.selection->plan, ink::readPointCount(ctx, r), ink::readStageCounts(ctx, *r.selection));
+        stats["select"] =
+            selectJson(r.selection->plan, ink::readPointCount(ctx, r), ink::readStageCounts(ctx, *r.selection));
         stats["select"]["gpu_ms"] = ink::selectionMs(ctx, r);
     }
     impl_->points = ink::readDrawnPoints(ctx, r);
-    impl_->refined = r.selection ? ink::readPoints(ctx, r) : impl_->points;
+    if (keepRefined) impl_->refined = r.selection ? ink::readPoints(ctx, r) : impl_->points;
+    impl_->keptRefined = keepRefined;
     stats["refine"]["levels"] = api::levelsJson(levels);
     stats.update(api::deviceJson(ctx));
 }
@@ -93,6 +98,7 @@ std::vector<Point> Samples::points() const {
 }
 
 std::vector<Vec3> Samples::refined() const {
+    if (!impl_->keptRefined) throw Error("Samples::refined: made without keepRefined");
     std::vector<Vec3> out;
     out.reserve(impl_->refined.size());
     for (const ink::PointRecord& p : impl_->refined) {

@@ -42,12 +42,15 @@ std::string deflateZlib(const std::string& bytes) {
 // Encoded in memory, then written with every write and the close checked (writeFileAtomically): stb's own
 // file writer ignores write errors, so a full disk gave a truncated PNG and success.
 void writePng(const std::string& path, const RgbaImage& image) {
+    writePng(path, image.width, image.height, image.pixels.data());
+}
+
+void writePng(const std::string& path, uint32_t width, uint32_t height, const uint8_t* rgba) {
     std::string bytes;
     auto append = [](void* context, void* data, int size) {
         static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
     };
-    if (!stbi_write_png_to_func(append, &bytes, int(image.width), int(image.height), 4, image.pixels.data(),
-                                int(image.width * 4)))
+    if (!stbi_write_png_to_func(append, &bytes, int(width), int(height), 4, rgba, int(width * 4)))
         throw Error("cannot write '" + path + "': PNG encoding failed");
     writeFileAtomically(path, bytes);
 }

@@ -13,6 +13,8 @@ struct RgbaImage {
 };
 
 void writePng(const std::string& path, const RgbaImage& image);
+// The same from `width` × `height` RGBA8 pixels held elsewhere (the public Image's), not copied.
+void writePng(const std::string& path, uint32_t width, uint32_t height, const uint8_t* rgba);
 // Limits on every image read, checked from the header before anything is decoded (a small PNG may claim
 // a huge size: a decompression bomb). Messages are printable ASCII whatever the file name or stb says.
 constexpr uint64_t kMaxImageSide = 16384;

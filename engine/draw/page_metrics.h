@@ -2,7 +2,7 @@
 // the target, each far from the outline, the mean nearest-neighbour distance of the drawn front dots over r_max =
 // √(2A / (√3 N)) (the spacing of the densest hexagonal packing of the window's N dots: 1 for a lattice, 0.47 for
 // white noise), the share of dots closer than r_max / 2 to another (clumped), and the ink the dots cover. What
-// `render --stats` reports as `stipples[].page` and bench as `page`; tests/test_page.cpp asserts on it.
+// `render --stats` reports as `stipples[].page` and bench as `page`; tests/gpu/test_page.cpp asserts on it.
 #pragma once
 
 #include "shared/render.h"  // gpu::Dot

@@ -37,7 +37,7 @@ constexpr float kMaxDotPixels = 64.0f;          // dot diameters are clamped to 
 // kCoverage·d (dots of area a, a density of kCoverage·d / a on the page), each kept at least its radius
 // kSpaceRadius / √(density) from every other: with SPACE_SUPPLY ranked candidates a dot that leaves about the
 // density asked for (random sequential adsorption, radius r: a maximal density of about 0.70 / r²; 0.72 centres
-// the coverage of a torus of one tone on the asked, tests/test_page.cpp).
+// the coverage of a torus of one tone on the asked, tests/gpu/test_page.cpp).
 constexpr float kCoverage = 0.5f;
 constexpr float kSpaceRadius = 0.72f;
 // Candidates per dot asked for: the point set's own density on the screen is only estimated (its surface area

@@ -55,7 +55,11 @@ const char* drawStyleName(DrawStyle s) {
 }
 
 Scene::Scene(Context& c, Model m, DrawStyle style, const RefineOptions& options, const LineOptions& l)
-    : ctx(c), model(std::move(m)) {
+    : Scene(c, std::make_shared<const Model>(std::move(m)), style, options, l) {}
+
+Scene::Scene(Context& c, std::shared_ptr<const Model> m, DrawStyle style, const RefineOptions& options,
+             const LineOptions& l)
+    : ctx(c), model_(std::move(m)), model(*model_) {
     refine(style, options, l);
 }
 

@@ -44,6 +44,9 @@ public:
     // Refines the model for the style: one submission a set, waited for, its points the input does not support
     // dropped (Model::support); then traces the hatching.
     Scene(Context& ctx, Model model, DrawStyle style, const RefineOptions& options, const LineOptions& lines = {});
+    // The same over a model shared with others (the public API's: a large scan's fit is not copied).
+    Scene(Context& ctx, std::shared_ptr<const Model> model, DrawStyle style, const RefineOptions& options,
+          const LineOptions& lines = {});
     Scene(const Scene&) = delete;
     Scene& operator=(const Scene&) = delete;
 
@@ -83,7 +86,12 @@ public:
     uint64_t points();
 
     Context& ctx;
-    Model model;
+
+private:
+    std::shared_ptr<const Model> model_;
+
+public:
+    const Model& model;
     std::vector<std::unique_ptr<Refinement>> sets;
     double refineSeconds = 0;  // of the last refine, wall clock
     LineOptions lines;

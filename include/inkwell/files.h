@@ -64,12 +64,11 @@ public:
     OutputBatch& operator=(const OutputBatch&) = delete;
     void commit();
 
+private:
     struct Pending {
         std::string tmp, target, name;
         int slot;
     };
-
-private:
     std::vector<Pending> pending_;
     OutputBatch* outer_;
     friend void writeAtomically(const std::string&, const std::function<void(const std::string&)>&);

@@ -1,14 +1,17 @@
 // Inkwell: pen-and-ink drawings (stipples, hatch-like lines of dots) of Hermite RBF implicit surfaces, fitted on
 // the CPU to meshes or oriented points and refined, selected and drawn on a Vulkan 1.3 device. This header is
-// the whole public API; docs/library.md shows it in use, examples/render.cpp renders a model in 40 lines.
+// the public API with error.h, ranges.h (the one table of limits), files.h (the output layer) and diagnostics.h
+// (the self-check and benchmarks); the inkwell program and its viewer use nothing else. docs/library.md shows it
+// in use, examples/render.cpp renders a model in 40 lines.
 //
 //   Model     load or fit an HRBF (ψ = r³ plus a linear term) to a mesh or oriented points; save it as .hrbf
 //   Device    a Vulkan device: one Inkwell makes, or one the application made and keeps (adopted)
 //   Drawing   a model's point sets on a device: stipples selected with blue-noise spacing and ranks, or the
 //             report's refined points, or direction sampling; the points can be read back or written as PLY
+//   Samples   a model's refined points read back without a Drawing, from a device or the CPU reference
 //   Renderer  draws a Drawing into an image of its own and reads it back (headless use)
 //   FrameRecorder  records the drawing of a frame into the application's command buffer and colour image
-//   Page      a physical page and pen: a frame's marks written as SVG or PDF for pen plotters and print
+//   Page, Plot  a physical page and pen, and a frame's marks laid out on it: SVG or PDF for pen plotters and print
 //
 // Objects own their Vulkan resources and free them when destroyed; a Drawing must outlive its renderers and a
 // Device its drawings. Errors are thrown as inkwell::Error (error.h) with a one-line message; the library
@@ -124,6 +127,19 @@ struct Fidelity {
 // triangles).
 Fidelity measureFidelity(const std::string& meshPath, const std::vector<Vec3>& points, double tolerance = 0.01,
                          const Reporter& reporter = {}, double creaseAngleDeg = 60);
+
+// The same in two steps: the mesh read (and a file without faces refused) before any other work, the points
+// measured against it later, as often as wanted.
+class FidelityMesh {
+public:
+    explicit FidelityMesh(const std::string& meshPath);
+    Fidelity measure(const std::vector<Vec3>& points, double tolerance = 0.01, const Reporter& reporter = {},
+                     double creaseAngleDeg = 60) const;
+
+private:
+    struct Impl;
+    std::shared_ptr<const Impl> impl_;
+};
 
 // ---- Device -------------------------------------------------------------------------------------------
 
@@ -296,7 +312,7 @@ public:
         Pending& operator=(Pending&&) noexcept;
         bool refined() const;         // new point sets (else new or the same pen lines over the current ones)
         double seconds() const;       // making the sets
-        bool traced() const;          // the hatching traced again
+        bool traced() const;          // the pen lines traced again (their seeds, and the hatching where it is drawn)
         double traceSeconds() const;  // tracing the pen lines
         size_t hatchStrokes() const;
 
@@ -305,12 +321,15 @@ public:
         struct Impl;
         std::unique_ptr<Impl> impl_;
     };
+    // A Pending holds device buffers: apply it, or let it go, before the Device goes. apply() refuses one
+    // prepared for another drawing or before this one changed.
     Pending prepare(const DrawingOptions& options, const Reporter& reporter = {}) const;
     void apply(Pending&& pending);
     // The options of the sets and lines in place (the constructor's, or the last refine() or apply()).
     DrawingOptions options() const;
-    // How long the last trace of the contour took, seconds (0 before any; the CPU's tracer takes 35–45 ms for
-    // the 684-point bunny on lavapipe, the device's a few ms on a GPU).
+    // How long the last trace of the contour took (for a view a renderer or recorder drew), wall clock, seconds:
+    // 0 before any. The CPU's tracer takes 35–45 ms for the 684-point bunny on lavapipe, the device's a few ms
+    // on a GPU.
     double contourSeconds() const;
     size_t sets() const;
     // The points set `set` draws (reads them back), and the same written as binary PLY with rank and level.
@@ -323,8 +342,8 @@ public:
     // The first picture (docs/library.md), what `inkwell render` shows without --camera and --up: the up axis
     // (a glTF file's +y, else from the shape of the first set's points), and about it the view with the largest
     // viewpoint entropy at 15° or 30° above the horizon, framed so the model fills 85% of an image `aspect`
-    // (width / height, [0.01, 100]) wide. A few milliseconds on the CPU besides reading the points back.
-    Up firstUp() const;
+    // (width / height, positive) wide. A few milliseconds on the CPU besides reading the points back.
+    Up firstUp(std::string* reason = nullptr) const;  // `reason`: why ("the glTF convention", "flat: ...")
     Camera firstView(float aspect = 1.0f) const;
     Camera firstView(Up up, float aspect = 1.0f) const;
     // The same with the reasons: why this up axis, and the view's viewpoint entropy.
@@ -352,7 +371,9 @@ private:
 // makes its one set (no pen lines, no trimming).
 class Samples {
 public:
-    Samples(Device* device, const Model& model, const DrawingOptions& options, const Reporter& reporter = {});
+    // `keepRefined`: keep every refined point too, for refined() (a copy of them all).
+    Samples(Device* device, const Model& model, const DrawingOptions& options, bool keepRefined = false,
+            const Reporter& reporter = {});
     ~Samples();
     Samples(Samples&&) noexcept;
     Samples& operator=(Samples&&) noexcept;
@@ -360,7 +381,8 @@ public:
     // The points as drawn: the stipples selected, or every refined point where nothing is selected.
     size_t size() const;
     std::vector<Point> points() const;
-    // Every refined point before the selection, in the input's units (what a fidelity measure wants).
+    // Every refined point before the selection, in the input's units (what a fidelity measure wants); only
+    // when made with keepRefined.
     std::vector<Vec3> refined() const;
     // The points as drawn, binary PLY with rank and level (Drawing::writePly's format), atomically.
     void writePly(const std::string& path) const;
@@ -462,10 +484,11 @@ struct ImageDifference {
     size_t differingPixels = 0, pixels = 0;
     double differingFraction = 0;
     bool sameSize = true;
-    std::string text;  // "12 of 65536 pixels (0.018%) differ by more than 8; max difference 40"
+    std::string text;  // "max abs diff 40, 0.018% pixels differ (12 of 65536)"
 };
 constexpr uint32_t kCompareThreshold = 8;
 constexpr double kCompareMaxFraction = 0.0025;  // the share of pixels that may differ in a match
+// `threshold` in [0, 255]; each image's rgba must hold width × height × 4 bytes.
 ImageDifference compareImages(const Image& a, const Image& b, uint32_t threshold = kCompareThreshold);
 // The differing pixels marked (red over a faded `a`).
 Image differenceImage(const Image& a, const Image& b, uint32_t threshold = kCompareThreshold);
@@ -519,9 +542,8 @@ public:
     // A path ending in .svg or .pdf (any case).
     static bool isVectorPath(const std::string& path);
 
-    struct Impl;
-
 private:
+    struct Impl;
     friend class Renderer;
     friend class FrameRecorder;
     explicit Plot(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}

@@ -431,7 +431,9 @@ TEST_CASE("api: firstView finds the bunny's up axis and frames it to fill 85% of
     const inkwell::Camera again = drawing.firstView(inkwell::Up::Y, 1.0f);
     CHECK(again.azimuthDeg == camera.azimuthDeg);
     CHECK(again.distance == camera.distance);
-    CHECK_THROWS_WITH_AS(drawing.firstView(0.0f), "firstView: aspect must be in [0.01, 100]", inkwell::Error);
+    CHECK_THROWS_WITH_AS(drawing.firstView(0.0f), "firstView: aspect must be a positive width / height",
+                         inkwell::Error);
+    CHECK(drawing.firstView(128.0f).distance > 0);  // render --size 8192 64
     // The rendered ink's bounding box: 80-90% of the image's side.
     inkwell::Renderer renderer(drawing, 256, 256);
     const inkwell::Image image = renderer.render(camera);
@@ -469,7 +471,8 @@ TEST_CASE("api: prepare and apply refine in two halves under a live FrameRecorde
     inkwell::Camera camera;
     inkwell::FrameRecorder recorder(drawing, VK_FORMAT_R8G8B8A8_UNORM, 2, look);
     AppTarget app(gpu.ctx, size);
-    CHECK_THROWS_WITH_AS(recorder.captured(1), doctest::Contains("was not recorded with capture"), inkwell::Error);
+    CHECK_THROWS_WITH_AS(recorder.captured(1),
+                         doctest::Contains("last recording was not made with FrameTarget::capture"), inkwell::Error);
     const inkwell::Image before = app.record(recorder, camera, 1, true);
     CHECK(recorder.captured(1).rgba == before.rgba);  // the recorder's copy is the application's image
     CHECK(before.rgba == inkwell::Renderer(drawing, size, size, look).render(camera).rgba);
@@ -502,7 +505,8 @@ TEST_CASE("api: prepare and apply refine in two halves under a live FrameRecorde
     drawing.apply(std::move(pending));
     CHECK(drawing.pointCount() > 3 * points);
     const inkwell::Image outlined = app.record(recorder, camera, 1);
-    CHECK(inked(outlined) > inked(after));  // the contour's pen
+    CHECK_THROWS_AS(recorder.captured(1), inkwell::Error);  // recorded without capture since: its buffer is gone
+    CHECK(inked(outlined) > inked(after));                  // the contour's pen
     CHECK(drawing.contourSeconds() > 0);
     options.contours = false;
     pending = drawing.prepare(options);
@@ -524,7 +528,7 @@ TEST_CASE("api: Samples from the device and the CPU, a Plot written twice, and t
     CHECK(model.statsJson().find("\"method\":\"pu\"") != std::string::npos);
     inkwell::DrawingOptions options;
     options.levels = 5;
-    const inkwell::Samples onDevice(&device, model, options), onCpu(nullptr, model, options);
+    const inkwell::Samples onDevice(&device, model, options, true), onCpu(nullptr, model, options, true);
     REQUIRE(onDevice.size() > 500);
     // The CPU reference refines and selects as the device does (the same count on lavapipe; a GPU's float may
     // keep or drop a candidate or two differently).
@@ -535,6 +539,8 @@ TEST_CASE("api: Samples from the device and the CPU, a Plot written twice, and t
             REQUIRE(std::abs(std::hypot(p.position[0], p.position[1], p.position[2]) - 0.5) < 0.01);
     }
     CHECK(onCpu.statsJson().find("\"device\":\"cpu\"") != std::string::npos);
+    CHECK_THROWS_WITH_AS(inkwell::Samples(nullptr, model, options).refined(), doctest::Contains("keepRefined"),
+                         inkwell::Error);
     CHECK(onDevice.statsJson(true).find("\"spacing\"") != std::string::npos);
     options.style = inkwell::Style::Both;
     CHECK_THROWS_WITH_AS(inkwell::Samples(nullptr, model, options), doctest::Contains("one set"), inkwell::Error);

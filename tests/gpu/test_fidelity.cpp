@@ -244,6 +244,12 @@ TEST_CASE("fidelity: the public measureFidelity reads the mesh, and refuses file
                          inkwell::Error);
     CHECK_THROWS_WITH_AS(inkwell::measureFidelity(kModels + "hemisphere.obj", corners, 0),
                          "the fidelity tolerance must be positive (it is in bounding-box diagonals)", inkwell::Error);
+    // In two steps: the faceless file refused at once, the mesh measured against as often as asked.
+    CHECK_THROWS_WITH_AS(inkwell::FidelityMesh{pts}, doctest::Contains("fidelity needs a mesh with faces"),
+                         inkwell::Error);
+    const inkwell::FidelityMesh hemisphere(kModels + "hemisphere.obj");
+    CHECK(hemisphere.measure(corners).coverage == f.coverage);
+    CHECK(hemisphere.measure(corners, 0.2).coverage == 1.0);
 }
 
 TEST_CASE("fidelity: sample --fidelity prints and writes both shares; files without faces are refused" *

@@ -1,7 +1,7 @@
 // A test that cannot run where it runs (no root, not lavapipe, no shaderFloat64) says so with skipTest and
 // returns: it is counted as skipped, never as passed. Run alone (as ctest runs each test case), the test
 // program then exits kSkipExitCode, which CTest's SKIP_RETURN_CODE reports as "Not Run (Skipped)"; every run
-// ends by listing its skips with their reasons (tests/main.cpp).
+// ends by listing its skips with their reasons (tests/support/main.cpp).
 #pragma once
 
 #include <string>

@@ -628,7 +628,7 @@ TEST_CASE("vector: a pen drawing's stats give each pen's length, travel, lifts a
           doctest::test_suite("cli")) {
     TempDir dir("inkwell-vector");
     // The bundled bunny with every default (its fit, the 1024² view, A4, a 0.3 mm pen).
-    // Without the crease lines of the bunny's coarse mesh (a pen of their own: tests/test_features.cpp).
+    // Without the crease lines of the bunny's coarse mesh (a pen of their own: tests/unit/test_features.cpp).
     const std::string command =
         "render " + kBunny + " --style contours+hatching --creases off --stats " + dir / "s.json";
     Run r = runInkwell(command + " -o " + dir / "x.svg");

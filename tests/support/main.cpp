@@ -1,4 +1,4 @@
-// The tests' main: doctest's, and the skips (tests/skip.h) counted and listed. A run whose every test case
+// The tests' main: doctest's, and the skips (tests/support/skip.h) counted and listed. A run whose every test case
 // skipped exits kSkipExitCode (CTest: SKIP_RETURN_CODE), so that a skip is never reported as a pass.
 #define DOCTEST_CONFIG_IMPLEMENT
 #include <doctest/doctest.h>

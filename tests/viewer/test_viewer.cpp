@@ -31,7 +31,7 @@ Run view(const std::string& args, int firstDisplay) {
 
 // The virtual screen and the input driver the viewer tests use come with scripts/install-deps.sh (xvfb, xauth,
 // xdotool). Where one is missing (a machine set up otherwise, as the lent GPU machines are), the test says so and
-// counts as skipped (tests/skip.h); true then, and the test returns.
+// counts as skipped (tests/support/skip.h); true then, and the test returns.
 bool skipWithoutTools(bool xdotool) {
     std::string missing;
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) missing += " xvfb-run";

@@ -4,5 +4,5 @@
 // destroyed, before LeakSanitizer looks for leaks at exit. Their small one-time leaks are then reported from
 // "<unknown module>", which no suppression can match. This dlclose() takes precedence over libc's for every
 // library in the process and keeps the library loaded, so that leaks inside it are named by their library
-// and tests/lsan.supp can suppress them by name. Nothing else changes: a library is never opened twice.
+// and tests/support/lsan.supp can suppress them by name. Nothing else changes: a library is never opened twice.
 extern "C" int dlclose(void*) { return 0; }
