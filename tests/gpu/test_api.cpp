@@ -31,6 +31,18 @@ void spherePoints(std::vector<inkwell::Vec3>& positions, std::vector<inkwell::Ve
     }
 }
 
+// The sphere, fitted.
+inkwell::Model sphereModel() {
+    std::vector<inkwell::Vec3> positions, normals;
+    spherePoints(positions, normals);
+    return inkwell::Model::fit(positions, normals);
+}
+
+// The test's device, adopted.
+inkwell::AdoptedDevice adopted(const GpuFixture& gpu) {
+    return {gpu.ctx.instance, gpu.ctx.physicalDevice, gpu.ctx.device, gpu.ctx.queue, gpu.ctx.queueFamily};
+}
+
 size_t inked(const inkwell::Image& image) {
     size_t n = 0;
     for (size_t i = 0; i < image.rgba.size(); i += 4) n += image.rgba[i] < 128;
@@ -137,14 +149,11 @@ TEST_CASE("api: notes reach the Reporter, and nothing else is said" * doctest::t
 TEST_CASE("api: an adopted device draws into the application's own image what the Renderer draws" *
           doctest::test_suite("gpu")) {
     GpuFixture gpu;  // the application's instance and device, with validation
-    inkwell::Device device(inkwell::AdoptedDevice{gpu.ctx.instance, gpu.ctx.physicalDevice, gpu.ctx.device,
-                                                  gpu.ctx.queue, gpu.ctx.queueFamily});
+    inkwell::Device device(adopted(gpu));
     CHECK(device.name() == gpu.ctx.properties.deviceName);
-    std::vector<inkwell::Vec3> positions, normals;
-    spherePoints(positions, normals);
     inkwell::DrawingOptions options;
     options.levels = 5;
-    inkwell::Drawing drawing(device, inkwell::Model::fit(positions, normals), options);
+    inkwell::Drawing drawing(device, sphereModel(), options);
     std::vector<inkwell::Point> points = drawing.points();
     REQUIRE(points.size() > 1000);
     for (const inkwell::Point& p : {points.front(), points.back()}) {
@@ -325,13 +334,10 @@ TEST_CASE("api: the public objects hide their internals, and the version macros 
 TEST_CASE("api: Drawing::refine under a live Renderer and FrameRecorder: both draw the new sets, validation clean" *
           doctest::test_suite("gpu")) {
     GpuFixture gpu;
-    inkwell::Device device(inkwell::AdoptedDevice{gpu.ctx.instance, gpu.ctx.physicalDevice, gpu.ctx.device,
-                                                  gpu.ctx.queue, gpu.ctx.queueFamily});
-    std::vector<inkwell::Vec3> positions, normals;
-    spherePoints(positions, normals);
+    inkwell::Device device(adopted(gpu));
     inkwell::DrawingOptions options;
     options.levels = 3;
-    inkwell::Drawing drawing(device, inkwell::Model::fit(positions, normals), options);
+    inkwell::Drawing drawing(device, sphereModel(), options);
     const uint32_t size = 96;
     inkwell::Look look;
     look.supersample = 1;
@@ -455,16 +461,13 @@ TEST_CASE("api: firstView finds the bunny's up axis and frames it to fill 85% of
 TEST_CASE("api: prepare and apply refine in two halves under a live FrameRecorder, whose captured frame is its image" *
           doctest::test_suite("gpu")) {
     GpuFixture gpu;
-    inkwell::Device device(inkwell::AdoptedDevice{gpu.ctx.instance, gpu.ctx.physicalDevice, gpu.ctx.device,
-                                                  gpu.ctx.queue, gpu.ctx.queueFamily});
+    inkwell::Device device(adopted(gpu));
     const inkwell::AdoptedDevice handles = device.handles();
     CHECK(handles.device == gpu.ctx.device);
     CHECK(handles.queue == gpu.ctx.queue);
-    std::vector<inkwell::Vec3> positions, normals;
-    spherePoints(positions, normals);
     inkwell::DrawingOptions options;
     options.levels = 3;
-    inkwell::Drawing drawing(device, inkwell::Model::fit(positions, normals), options);
+    inkwell::Drawing drawing(device, sphereModel(), options);
     const uint32_t size = 96;
     inkwell::Look look;
     look.supersample = 1;
@@ -520,11 +523,8 @@ TEST_CASE("api: prepare and apply refine in two halves under a live FrameRecorde
 TEST_CASE("api: Samples from the device and the CPU, a Plot written twice, and the stats as JSON" *
           doctest::test_suite("gpu")) {
     GpuFixture gpu;
-    inkwell::Device device(inkwell::AdoptedDevice{gpu.ctx.instance, gpu.ctx.physicalDevice, gpu.ctx.device,
-                                                  gpu.ctx.queue, gpu.ctx.queueFamily});
-    std::vector<inkwell::Vec3> positions, normals;
-    spherePoints(positions, normals);
-    const inkwell::Model model = inkwell::Model::fit(positions, normals);
+    inkwell::Device device(adopted(gpu));
+    const inkwell::Model model = sphereModel();
     CHECK(model.statsJson().find("\"method\":\"pu\"") != std::string::npos);
     inkwell::DrawingOptions options;
     options.levels = 5;
