@@ -29,7 +29,7 @@ struct Preset {
 // A preset is a few hundred bytes; this only stops a wrong file (or /dev/zero) being read.
 constexpr size_t kMaxPresetBytes = size_t(1) << 20;
 
-// Checks every key like the command line checks its option (type, size, range) and throws ink::Error
+// Checks every key like the command line checks its option (type, size, range) and throws inkwell::Error
 // naming `name` and the key. Unknown keys are refused.
 Preset parsePreset(const std::string& bytes, const std::string& name);
 
@@ -51,7 +51,7 @@ struct CameraText {
     std::optional<float> fovDeg;
     std::optional<bool> freeOrbit;
 };
-// Throws ink::Error saying what is not a camera in `text` (at most a few KiB are looked at).
+// Throws inkwell::Error saying what is not a camera in `text` (at most a few KiB are looked at).
 CameraText parseCameraText(const std::string& text);
 // One line of JSON that parseCameraText reads back to the same values (every key; numbers to 4 decimals), and
 // that it writes again as the same text.
