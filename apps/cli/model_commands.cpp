@@ -48,7 +48,7 @@ static int runSample(Options& o, const std::string& pointsPath) {
         if (ext == ".hrbf")
             throw inkwell::Error(o.model +
                                  ": --fidelity measures against the input mesh; give the mesh, not a fitted .hrbf");
-        mesh.emplace(o.model);
+        mesh.emplace(o.model, reporter());
     }
     // The device first: without one there is no point in fitting.
     std::optional<inkwell::Device> device;

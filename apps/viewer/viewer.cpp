@@ -272,8 +272,8 @@ void Viewer::submitAndPresent(Frame& f, uint32_t index, bool suboptimal) {
     VkResult presented = vkQueuePresentKHR(gpu_.vk.queue, &present);
     if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR || suboptimal)
         resized_ = true;  // recreated before the next frame
-    else
-        VIEWER_CHECK(presented);
+    else if (presented != VK_SUCCESS)
+        viewer::vkFail("vkQueuePresentKHR", presented, __FILE__, __LINE__);
 }
 
 // Draws and presents one frame, saving it to `screenshot` when that is not empty. False when the
@@ -288,7 +288,8 @@ bool Viewer::drawFrame(const std::string& screenshot) {
         resized_ = true;
         return false;
     }
-    if (acquired != VK_SUBOPTIMAL_KHR) VIEWER_CHECK(acquired);
+    if (acquired != VK_SUCCESS && acquired != VK_SUBOPTIMAL_KHR)
+        viewer::vkFail("vkAcquireNextImageKHR", acquired, __FILE__, __LINE__);
     // Only now: a frame that returned above must leave the fence signalled for the next wait.
     VIEWER_CHECK(vkResetFences(gpu_.vk.device, 1, &f.done));
 

@@ -67,9 +67,12 @@ void submitAndWait(const Gpu& gpu, const std::function<void(VkCommandBuffer)>& r
     VIEWER_CHECK(vkAllocateCommandBuffers(gpu.vk.device, &alloc, &cmd));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    // The command buffer goes back to the pool whatever fails; the failing call is named.
+    const char* call = "vkBeginCommandBuffer";
     VkResult result = vkBeginCommandBuffer(cmd, &begin);
     if (result == VK_SUCCESS) {
         record(cmd);
+        call = "vkEndCommandBuffer";
         result = vkEndCommandBuffer(cmd);
     }
     if (result == VK_SUCCESS) {
@@ -78,11 +81,15 @@ void submitAndWait(const Gpu& gpu, const std::function<void(VkCommandBuffer)>& r
         VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
         submit.commandBufferInfoCount = 1;
         submit.pCommandBufferInfos = &cmdInfo;
+        call = "vkQueueSubmit2";
         result = vkQueueSubmit2(gpu.vk.queue, 1, &submit, VK_NULL_HANDLE);
-        if (result == VK_SUCCESS) result = vkQueueWaitIdle(gpu.vk.queue);
+        if (result == VK_SUCCESS) {
+            call = "vkQueueWaitIdle";
+            result = vkQueueWaitIdle(gpu.vk.queue);
+        }
     }
     vkFreeCommandBuffers(gpu.vk.device, gpu.pool, 1, &cmd);
-    VIEWER_CHECK(result);
+    if (result != VK_SUCCESS) vkFail(call, result, __FILE__, __LINE__);
 }
 
 Image createImage(const Gpu& gpu, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage) {

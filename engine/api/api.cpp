@@ -6,7 +6,6 @@
 
 #include "api/stats_json.h"
 #include "base/common.h"
-#include "base/compare.h"
 #include "base/files.h"
 #include "base/image.h"
 #include "draw/renderer.h"
@@ -221,7 +220,17 @@ struct FidelityMesh::Impl {
     ink::OrientedPoints mesh;
 };
 
-FidelityMesh::FidelityMesh(const std::string& meshPath) {
+namespace {
+
+void checkFidelityOptions(double tolerance, double creaseAngleDeg) {
+    if (!(tolerance > 0)) throw Error("the fidelity tolerance must be positive (it is in bounding-box diagonals)");
+    if (!(creaseAngleDeg > 0 && creaseAngleDeg < 180)) throw Error("the crease angle must be in (0, 180) degrees");
+}
+
+}  // namespace
+
+FidelityMesh::FidelityMesh(const std::string& meshPath, const Reporter& reporter) {
+    ink::ScopedReporter reporting(reporter);
     ink::OrientedPoints mesh = ink::loadPoints(meshPath);
     double area = 0;
     for (double a : ink::triangleAreas(mesh)) area += a;
@@ -231,15 +240,14 @@ FidelityMesh::FidelityMesh(const std::string& meshPath) {
 
 Fidelity measureFidelity(const std::string& meshPath, const std::vector<Vec3>& points, double tolerance,
                          const Reporter& reporter, double creaseAngleDeg) {
-    ink::ScopedReporter reporting(reporter);
-    return FidelityMesh(meshPath).measure(points, tolerance, reporter, creaseAngleDeg);
+    checkFidelityOptions(tolerance, creaseAngleDeg);  // before the mesh is read
+    return FidelityMesh(meshPath, reporter).measure(points, tolerance, reporter, creaseAngleDeg);
 }
 
 Fidelity FidelityMesh::measure(const std::vector<Vec3>& points, double tolerance, const Reporter& reporter,
                                double creaseAngleDeg) const {
     ink::ScopedReporter reporting(reporter);
-    if (!(tolerance > 0)) throw Error("the fidelity tolerance must be positive (it is in bounding-box diagonals)");
-    if (!(creaseAngleDeg > 0 && creaseAngleDeg < 180)) throw Error("the crease angle must be in (0, 180) degrees");
+    checkFidelityOptions(tolerance, creaseAngleDeg);
     std::vector<Eigen::Vector3d> at;
     at.reserve(points.size());
     for (const Vec3& p : points) at.push_back(toEigen(p));

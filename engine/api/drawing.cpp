@@ -9,6 +9,7 @@
 #include "io/export.h"
 #include "surface/viewpoint.h"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -48,8 +49,12 @@ std::vector<Polyline> toPolylines(const std::vector<ink::PenStroke>& strokes, co
     return out;
 }
 
+namespace {
+std::atomic<uint64_t> gDrawings{0};  // drawings made in this process: each Drawing::Impl's id
+}  // namespace
+
 Drawing::Impl::Impl(ink::Context& ctx, std::shared_ptr<const ink::Model> model, const DrawingOptions& o)
-    : scene(ctx, std::move(model), api::toDrawStyle(o.style), api::toRefine(o), api::toLines(o)) {}
+    : scene(ctx, std::move(model), api::toDrawStyle(o.style), api::toRefine(o), api::toLines(o)), id(++gDrawings) {}
 
 Drawing::Drawing(Device& device, const Model& model, const DrawingOptions& options, const Reporter& reporter) {
     ink::ScopedReporter reporting(reporter);
@@ -62,6 +67,13 @@ Drawing::Drawing(Device& device, const Model& model, const DrawingOptions& optio
 }
 
 namespace {
+
+// 1 / 16384 to 16384: any image the command line makes (1 to 8192 pixels a side), with room; wider ones would
+// frame the model in a subnormal sliver.
+void checkAspect(float aspect) {
+    if (!(aspect >= 1.0f / 16384 && aspect <= 16384))
+        throw Error("firstView: aspect (width / height) must be in [1/16384, 16384]");
+}
 
 // The first set's points as the first view samples them (at most 20,000, read back once).
 ink::ViewSamples firstSamples(ink::Scene& scene) {
@@ -87,7 +99,6 @@ Up upOf(const std::optional<ink::UpAxis>& convention, const ink::ViewSamples& sa
 }
 
 FirstView viewOf(const ink::ViewSamples& samples, Up up, float aspect) {
-    if (!(aspect > 0) || !std::isfinite(aspect)) throw Error("firstView: aspect must be a positive width / height");
     ink::Camera c;
     c.up = ink::UpAxis(int(up));
     const ink::ViewChoice view = ink::chooseView(samples, c.up);
@@ -120,6 +131,7 @@ Camera Drawing::firstView(float aspect) const { return firstViewReport(aspect).c
 Camera Drawing::firstView(Up up, float aspect) const { return firstViewReport(up, aspect).camera; }
 
 FirstView Drawing::firstViewReport(float aspect) const {
+    checkAspect(aspect);
     ink::Scene& scene = impl_->scene;
     const ink::ViewSamples samples = firstSamples(scene);
     std::string reason;
@@ -164,8 +176,7 @@ void Drawing::refine(const DrawingOptions& options, const Reporter& reporter) {
 }
 
 struct Drawing::Pending::Impl {
-    const Drawing::Impl* drawing = nullptr;  // prepared for this drawing, at this generation
-    uint64_t generation = 0;
+    uint64_t drawing = 0, generation = 0;  // prepared for this drawing (its id), at this generation
     DrawingOptions options;
     bool refine = false, traced = false;
     ink::Scene::Sets sets;
@@ -210,7 +221,7 @@ Drawing::Pending Drawing::prepare(const DrawingOptions& options, const Reporter&
     Pending pending;
     pending.impl_ = std::make_unique<Pending::Impl>();
     Pending::Impl& p = *pending.impl_;
-    p.drawing = impl_.get();
+    p.drawing = impl_->id;
     p.generation = impl_->generation;
     p.options = options;
     p.refine = !sameSets(options, impl_->options);
@@ -231,7 +242,7 @@ Drawing::Pending Drawing::prepare(const DrawingOptions& options, const Reporter&
 void Drawing::apply(Pending&& pending) {
     if (!pending.impl_) throw Error("Drawing::apply: nothing prepared");
     Pending::Impl& p = *pending.impl_;
-    if (p.drawing != impl_.get() || p.generation != impl_->generation)
+    if (p.drawing != impl_->id || p.generation != impl_->generation)
         throw Error("Drawing::apply: prepared for another drawing, or before this one changed (prepare it again)");
     ink::Scene& scene = impl_->scene;
     if (p.refine)

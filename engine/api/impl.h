@@ -34,6 +34,7 @@ struct Drawing::Impl {
     glm::vec3 tracedEye{NAN};               // where the contours on the device were traced from
     // Counts refine(), which replaces the sets: a renderer made before draws them again from new descriptors.
     uint64_t generation = 0;
+    const uint64_t id;       // this drawing among all made in the process (an address may be reused)
     Reporter reporter;       // the last one given (the constructor's, refine's): the notes of later work go there
     DrawingOptions options;  // of the sets and lines in place
     Impl(ink::Context& ctx, std::shared_ptr<const ink::Model> model, const DrawingOptions& o);

@@ -132,7 +132,7 @@ Fidelity measureFidelity(const std::string& meshPath, const std::vector<Vec3>& p
 // measured against it later, as often as wanted.
 class FidelityMesh {
 public:
-    explicit FidelityMesh(const std::string& meshPath);
+    explicit FidelityMesh(const std::string& meshPath, const Reporter& reporter = {});
     Fidelity measure(const std::vector<Vec3>& points, double tolerance = 0.01, const Reporter& reporter = {},
                      double creaseAngleDeg = 60) const;
 
@@ -342,7 +342,7 @@ public:
     // The first picture (docs/library.md), what `inkwell render` shows without --camera and --up: the up axis
     // (a glTF file's +y, else from the shape of the first set's points), and about it the view with the largest
     // viewpoint entropy at 15° or 30° above the horizon, framed so the model fills 85% of an image `aspect`
-    // (width / height, positive) wide. A few milliseconds on the CPU besides reading the points back.
+    // (width / height, 1/16384 to 16384) wide. A few milliseconds on the CPU besides reading the points back.
     Up firstUp(std::string* reason = nullptr) const;  // `reason`: why ("the glTF convention", "flat: ...")
     Camera firstView(float aspect = 1.0f) const;
     Camera firstView(Up up, float aspect = 1.0f) const;
@@ -595,6 +595,7 @@ struct FrameTarget {
 // buffers; the application waits for a slot's previous submission before recording it again.
 class FrameRecorder {
 public:
+    // framesInFlight: 1 to 16.
     FrameRecorder(const Drawing& drawing, VkFormat colorFormat, uint32_t framesInFlight, const Look& look = {});
     ~FrameRecorder();
     FrameRecorder(FrameRecorder&&) noexcept;

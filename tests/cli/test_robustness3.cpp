@@ -1,7 +1,7 @@
 // The third round of hostile inputs and scenarios (issue 29, docs/robustness.md): deep JSON, the .hrbf grid's
 // entry count, resources out of proportion to the file, glTF buffers through symbolic links, capture's outputs,
 // misleading success and noise. Each class is refused with one line (or bounded), at its root.
-#include "../apps/cli/preset.h"
+#include "../../apps/cli/preset.h"
 #include "base/common.h"
 #include "base/image.h"
 #include "io/hrbf_io.h"

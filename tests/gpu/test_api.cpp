@@ -437,9 +437,10 @@ TEST_CASE("api: firstView finds the bunny's up axis and frames it to fill 85% of
     const inkwell::Camera again = drawing.firstView(inkwell::Up::Y, 1.0f);
     CHECK(again.azimuthDeg == camera.azimuthDeg);
     CHECK(again.distance == camera.distance);
-    CHECK_THROWS_WITH_AS(drawing.firstView(0.0f), "firstView: aspect must be a positive width / height",
+    CHECK_THROWS_WITH_AS(drawing.firstView(0.0f), "firstView: aspect (width / height) must be in [1/16384, 16384]",
                          inkwell::Error);
-    CHECK(drawing.firstView(128.0f).distance > 0);  // render --size 8192 64
+    CHECK(drawing.firstView(8192.0f).distance > 0);  // render --size 8192 1
+    CHECK(drawing.firstView(1.0f / 8192).distance > 0);
     // The rendered ink's bounding box: 80-90% of the image's side.
     inkwell::Renderer renderer(drawing, 256, 256);
     const inkwell::Image image = renderer.render(camera);
@@ -499,6 +500,15 @@ TEST_CASE("api: prepare and apply refine in two halves under a live FrameRecorde
     CHECK(after.rgba == inkwell::Renderer(drawing, size, size, look).render(camera).rgba);
     CHECK_THROWS_WITH_AS(drawing.apply(inkwell::Drawing::Pending()), doctest::Contains("nothing prepared"),
                          inkwell::Error);
+    // A Pending applies to the drawing it was prepared for, as it was then.
+    inkwell::Drawing other(device, sphereModel(), options);
+    CHECK_THROWS_WITH_AS(other.apply(drawing.prepare(options)), doctest::Contains("prepared for another drawing"),
+                         inkwell::Error);
+    inkwell::Drawing::Pending stale = other.prepare(options);
+    other.refine(options);
+    CHECK_THROWS_AS(other.apply(std::move(stale)), inkwell::Error);
+    CHECK_THROWS_WITH_AS(inkwell::FrameRecorder(drawing, VK_FORMAT_R8G8B8A8_UNORM, 0, look),
+                         "framesInFlight must be 1 to 16", inkwell::Error);
 
     // Contours on: traced over the current sets (no new sets); then off: nothing to make or trace at all.
     options.contours = true;
@@ -584,6 +594,15 @@ TEST_CASE("api: images compared, cameras panned, up axes named, model options ch
     CHECK(inkwell::differenceImage(a, b).width == 4);
     inkwell::Image c{2, 2, std::vector<uint8_t>(16, 0)};
     CHECK_FALSE(inkwell::compareImages(a, c).sameSize);
+    CHECK_THROWS_WITH_AS(inkwell::compareImages(a, b, 256), doctest::Contains("threshold must be in [0, 255]"),
+                         inkwell::Error);
+    inkwell::Image broken{4, 4, std::vector<uint8_t>(12)};  // 12 bytes, not 64
+    CHECK_THROWS_WITH_AS(inkwell::compareImages(a, broken), doctest::Contains("width × height × 4 bytes"),
+                         inkwell::Error);
+    CHECK_THROWS_AS(inkwell::differenceImage(broken, a), inkwell::Error);
+    TempDir dir;
+    CHECK_THROWS_AS(broken.writePng(dir / "broken.png"), inkwell::Error);
+    CHECK_FALSE(std::filesystem::exists(dir / "broken.png"));
 
     inkwell::Camera camera;
     const std::array<float, 3> eye = camera.eye();

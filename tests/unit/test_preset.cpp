@@ -1,5 +1,5 @@
 // Presets as the viewer saves them (presetJson) read back by the same parser the command line uses.
-#include "../apps/cli/preset.h"
+#include "../../apps/cli/preset.h"
 #include "base/common.h"
 
 #include <doctest/doctest.h>
