@@ -31,7 +31,6 @@ Viewer::Viewer(Options& o, const ViewOptions& v, inkwell::Device& device, const 
       camera_(cameraFrom(o)),
       home_(camera_),
       autoHome_(o.autoUp && o.autoView ? std::optional<inkwell::Camera>(camera_) : std::nullopt),
-      applied_(o.drawing),
       toneGamma_(o.look.toneGamma > 0 ? o.look.toneGamma : 1.5f) {
     const VkDevice vk = gpu.vk.device;
     try {
@@ -130,19 +129,17 @@ bool Viewer::ensureSwapchain() {
 // one, on a worker thread. Lines switched on or off over lines already traced need no tracing: at once.
 void Viewer::startRefinement() {
     rerefine_ = false;
-    const bool refine = !sameRefinement(o_.drawing, applied_);
-    if (!refine && sameHatching(o_.drawing, applied_) && (anyLines(applied_) || !anyLines(o_.drawing))) {
+    const inkwell::Drawing::Work work = drawing_.work(o_.drawing);
+    if (work == inkwell::Drawing::Work::None) {
         drawing_.apply(drawing_.prepare(o_.drawing, reporter()));  // nothing to make or trace
-        applied_ = o_.drawing;
         restyle_ = true;
         say(std::string("contours ") + (o_.drawing.contours ? "on" : "off"), false);
         return;
     }
     job_ = std::make_unique<RefineJob>();
     RefineJob* job = job_.get();
-    job->refine = refine;
     job->options = o_.drawing;
-    job->tracing = !refine;
+    job->tracing = work != inkwell::Drawing::Work::Sets;  // else once the sets are made
     job->thread = std::thread([this, job] {
         const size_t sets = job->options.style == inkwell::Style::Both ? 2 : 1;
         size_t setsDone = 0;
@@ -172,31 +169,31 @@ void Viewer::finishRefinement() {
     for (const std::string& line : job->notes) note(line);
     if (!job->error.empty()) {
         // Too many points for this device, say: keep viewing what was there.
-        o_.drawing = applied_;
-        say(job->error + "; keeping " + styleName(o_) + " at " + std::to_string(applied_.levels) + " levels", true);
+        o_.drawing = drawing_.options();
+        say(job->error + "; keeping " + styleName(o_) + " at " + std::to_string(o_.drawing.levels) + " levels", true);
         return;
     }
     const bool refined = job->pending.refined(), traced = job->pending.traced();
     const double seconds = job->pending.seconds(), traceSeconds = job->pending.traceSeconds();
     const size_t strokes = job->pending.hatchStrokes();
     drawing_.apply(std::move(job->pending));
-    applied_ = job->options;
+    const inkwell::DrawingOptions& applied = job->options;  // drawing_.options() now
     restyle_ = true;
     std::string message;
     if (refined) {
         points_ = drawing_.pointCount();
         char line[160];
         std::snprintf(line, sizeof line, "refined %s at %u levels in %.2f s: %llu points",
-                      inkwell::styleName(applied_.style), applied_.levels, seconds, (unsigned long long)points_);
+                      inkwell::styleName(applied.style), applied.levels, seconds, (unsigned long long)points_);
         message = line;
     }
-    if (traced && applied_.hatching) {
+    if (traced && applied.hatching) {
         char line[120];
         std::snprintf(line, sizeof line, "%shatching traced in %.2f s: %zu strokes", message.empty() ? "" : "; ",
                       traceSeconds, strokes);
         message += line;
     } else if (!refined) {
-        message = std::string("pen lines: ") + (applied_.contours ? "contours" : "none");
+        message = std::string("pen lines: ") + (applied.contours ? "contours" : "none");
     }
     say(message, false);
     // Changed again while it ran: once more.
@@ -219,7 +216,7 @@ void Viewer::record(Frame& f, uint32_t index, bool capture) {
     const std::array<float, 3> eye = camera_.eye();
     const bool moving = eye != previousEye_;
     const bool trace = !moving || (traced_ && drawing_.contourSeconds() < kTraceBudget);
-    traced_ |= trace && applied_.contours;
+    traced_ |= trace && drawing_.options().contours;
     previousEye_ = eye;
     VkCommandBuffer cmd = f.cmd;
     VIEWER_CHECK(vkResetCommandBuffer(cmd, 0));

@@ -60,29 +60,12 @@ struct Frame {
     VkSemaphore acquired = VK_NULL_HANDLE;  // the swapchain image is ready to be drawn into
 };
 
-// The options a change of which needs a new refinement (the panel's and the keys').
-inline bool sameRefinement(const inkwell::DrawingOptions& a, const inkwell::DrawingOptions& b) {
-    return a.style == b.style && a.levels == b.levels && a.passes == b.passes && a.direction == b.direction &&
-           a.distribution == b.distribution;
-}
-
-// The pen-line options a change of which needs the lines traced again (the hatching, or the seeds of both).
-inline bool sameHatching(const inkwell::DrawingOptions& a, const inkwell::DrawingOptions& b) {
-    return a.hatching == b.hatching &&
-           (!a.hatching || (a.hatchSpacing == b.hatchSpacing && a.hatchFamilies == b.hatchFamilies));
-}
-inline bool sameLines(const inkwell::DrawingOptions& a, const inkwell::DrawingOptions& b) {
-    return a.contours == b.contours && a.creases == b.creases && a.boundaries == b.boundaries && sameHatching(a, b);
-}
-inline bool anyLines(const inkwell::DrawingOptions& o) { return o.contours || o.hatching || o.creases || o.boundaries; }
-
 inline constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 // A new refinement, or new pen lines over the current one, made on a worker thread while the window keeps
 // handling events (Drawing::prepare). The frames stop meanwhile: the device runs one queue in order, so a frame
 // submitted after the refinement would wait for it anyway, and the worker has the queue to itself.
 struct RefineJob {
-    bool refine = true;  // new point sets; else only the pen lines of the current ones
     inkwell::DrawingOptions options;
     std::thread thread;
     std::atomic<bool> finished{false}, tracing{false};
@@ -121,7 +104,7 @@ private:
     bool panelDrawn() const;
     void buildPanel(double frameMs);
     // Whether the options ask for other point sets or pen lines than those drawn.
-    bool stale() const { return !sameRefinement(o_.drawing, applied_) || !sameLines(o_.drawing, applied_); }
+    bool stale() const { return !(o_.drawing == drawing_.options()); }
     void startRefinement();
     void finishRefinement();
     void copyCamera();
@@ -160,7 +143,6 @@ private:
     std::optional<inkwell::Camera> autoHome_;  // the first picture of `--up auto`, for the panel's "auto" up entry
     std::array<float, 3> previousEye_{kNaN, kNaN, kNaN};  // the last frame's eye
     bool traced_ = false;                                 // a contour was traced (its time is known)
-    inkwell::DrawingOptions applied_;                     // of the sets and lines drawn
     float toneGamma_;                                     // what T restores
     size_t light_ = 0;
     double lastX_ = 0, lastY_ = 0;

@@ -213,6 +213,12 @@ bool sameHatching(const DrawingOptions& a, const DrawingOptions& b) {
 
 }  // namespace
 
+Drawing::Work Drawing::work(const DrawingOptions& options) const {
+    if (!sameSets(options, impl_->options)) return Work::Sets;
+    const bool lines = options.contours || options.hatching || options.creases || options.boundaries;
+    return sameHatching(options, impl_->options) && (impl_->scene.lines.any() || !lines) ? Work::None : Work::Lines;
+}
+
 Drawing::Pending Drawing::prepare(const DrawingOptions& options, const Reporter& reporter) const {
     ink::ScopedReporter reporting(reporter);
     const ink::RefineOptions refine = api::toRefine(options);
@@ -224,8 +230,9 @@ Drawing::Pending Drawing::prepare(const DrawingOptions& options, const Reporter&
     p.drawing = impl_->id;
     p.generation = impl_->generation;
     p.options = options;
-    p.refine = !sameSets(options, impl_->options);
-    if (!p.refine && sameHatching(options, impl_->options) && (scene.lines.any() || !lines.any())) {
+    const Work work = this->work(options);
+    p.refine = work == Work::Sets;
+    if (work == Work::None) {
         p.lines = {lines, scene.samples, scene.hatching, scene.hatchStats, scene.hatchSeconds};  // which lines only
         return pending;
     }

@@ -262,6 +262,8 @@ struct DrawingOptions {
     // partition-of-unity fit).
     Where contourTracer = Where::Auto;
     Where hatchField = Where::Auto;
+
+    bool operator==(const DrawingOptions&) const = default;
 };
 
 // A point as drawn: on the surface, in the input's units.
@@ -321,6 +323,14 @@ public:
         struct Impl;
         std::unique_ptr<Impl> impl_;
     };
+    // What prepare(options) has to do, decided without doing it (an application shows "refining" or "tracing",
+    // or applies at once what costs nothing).
+    enum class Work {
+        None,   // only which lines are drawn changes (or nothing)
+        Lines,  // the pen lines traced again over the current sets
+        Sets,   // new point sets, and their pen lines
+    };
+    Work work(const DrawingOptions& options) const;
     // A Pending holds device buffers: apply it, or let it go, before the Device goes. apply() refuses one
     // prepared for another drawing or before this one changed.
     Pending prepare(const DrawingOptions& options, const Reporter& reporter = {}) const;

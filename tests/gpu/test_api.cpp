@@ -484,14 +484,17 @@ TEST_CASE("api: prepare and apply refine in two halves under a live FrameRecorde
 
     // The first half leaves the drawing as it was; the second puts the new sets in place.
     options.levels = 4;
+    CHECK(drawing.work(options) == inkwell::Drawing::Work::Sets);
+    CHECK_FALSE(options == drawing.options());
     inkwell::Drawing::Pending pending = drawing.prepare(options);
     CHECK(pending.refined());
-    CHECK(pending.traced());  // no pen lines: nothing to trace, but the sets' lines are made anew
+    CHECK(pending.traced());  // the new sets' pen lines (none asked: their seeds only)
     CHECK(pending.seconds() > 0);
     CHECK(drawing.pointCount() == points);
     CHECK(drawing.options().levels == 3);
     CHECK(app.record(recorder, camera, 0).rgba == before.rgba);
     drawing.apply(std::move(pending));
+    CHECK(drawing.options() == options);
     CHECK(drawing.options().levels == 4);
     CHECK(drawing.pointCount() > 3 * points);
     const inkwell::Image after = app.record(recorder, camera, 0, true);
@@ -512,6 +515,7 @@ TEST_CASE("api: prepare and apply refine in two halves under a live FrameRecorde
 
     // Contours on: traced over the current sets (no new sets); then off: nothing to make or trace at all.
     options.contours = true;
+    CHECK(drawing.work(options) == inkwell::Drawing::Work::Lines);
     pending = drawing.prepare(options);
     CHECK_FALSE(pending.refined());
     CHECK(pending.traced());
@@ -522,6 +526,7 @@ TEST_CASE("api: prepare and apply refine in two halves under a live FrameRecorde
     CHECK(inked(outlined) > inked(after));                  // the contour's pen
     CHECK(drawing.contourSeconds() > 0);
     options.contours = false;
+    CHECK(drawing.work(options) == inkwell::Drawing::Work::None);
     pending = drawing.prepare(options);
     CHECK_FALSE(pending.refined());
     CHECK_FALSE(pending.traced());
