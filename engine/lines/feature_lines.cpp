@@ -23,9 +23,12 @@ uint64_t edgeKey(uint32_t a, uint32_t b) { return uint64_t(std::min(a, b)) << 32
 // sharp edge lies off the rounded surface by about a tenth of the face samples' spacing (a cube's edges: 0.002).
 constexpr double kReach = 2 * kFaceSpacing;
 constexpr int kSmoothingRounds = 10;  // λ|μ pairs
-// How far a feature line may stand off f = 0 once smoothed (normalized units: about two pixels at 1024², the height
-// of the fit's ripple along a crease).
-constexpr double kLineOffset = 0.002;
+// How far a feature line may stand off f = 0 (normalized units, about four pixels at 1024²): the sharp edge, not
+// its image on the fit, which ripples along a rounded crease by a pixel or two at every mesh vertex (a box's
+// outline drawn wavy). Of the points of the plate-with-hole's, the fandisk's and CGAL's cube's creases, 99% lie within
+// 0.0015–0.0028 of f = 0 (all within 0.0037); the farthest, where a chain cuts a small part's corner, are drawn this
+// far towards the edge. The device's visibility test for these lines allows four splat radii.
+constexpr double kLineOffset = 0.004;
 
 struct Chain {
     std::vector<uint32_t> vertices;
@@ -68,14 +71,15 @@ std::vector<Chain> chainEdges(const std::vector<Edge>& edges) {
     return chains;
 }
 
-// kSmoothingRounds of Taubin's λ|μ smoothing (1995) along a polyline: each point moves by λ = ½, then μ = −0.53, of
+// `rounds` of Taubin's λ|μ smoothing (1995) along a polyline: each point moves by λ = ½, then μ = −0.53, of
 // the way to its neighbours' midpoint (λ cancels an alternating zigzag in a step; μ keeps longer bends from
 // shrinking); `fixed` points stay. Closed: the ends are neighbours.
-void taubinSmooth(std::vector<Eigen::Vector3d>& x, const std::vector<bool>& fixed, bool closed) {
+void taubinSmooth(std::vector<Eigen::Vector3d>& x, const std::vector<bool>& fixed, bool closed,
+                  int rounds = kSmoothingRounds) {
     const size_t n = x.size();
     if (n < 3) return;
     std::vector<Eigen::Vector3d> next(n);
-    for (int round = 0; round < 2 * kSmoothingRounds; ++round) {
+    for (int round = 0; round < 2 * rounds; ++round) {
         const double factor = round % 2 == 0 ? 0.5 : -0.53;
         for (size_t i = 0; i < n; ++i) {
             const bool end = !closed && (i == 0 || i + 1 == n);
@@ -118,36 +122,46 @@ SmoothChain smoothChain(const Chain& chain, const std::vector<Eigen::Vector3d>& 
     return {x, fixed};
 }
 
-// A line laid onto the fit follows the fit's ripple where it rounds a crease (the fandisk's edges: a scallop of a
-// pixel or two at every mesh vertex, seen where the edge is on the outline). The same λ|μ rounds over the laid
-// points take it out, each point then kept within kLineOffset of f = 0 (moved back along ∇f where it strayed
-// farther: the device's visibility test for these lines allows four splat radii), its normal the unit ∇f there.
-// Its ends (unless closed) and pinned points (corners) stay.
-void smoothLaid(const Surface& surface, PenStroke& stroke, const std::vector<bool>& pinned) {
+// The same λ|μ rounds over a line's points (a point cloud's crease: its edge samples are noisy), each point then
+// kept within kLineOffset of f = 0 (moved back along ∇f where it strayed farther), its normal the unit ∇f there
+// unless `keepNormals` (a crease's: its faces'). Its ends (unless closed) and pinned points (corners) stay.
+void smoothLaid(const Surface& surface, PenStroke& stroke, const std::vector<bool>& pinned, bool keepNormals) {
     const size_t n = stroke.points.size();
     if (n < 3) return;
     std::vector<Eigen::Vector3d> p(n);
     for (size_t i = 0; i < n; ++i) p[i] = stroke.points[i].cast<double>();
-    taubinSmooth(p, pinned, stroke.closed);
-    for (size_t i = 0; i < n; ++i) {
-        Eigen::Vector3d g;
-        const double f = surface.eval(p[i], g), length = g.norm();
-        if (!(length > 0) || !std::isfinite(f)) continue;  // keeps the laid point
+    // A round of smoothing, then every point back within kLineOffset: smoothed all at once and clamped after, a bend
+    // the smoothing had pulled off the surface came back as a kink (the bunny's leg crease: a turn of 40°).
+    auto clamp = [&](Eigen::Vector3d& x, Eigen::Vector3d& g) {
+        const double f = surface.eval(x, g), length = g.norm();
+        if (!(length > 0) || !std::isfinite(f) || !x.allFinite()) return false;
         const double distance = f / length;
         if (std::abs(distance) > kLineOffset) {
-            p[i] -= (distance - std::copysign(kLineOffset, distance)) / length * g;
-            surface.eval(p[i], g);
+            x -= (distance - std::copysign(kLineOffset, distance)) / length * g;
+            surface.eval(x, g);
         }
-        if (!(g.norm() > 0) || !p[i].allFinite()) continue;
+        return g.norm() > 0 && x.allFinite();
+    };
+    Eigen::Vector3d g;
+    for (int round = 0; round < kSmoothingRounds; ++round) {
+        taubinSmooth(p, pinned, stroke.closed, 1);
+        for (size_t i = 0; i < n; ++i) clamp(p[i], g);
+    }
+    for (size_t i = 0; i < n; ++i) {
+        if (!clamp(p[i], g)) continue;  // keeps the laid point
         stroke.points[i] = p[i].cast<float>();
-        stroke.normals[i] = g.normalized().cast<float>();
+        if (!keepNormals) stroke.normals[i] = g.normalized().cast<float>();
     }
 }
 
-// The chain resampled at `step` along its edges and laid onto the surface; pieces between points that do not
-// reach it, shorter than minLength, are dropped.
+// The chain resampled at `step` along its edges, each point kept within kLineOffset of the surface; pieces
+// between points that do not reach it, shorter than minLength, are dropped. `faces` (a crease's; empty for a boundary):
+// per segment of the chain, the mean of the unit normals of the two faces it divides, which a crease's points carry as
+// their normals (PenStroke::normals) for the device to tell whether either face turns towards the eye; without, unit
+// ∇f.
 void layOnSurface(const Chain& chain, const std::vector<Eigen::Vector3d>& positions, const Surface& surface,
-                  const FeatureOptions& options, std::vector<PenStroke>& out) {
+                  const FeatureOptions& options, const std::vector<Eigen::Vector3d>& faces,
+                  std::vector<PenStroke>& out) {
     const SmoothChain smooth = smoothChain(chain, positions);
     const std::vector<Eigen::Vector3d>& x = smooth.x;
     PenStroke stroke;
@@ -155,7 +169,7 @@ void layOnSurface(const Chain& chain, const std::vector<Eigen::Vector3d>& positi
     bool broken = false;
     auto flush = [&] {
         if (stroke.points.size() >= 2 && stroke.length() >= options.minLength) {
-            smoothLaid(surface, stroke, pinned);
+            smoothLaid(surface, stroke, pinned, !faces.empty());
             out.push_back(std::move(stroke));
         }
         stroke = {};
@@ -176,13 +190,17 @@ void layOnSurface(const Chain& chain, const std::vector<Eigen::Vector3d>& positi
             Eigen::Vector3d p = 0.5 * (2 * a + (b - before) * t + (2 * before - 5 * a + 4 * b - after) * t * t +
                                        (3 * a - before - 3 * b + after) * t * t * t),
                             normal;
-            if (!projectToSurface(surface, p, normal, kReach)) {
+            Eigen::Vector3d q = p;
+            if (!projectToSurface(surface, q, normal, kReach)) {
                 broken = true;
                 flush();
                 continue;
             }
+            // The edge itself where it lies within kLineOffset of the fit, else the point that far towards it.
+            const double off = (p - q).norm();
+            if (off > kLineOffset) p = q + (p - q) * (kLineOffset / off);
             stroke.points.push_back(p.cast<float>());
-            stroke.normals.push_back(normal.cast<float>());
+            stroke.normals.push_back((faces.empty() ? normal : faces[i]).cast<float>());
             pinned.push_back((j == 0 && smooth.fixed[ia]) || (j == pieces && smooth.fixed[ib]));
         }
     }
@@ -377,8 +395,17 @@ FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, co
                 creases.push_back(e);
         }
     }
-    for (const Chain& c : chainEdges(creases)) layOnSurface(c, mesh.positions, surface, options, lines.creases);
-    for (const Chain& c : chainEdges(boundaries)) layOnSurface(c, mesh.positions, surface, options, lines.boundaries);
+    for (const Chain& c : chainEdges(creases)) {
+        const size_t n = c.vertices.size();
+        std::vector<Eigen::Vector3d> faces(c.closed ? n : n - 1);
+        for (size_t i = 0; i < faces.size(); ++i) {
+            const Uses& u = uses[edgeKey(c.vertices[i], c.vertices[(i + 1) % n])];
+            faces[i] = 0.5 * (normals[u.faces[0]] + normals[u.faces[1]]);
+        }
+        layOnSurface(c, mesh.positions, surface, options, faces, lines.creases);
+    }
+    for (const Chain& c : chainEdges(boundaries))
+        layOnSurface(c, mesh.positions, surface, options, {}, lines.boundaries);
     return lines;
 }
 
@@ -393,7 +420,7 @@ FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, 
                  sameCos = std::cos(0.5 * options.creaseAngleDeg * M_PI / 180.0);
     // Each point's neighbourhood: where its normals fall into two groups turning by more than the crease angle, the
     // edge is where the groups' planes meet; the point nearest it on that line, and the line's direction.
-    std::vector<Eigen::Vector3d> at(m), along(m);
+    std::vector<Eigen::Vector3d> at(m), along(m), facing(m);  // facing: the mean of the two groups' normals
     std::vector<char> edge(m, 0);
     std::vector<double> nearest(m, 0.0);
     parallelChunks(m, 256, [&](size_t begin, size_t end, size_t) {
@@ -433,7 +460,7 @@ FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, 
             const double la = (ra - ab * rb) / det, lb = (rb - ab * ra) / det;
             const Eigen::Vector3d x = p - la * a - lb * b;
             if (!x.allFinite() || (x - p).norm() > std::sqrt(squared[found - 1])) continue;
-            at[i] = x, along[i] = e.normalized(), edge[i] = 1;
+            at[i] = x, along[i] = e.normalized(), facing[i] = 0.5 * (a + b), edge[i] = 1;
         }
     });
     std::vector<double> spacings = nearest;
@@ -441,7 +468,7 @@ FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, 
     const double spacing = std::max(spacings[m / 2], 1e-6);
     // One edge sample a cell of the point spacing (the points either side of an edge find the same line), its
     // position and direction the cell's average.
-    std::vector<Eigen::Vector3d> x, e;
+    std::vector<Eigen::Vector3d> x, e, mean;  // mean: the cell's facing
     {
         std::unordered_map<uint64_t, uint32_t> cell;
         std::vector<int> count;
@@ -451,14 +478,16 @@ FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, 
             const uint64_t key = cellKey(c.x(), c.y(), c.z());
             auto [it, added] = cell.emplace(key, uint32_t(x.size()));
             if (added) {
-                x.push_back(Eigen::Vector3d::Zero()), e.push_back(Eigen::Vector3d::Zero()), count.push_back(0);
+                x.push_back(Eigen::Vector3d::Zero()), e.push_back(Eigen::Vector3d::Zero()),
+                    mean.push_back(Eigen::Vector3d::Zero()), count.push_back(0);
             }
             const uint32_t k = it->second;
             x[k] += at[i];
+            mean[k] += facing[i];
             e[k] += along[i].dot(e[k]) < 0 ? Eigen::Vector3d(-along[i]) : along[i];
             ++count[k];
         }
-        for (size_t k = 0; k < x.size(); ++k) x[k] /= count[k], e[k].normalize();
+        for (size_t k = 0; k < x.size(); ++k) x[k] /= count[k], e[k].normalize(), mean[k] /= count[k];
     }
     if (x.size() < 2) return lines;
     // Chains: each sample's nearest sample ahead and behind along its line (within three spacings, the line's
@@ -488,7 +517,13 @@ FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, 
             const int64_t b = pick[a][side];
             if (b > int64_t(a) && chooses(size_t(b), a)) links.push_back({uint32_t(a), uint32_t(b)});
         }
-    for (const Chain& c : chainEdges(links)) layOnSurface(c, x, surface, options, lines.creases);
+    for (const Chain& c : chainEdges(links)) {
+        const size_t n = c.vertices.size();
+        std::vector<Eigen::Vector3d> faces(c.closed ? n : n - 1);
+        for (size_t i = 0; i < faces.size(); ++i)
+            faces[i] = 0.5 * (mean[c.vertices[i]] + mean[c.vertices[(i + 1) % n]]);
+        layOnSurface(c, x, surface, options, faces, lines.creases);
+    }
     return lines;
 }
 

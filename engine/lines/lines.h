@@ -21,9 +21,11 @@ struct SurfaceSample {
 // A polyline on the surface, in normalized coordinates.
 struct PenStroke {
     std::vector<Eigen::Vector3f> points;
-    std::vector<Eigen::Vector3f> normals;  // unit ∇f at each point
-    bool closed = false;                   // the last point joins the first
-    uint32_t curve = 0;                    // contours: the traced closed curve it is a piece of (pieces end at cusps)
+    // Unit ∇f at each point; a crease's: the mean of the unit normals of the two faces it divides (its length
+    // cos(α/2), α the angle they turn by), so that the device can tell whether either faces the eye.
+    std::vector<Eigen::Vector3f> normals;
+    bool closed = false;  // the last point joins the first
+    uint32_t curve = 0;   // contours: the traced closed curve it is a piece of (pieces end at cusps)
     uint32_t family = 0;  // hatching: 0 along the field, 1 across it (dark tones), 2 diagonal to both (the darkest)
     uint32_t level = 0;   // hatching: 0 traced at twice the spacing, 1 filled in between (darker tones)
     double length() const;

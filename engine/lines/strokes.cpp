@@ -74,7 +74,10 @@ std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, StrokeBu
             const uint32_t kind = kind0 | uint32_t(std::min<size_t>(i, gpu::SEG_REACH)) << gpu::SEG_BEFORE_SHIFT |
                                   uint32_t(std::min<size_t>(segments - 1 - i, gpu::SEG_REACH)) << gpu::SEG_AFTER_SHIFT;
             size_t j = (i + 1) % m;
-            Eigen::Vector3f n = (normals[i] + normals[j]).normalized();
+            // A crease's normal stays the mean of its faces' (PenStroke::normals): its length says how far they turn.
+            const Eigen::Vector3f n = feature == gpu::KIND_CREASE
+                                          ? Eigen::Vector3f(0.5f * (normals[i] + normals[j]))
+                                          : Eigen::Vector3f((normals[i] + normals[j]).normalized());
             const float texels[12] = {s.points[i].x(), s.points[i].y(), s.points[i].z(), width(i),
                                       s.points[j].x(), s.points[j].y(), s.points[j].z(), width(j),
                                       n.x(),           n.y(),           n.z(),           floatOf(kind)};

@@ -52,6 +52,8 @@ INK_CONST uint HATCH_FAMILY_SHIFT = 1u;
 INK_CONST uint HATCH_LEVEL_SHIFT = 3u;
 INK_CONST uint KIND_CREASE = 16u;
 INK_CONST uint KIND_BOUNDARY = 32u;
+// A crease shows only where one of its faces turns towards the eye, n·v above −FACING_SLACK (lines.comp).
+INK_CONST float FACING_SLACK = 0.02;
 // Every segment also carries how many segments of its stroke lie before it (bits 8–15) and after it (bits 16–23),
 // each clamped to SEG_REACH: lines.comp walks along a hatching stroke to measure the run a segment is in, and
 // lines_runs.comp along a contour, crease or boundary line for the visibility around a segment.
@@ -64,7 +66,7 @@ INK_CONST uint SEG_INTERIOR = 4u;
 // DrawSegment::segment: the traced segment's index, and lines.comp's own decision for lines_runs.comp.
 INK_CONST uint SEG_INDEX_MASK = 0x3FFFFFFFu;
 INK_CONST uint SEG_RAW_SHOWN = 0x40000000u;    // in front of the camera and in the image
-INK_CONST uint SEG_RAW_VISIBLE = 0x80000000u;  // not behind the surface, by the depth test alone
+INK_CONST uint SEG_RAW_VISIBLE = 0x80000000u;  // not behind the surface (and a crease's face towards the eye)
 
 INK_END
 
