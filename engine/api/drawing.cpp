@@ -43,6 +43,7 @@ std::vector<Polyline> toPolylines(const std::vector<ink::PenStroke>& strokes, co
         p.closed = s.closed;
         p.family = s.family;
         p.level = s.level;
+        p.occluded = s.occluded;
         for (const Eigen::Vector3f& x : s.points) p.points.push_back(toVec3(frame.toInput(x.cast<double>())));
         out.push_back(std::move(p));
     }

@@ -144,6 +144,7 @@ json linesJson(const ink::Scene& scene) {
               {"cusps", c.cusps},
               {"small_loops_dropped", c.smallLoops},
               {"swallowtails_merged", c.swallowtails},
+              {"occluded_pieces", c.occluded},
               {"seeds_tried", c.seedsTried},
               {"vertices", c.vertices},
               {"traced_on", c.onDevice ? "device" : "cpu"},

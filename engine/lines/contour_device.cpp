@@ -452,6 +452,7 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
         splitAtCusps(c.points, c.normals, c.closed, eye, options_, curveId++, pieces, s);
     }
     s.pieces = pieces.size();
+    s.occluded = markOccluded(surface, eye, kOccludedSteps * options_.step, pieces);
     s.seconds = secondsSince(start);
     if (stats) *stats = s;
     return pieces;

@@ -175,6 +175,32 @@ void splitAtCusps(const std::vector<Vector3d>& curve, const std::vector<Vector3d
     }
 }
 
+size_t markOccluded(const Surface& hrbf, const Vector3d& eye, double minLength, std::vector<PenStroke>& pieces) {
+    size_t count = 0;
+    for (PenStroke& p : pieces) {
+        const size_t m = p.points.size();
+        if (p.length() < minLength) continue;
+        int votes = 0;
+        for (size_t k = 1; k <= 5 && m > 0; ++k) {
+            const Vector3d x = p.points[std::min(m - 1, m * k / 6)].cast<double>();
+            Vector3d g;
+            Eigen::Matrix3d h;
+            hrbf.eval(x, g, &h);
+            if (!(g.norm() > 0)) continue;
+            const Vector3d n = g.normalized();
+            Vector3d r = (eye - x).normalized();
+            r -= r.dot(n) * n;  // on the contour n·v = 0: the view ray's direction in the tangent plane
+            if (!(r.norm() > 1e-9)) continue;
+            r.normalize();
+            const double radial = r.dot(h * r);  // κ_r |∇f|
+            if (std::isfinite(radial)) votes += radial < 0 ? 1 : -1;
+        }
+        p.occluded = votes > 0;
+        count += p.occluded;
+    }
+    return count;
+}
+
 // An extension closes a gap the device left: a stretch of a few nodes' spacing, not a whole curve.
 constexpr uint32_t kMaxExtension = 4096;
 
@@ -251,6 +277,7 @@ std::vector<PenStroke> keepRuns(const std::vector<PenStroke>& strokes, const std
             run.curve = s.curve;
             run.family = s.family;
             run.level = s.level;
+            run.occluded = s.occluded;
         }
         flush();
     }
@@ -372,6 +399,7 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, c
         ++curveId;
     }
     s.pieces = pieces.size();
+    s.occluded = markOccluded(hrbf, eye, kOccludedSteps * options.step, pieces);
     s.seconds = secondsSince(start);
     if (stats) *stats = s;
     return pieces;

@@ -28,6 +28,8 @@ struct PenStroke {
     uint32_t curve = 0;   // contours: the traced closed curve it is a piece of (pieces end at cusps)
     uint32_t family = 0;  // hatching: 0 along the field, 1 across it (dark tones), 2 diagonal to both (the darkest)
     uint32_t level = 0;   // hatching: 0 traced at twice the spacing, 1 filled in between (darker tones)
+    // Contours: a piece its own surface hides, concave along the view (markOccluded): hidden whatever the depth test.
+    bool occluded = false;
     double length() const;
 };
 
@@ -65,6 +67,7 @@ struct ContourStats {
     size_t seedsTried = 0, curves = 0, closedCurves = 0, pieces = 0, cusps = 0, vertices = 0;
     size_t smallLoops = 0;    // closed curves under minLoopLength, dropped
     size_t swallowtails = 0;  // cusp pairs under minSwallowtail, merged away (not in `cusps`)
+    size_t occluded = 0;      // pieces their own surface hides (markOccluded)
     double seconds = 0;
     // Traced on the device (contour_device.h): the kernels' time (timestamps; 0 on the CPU), and the marches that
     // ended without meeting the next node (stuck at a singular point, or too long) and so end a curve.
@@ -89,6 +92,18 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Eigen::Vector3d&
 void splitAtCusps(const std::vector<Eigen::Vector3d>& curve, const std::vector<Eigen::Vector3d>& normals, bool closed,
                   const Eigen::Vector3d& eye, const ContourOptions& options, uint32_t curveId,
                   std::vector<PenStroke>& pieces, ContourStats& stats);
+
+// Marks the pieces their own surface hides, and returns how many. Where the surface is concave along the view (its
+// radial curvature κ_r = rᵀHr / |∇f| below zero, r the view ray's direction in the tangent plane), the contour
+// lies behind the surface beside it (Koenderink 1984: the contour turns hidden at its cusps, where κ_r changes
+// sign). The depth test, which passes what lies within a few splat radii of the surface in front, drew such
+// pieces where they leave a visible line: the generator of a drilled hole's wall, a tick below each end of the
+// rim. Each piece between cusps is judged by the sign at five points along it, the majority deciding (a ripple
+// of the fit may flip one); pieces shorter than `minLength` are left to the depth test: where the fit ripples
+// along a rounded crease its contour turns in and out in short pieces of both signs, which the depth test keeps
+// as one line.
+constexpr double kOccludedSteps = 8;  // the tracers' minLength: eight predictor steps (ContourOptions::step)
+size_t markOccluded(const Surface& hrbf, const Eigen::Vector3d& eye, double minLength, std::vector<PenStroke>& pieces);
 
 // Goes on tracing the contour from `start` (on it) in `direction` (double, on the CPU), until it comes within half
 // a step of a point of `traced` (normals within ~70°) other than those of `curve` within six steps of where it is

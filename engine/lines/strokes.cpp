@@ -67,7 +67,7 @@ std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, StrokeBu
         }
         const uint32_t kind0 = hatching ? gpu::KIND_HATCH | (s.family & 3u) << gpu::HATCH_FAMILY_SHIFT |
                                               (s.level & 1u) << gpu::HATCH_LEVEL_SHIFT
-                                        : feature;
+                                        : feature | (s.occluded ? gpu::KIND_OCCLUDED : 0u);
         const size_t segments = m - 1 + (s.closed ? 1 : 0);
         for (size_t i = 0; i < segments; ++i) {
             // The kind, and the segments before and after this one in its stroke (every kind: lines.comp walks them).

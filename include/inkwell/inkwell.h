@@ -280,9 +280,10 @@ struct FirstView;  // below
 // A stroke of the pen: a polyline on the surface, in the input's units.
 struct Polyline {
     std::vector<Vec3> points;
-    bool closed = false;  // the last point joins the first
-    uint32_t family = 0;  // hatching: 0 along the field, 1 across it (dark tones), 2 diagonal (the darkest)
-    uint32_t level = 0;   // hatching: 0 the coarse spacing, 1 filled in between (darker tones)
+    bool closed = false;    // the last point joins the first
+    uint32_t family = 0;    // hatching: 0 along the field, 1 across it (dark tones), 2 diagonal (the darkest)
+    uint32_t level = 0;     // hatching: 0 the coarse spacing, 1 filled in between (darker tones)
+    bool occluded = false;  // contours: a piece its own surface hides (concave along the view), drawn as hidden
 };
 
 // A model's point sets on a device: one for Stipple or Direction, two for Both. Made on the device in one

@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Once per traced segment and frame: whether it shows, against the splat depth grid the dots' pass built.
 // - Contours: visible when not behind the surface (tested two push-backs nearer the camera, as silhouette dots
-//   are), else hidden; interior when there is surface on both sides of it in the image (it lies in front of more
+//   are) and not a piece its own surface hides (KIND_OCCLUDED), else hidden; interior when there is surface on both sides of it in the image (it lies in front of more
 //   surface), which gets the halo.
 // - Hatching: drawn where its surface faces the camera, its tone is dark enough for its family and level, and it is
 //   not behind the surface, over a run of its stroke long enough to read as a stroke (tone.w pixels). The strokes
@@ -114,7 +114,8 @@ void main() {
         vec2 pm = toPixels(nearer);
         vec2 outward = toPixels(project(mid + n * (1e-3 * -mid.z))) - toPixels(project(mid));
         vec2 beyond = pm + (length(outward) > 1e-6 ? outward / length(outward) : vec2(0.0)) * 3.0;
-        bool visible = nearer.z / nearer.w <= uintBitsToFloat(depthAt(beyond));
+        // A piece its own surface hides (concave along the view) is hidden, whatever the depth test says.
+        bool visible = nearer.z / nearer.w <= uintBitsToFloat(depthAt(beyond)) && (kind & KIND_OCCLUDED) == 0u;
         flags = visible ? SEG_VISIBLE : SEG_HIDDEN;
         raw = (keep ? SEG_RAW_SHOWN : 0u) | (visible ? SEG_RAW_VISIBLE : 0u);
         keep = keep && (visible || lineStyle.options.y != 0.0);

@@ -45,13 +45,14 @@ INK_CONST uint COVERAGE_BITS = 4u;
 INK_CONST uint FAR_DEPTH = 0x7F7FFFFFu;
 
 // Pen lines: a traced segment's kind bits (KIND_HATCH, family << HATCH_FAMILY_SHIFT (2 bits: 0 along the field,
-// 1 across it, 2 diagonal), level << HATCH_LEVEL_SHIFT; KIND_CREASE, KIND_BOUNDARY; none for contours), and a
-// drawn segment's flags.
+// 1 across it, 2 diagonal), level << HATCH_LEVEL_SHIFT; KIND_CREASE, KIND_BOUNDARY; contours none or KIND_OCCLUDED),
+// and a drawn segment's flags.
 INK_CONST uint KIND_HATCH = 1u;
 INK_CONST uint HATCH_FAMILY_SHIFT = 1u;
 INK_CONST uint HATCH_LEVEL_SHIFT = 3u;
 INK_CONST uint KIND_CREASE = 16u;
 INK_CONST uint KIND_BOUNDARY = 32u;
+INK_CONST uint KIND_OCCLUDED = 64u;  // a contour piece its own surface hides (PenStroke::occluded)
 // A crease shows only where one of its faces turns towards the eye, n·v above −FACING_SLACK (lines.comp).
 INK_CONST float FACING_SLACK = 0.02;
 // Every segment also carries how many segments of its stroke lie before it (bits 8–15) and after it (bits 16–23),

@@ -101,6 +101,52 @@ TEST_CASE("contours: fitted meshes have their true cusps only (issue 24)" * doct
     CHECK(s.curves >= 3);
 }
 
+// Koenderink (1984): where the surface is concave along the view, its contour lies behind the surface beside it.
+// A drilled hole's wall is such a place: seen from above, its contour is the two generators at the ends of the
+// hole, which the depth test let show as ticks below the rim (its four push-backs reach past the rounded rim).
+TEST_CASE("contours: the pieces a hole's own wall hides are marked so, the outline's are not" *
+          doctest::test_suite("unit")) {
+    const ink::Model plate = ink::loadModel(INKWELL_SOURCE_DIR "/tests/models/plate-with-hole.obj", {});
+    for (const float azimuth : {30.0f, 135.0f, 200.0f}) {
+        CAPTURE(azimuth);
+        ink::Camera camera;
+        camera.up = ink::UpAxis::PosZ;
+        camera.azimuthDeg = azimuth;
+        camera.elevationDeg = 30;
+        const glm::vec3 e = camera.eye();
+        std::vector<ink::SurfaceSample> seeds;
+        for (size_t i = 0; i < plate.surface.size(); ++i)
+            seeds.push_back({plate.surface.centers[i], plate.surface.normals[i]});
+        ink::ContourStats stats;
+        const std::vector<ink::PenStroke> pieces =
+            ink::traceContours(plate.surface, Vector3d(e.x, e.y, e.z), seeds, {}, &stats);
+        // The plate [-1, 1]² × [-0.3, 0.3], the hole of radius 0.4: a piece on the wall, away from the rims, and one
+        // along the outer faces.
+        // A piece down the wall from rim to rim is hidden; the longest, around the outer faces, is not (where the
+        // fit's rounded vertical edges ripple it turns in and out in short pieces, which the depth test judges).
+        size_t wall = 0, wallHidden = 0;
+        const ink::PenStroke* longest = nullptr;
+        for (const ink::PenStroke& p : pieces) {
+            size_t onWall = 0;
+            double low = 1, high = -1;
+            for (const Eigen::Vector3f& x : p.points) {
+                const Vector3d q = plate.surface.frame.toInput(x.cast<double>());
+                onWall += std::abs(std::hypot(q.x(), q.y()) - 0.4) < 0.03;
+                low = std::min(low, q.z()), high = std::max(high, q.z());
+            }
+            if (onWall == p.points.size() && high - low > 0.4) ++wall, wallHidden += p.occluded;
+            if (!longest || p.length() > longest->length()) longest = &p;
+        }
+        MESSAGE("azimuth " << azimuth << ": " << pieces.size() << " pieces, " << stats.occluded << " occluded; on the "
+                           << "hole's wall " << wallHidden << " of " << wall << "; the longest " << longest->length());
+        CHECK(wall == 2);
+        CHECK(wallHidden == wall);
+        REQUIRE(longest);
+        CHECK(longest->length() > 2.0);
+        CHECK_FALSE(longest->occluded);
+    }
+}
+
 TEST_CASE("contours: a march the corrector holds in place stops there, without piling up vertices" *
           doctest::test_suite("unit")) {
     // Seen from 291.8° (a frame of `bench`'s orbit), the bunny's contour runs into a point where each corrected
@@ -534,7 +580,9 @@ TEST_CASE("contours: each frame decides on the device which contour segments are
     MESSAGE(drawn.size() << " contour segments, " << hidden << " hidden, " << agree << " agree with ray casting, "
                          << unexcused << " disagree farther than 6 px from a change of visibility");
     CHECK(hidden > drawn.size() / 10);
-    CHECK(double(agree) >= 0.95 * double(drawn.size()));
+    // 600 of 615 on lavapipe by the depth test alone; 614 with the pieces the torus's inner wall hides marked so
+    // (ink::markOccluded: concave along the view).
+    CHECK(double(agree) >= 0.99 * double(drawn.size()));
     CHECK(unexcused <= drawn.size() / 100);
     gpu.requireNoValidationErrors();
 }
@@ -546,6 +594,11 @@ TEST_CASE("contours: visibility changes along a stroke without dashes" * doctest
     EdgeOnTorus t(gpu);
     ink::Scene& scene = t.scene;
     const ink::Camera& camera = t.camera;
+    // The depth test's dashes, which the pieces the surface hides (ink::markOccluded) no longer show here: unmarked,
+    // as a surface whose hidden stretch is convex would give them.
+    REQUIRE(std::any_of(scene.contours.begin(), scene.contours.end(), [](auto& c) { return c.occluded; }));
+    for (ink::PenStroke& c : scene.contours) c.occluded = false;
+    scene.strokes->set(ink::StrokeBuffers::Contours, scene.contours);
     const std::vector<uint32_t> strokeOf = ink::segmentStrokes(scene.contours);
     // Runs of one visibility between runs of the other, shorter than `window` pixels, and the number of runs.
     auto dashes = [&](float minRun, size_t& runs) {
