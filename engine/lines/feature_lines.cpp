@@ -395,14 +395,36 @@ FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, co
                 creases.push_back(e);
         }
     }
+    // The mesh's parts (triangles joined across edges of two faces), and which are open: an edge of one face, or of
+    // more than two. Only a closed part's faces hide its creases: an open one is seen from both sides (an open box
+    // from above shows its walls' insides, and the edges between them).
+    std::vector<uint32_t> part(mesh.triangles.size());
+    for (uint32_t t = 0; t < part.size(); ++t) part[t] = t;
+    auto root = [&](uint32_t t) {
+        while (part[t] != t) t = part[t] = part[part[t]];
+        return t;
+    };
+    for (const Edge& e : order) {
+        const Uses& u = uses[edgeKey(e[0], e[1])];
+        if (u.count == 2) part[root(u.faces[0])] = root(u.faces[1]);
+    }
+    std::vector<char> open(part.size(), 0);
+    for (const Edge& e : order) {
+        const Uses& u = uses[edgeKey(e[0], e[1])];
+        if (u.count != 2) open[root(u.faces[0])] = 1;
+    }
     for (const Chain& c : chainEdges(creases)) {
         const size_t n = c.vertices.size();
         std::vector<Eigen::Vector3d> faces(c.closed ? n : n - 1);
+        bool closed = true;
         for (size_t i = 0; i < faces.size(); ++i) {
             const Uses& u = uses[edgeKey(c.vertices[i], c.vertices[(i + 1) % n])];
             faces[i] = 0.5 * (normals[u.faces[0]] + normals[u.faces[1]]);
+            closed = closed && !open[root(u.faces[0])];
         }
+        const size_t first = lines.creases.size();
         layOnSurface(c, mesh.positions, surface, options, faces, lines.creases);
+        for (size_t k = first; k < lines.creases.size(); ++k) lines.creases[k].faced = closed;
     }
     for (const Chain& c : chainEdges(boundaries))
         layOnSurface(c, mesh.positions, surface, options, {}, lines.boundaries);
@@ -522,7 +544,10 @@ FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, 
         std::vector<Eigen::Vector3d> faces(c.closed ? n : n - 1);
         for (size_t i = 0; i < faces.size(); ++i)
             faces[i] = 0.5 * (mean[c.vertices[i]] + mean[c.vertices[(i + 1) % n]]);
+        const size_t first = lines.creases.size();
         layOnSurface(c, x, surface, options, faces, lines.creases);
+        // A point cloud's surface is drawn from one side (as its dots are): its faces hide its creases.
+        for (size_t k = first; k < lines.creases.size(); ++k) lines.creases[k].faced = true;
     }
     return lines;
 }

@@ -278,6 +278,7 @@ std::vector<PenStroke> keepRuns(const std::vector<PenStroke>& strokes, const std
             run.family = s.family;
             run.level = s.level;
             run.occluded = s.occluded;
+            run.faced = s.faced;
         }
         flush();
     }

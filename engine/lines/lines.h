@@ -30,6 +30,9 @@ struct PenStroke {
     uint32_t level = 0;   // hatching: 0 traced at twice the spacing, 1 filled in between (darker tones)
     // Contours: a piece its own surface hides, concave along the view (markOccluded): hidden whatever the depth test.
     bool occluded = false;
+    // Creases: of a closed part (a point cloud's, or a mesh's without open edges), whose faces hide it where both turn
+    // away from the eye; an open part is seen from both sides.
+    bool faced = false;
     double length() const;
 };
 

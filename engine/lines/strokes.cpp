@@ -65,9 +65,10 @@ std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, StrokeBu
                 if (n.norm() > 1e-6f) normals[i] = n.normalized();
             }
         }
-        const uint32_t kind0 = hatching ? gpu::KIND_HATCH | (s.family & 3u) << gpu::HATCH_FAMILY_SHIFT |
-                                              (s.level & 1u) << gpu::HATCH_LEVEL_SHIFT
-                                        : feature | (s.occluded ? gpu::KIND_OCCLUDED : 0u);
+        const uint32_t kind0 =
+            hatching ? gpu::KIND_HATCH | (s.family & 3u) << gpu::HATCH_FAMILY_SHIFT |
+                           (s.level & 1u) << gpu::HATCH_LEVEL_SHIFT
+                     : feature | (s.occluded ? gpu::KIND_OCCLUDED : 0u) | (s.faced ? gpu::KIND_FACED : 0u);
         const size_t segments = m - 1 + (s.closed ? 1 : 0);
         for (size_t i = 0; i < segments; ++i) {
             // The kind, and the segments before and after this one in its stroke (every kind: lines.comp walks them).

@@ -8,9 +8,9 @@
 //   not behind the surface, over a run of its stroke long enough to read as a stroke (tone.w pixels). The strokes
 //   are fixed to the model; only these per-frame decisions change.
 // - Crease and boundary lines: visible when not behind the surface at their own pixel (tested four push-backs
-//   nearer the camera: they run along the surface, not beside it), and for a crease when one of its two faces
-//   turns towards the eye (a crease between two back faces stands out past the outline within those push-backs:
-//   the stubs at a box's far corners), else hidden like contours.
+//   nearer the camera: they run along the surface, not beside it), and for a closed part's crease (KIND_FACED)
+//   when one of its two faces turns towards the eye (a crease between two back faces stands out past the outline
+//   within those push-backs: the stubs at a box's far corners), else hidden like contours.
 // Contour, crease and boundary lines then take the visibility most of their stroke around them has
 // (lines_runs.comp).
 // Each segment's decision goes to its own slot of the draw list (flags 0 where nothing of it shows; hidden
@@ -93,7 +93,7 @@ void main() {
         // the rounded edge (two left the fandisk's curved creases dashed).
         vec4 nearer = project(mid - normalize(mid) * (4.0 * cam.params.x));
         bool visible = nearer.z / nearer.w <= uintBitsToFloat(depthAt(toPixels(nearer)));
-        if ((kind & KIND_CREASE) != 0u) {
+        if ((kind & KIND_FACED) != 0u) {
             // t2.xyz: the mean m of the faces' unit normals n₁, n₂ (length cos(α/2)). With u the unit vector across
             // the edge in their plane, n₁,₂ = m ± sin(α/2) u, so the face turned more to the eye v has
             // n·v = m·v + sin(α/2)|u·v|, u = m × (b − a) normalized.

@@ -138,6 +138,7 @@ TEST_CASE("features: a cube's twelve edges are crease lines on the surface, with
     double offEdge = 0;  // the farthest a line's point lies from its straight edge, input units (the side is 1)
     for (const ink::PenStroke& s : creases) {
         CHECK_FALSE(s.closed);
+        CHECK(s.faced);  // a closed part's: its faces hide it where both turn away
         CHECK(s.length() == doctest::Approx(side).epsilon(0.05));
         for (size_t i = 0; i < s.points.size(); ++i) {
             Vector3d g;
@@ -162,6 +163,13 @@ TEST_CASE("features: a cube's twelve edges are crease lines on the surface, with
     // 0.0019 (a side is 1), where the line ends at a corner.
     MESSAGE("cube creases: " << offEdge << " off their edges at most");
     CHECK(offEdge < 0.0025);
+    // Without one face the box is open, seen from both sides: its eight creases left have no faces to hide them.
+    ink::OrientedPoints open = cubeMesh(8);
+    open.triangles.erase(open.triangles.begin(), open.triangles.begin() + 2 * 8 * 8);
+    const ink::Model openBox = ink::fitModel(open, {});
+    CHECK(openBox.features.creases.size() == 8);
+    CHECK(openBox.features.boundaries.size() == 1);
+    for (const ink::PenStroke& s : openBox.features.creases) CHECK_FALSE(s.faced);
     // A larger crease angle than the cube's 90° finds none.
     ink::ModelOptions blunt;
     blunt.creaseAngleDeg = 100;
