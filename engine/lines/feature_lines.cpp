@@ -360,10 +360,12 @@ FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, co
     };
     std::unordered_map<uint64_t, Uses> uses;
     std::vector<Edge> order;  // each edge once, in the order the triangles give them
+    // A triangle with a repeated vertex is a segment: it joins nothing (its one edge, counted twice, made the face
+    // beside it an edge of three).
+    auto degenerate = [&](const Triangle& t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; };
     for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
-        for (size_t e = 0; e < 3; ++e) {
+        for (size_t e = 0; e < 3 && !degenerate(mesh.triangles[t]); ++e) {
             const uint32_t a = mesh.triangles[t][e], b = mesh.triangles[t][(e + 1) % 3];
-            if (a == b) continue;
             Uses& u = uses[edgeKey(a, b)];
             if (u.count == 0) order.push_back({a, b});
             if (u.count < 2) u.faces[u.count] = t;
@@ -409,10 +411,9 @@ FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, co
         if (u.count == 2) part[root(u.faces[0])] = root(u.faces[1]);
     }
     std::vector<char> open(part.size(), 0);
-    for (const Edge& e : order) {
-        const Uses& u = uses[edgeKey(e[0], e[1])];
-        if (u.count != 2) open[root(u.faces[0])] = 1;
-    }
+    for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
+        for (size_t e = 0; e < 3 && !degenerate(mesh.triangles[t]); ++e)
+            if (uses[edgeKey(mesh.triangles[t][e], mesh.triangles[t][(e + 1) % 3])].count != 2) open[root(t)] = 1;
     for (const Chain& c : chainEdges(creases)) {
         const size_t n = c.vertices.size();
         std::vector<Eigen::Vector3d> faces(c.closed ? n : n - 1);

@@ -1,7 +1,8 @@
 // Feature lines of a mesh (docs/lines.md, Creases and boundaries): creases, where the faces on either side of an
 // edge turn by more than the crease angle, and boundaries, the edges of one face (an open scan's rim, a hole).
-// Chained into long polylines along the mesh's edges, then laid onto the fitted surface (f = 0, with its normals)
-// so that the device decides what shows as for every other pen line. No Vulkan here.
+// Chained into long polylines along the mesh's edges, each point kept within a few pixels of the fitted surface
+// (the edge itself, beside the fit's rounding of it), so that the device decides what shows as for every other
+// pen line. No Vulkan here.
 #pragma once
 
 #include "io/oriented_points.h"
@@ -21,7 +22,7 @@ namespace ink {
 constexpr double kCreaseAngleDeg = 60.0;
 
 struct FeatureLines {
-    std::vector<PenStroke> creases, boundaries;  // normalized coordinates, on f = 0
+    std::vector<PenStroke> creases, boundaries;  // normalized coordinates, within kLineOffset of f = 0
     bool empty() const { return creases.empty() && boundaries.empty(); }
 };
 
@@ -29,8 +30,8 @@ struct FeatureOptions {
     double creaseAngleDeg = kCreaseAngleDeg;
     // Chains shorter than this (normalized units) are dropped: a lone sharp edge of a noisy scan, not a feature.
     double minLength = 0.03;
-    // The lines are resampled at this spacing along the edges before they are laid onto the surface (as the
-    // contour's predictor step, ContourOptions::step).
+    // The lines are resampled at this spacing along the edges (as the contour's predictor step,
+    // ContourOptions::step).
     double step = 0.003;
 };
 
@@ -47,7 +48,7 @@ FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, co
 // neighbours turned past 120° are the other side of a thin part, and left out), the edge is the line where the
 // groups' planes meet. The points nearest it, one a cell of the point spacing, are chained along it (each links to the
 // nearest ahead and behind, within three spacings and 30°, where the two choose each other), then smoothed and
-// laid onto the surface as a mesh's creases are; chains under minLength go. A smooth shape's normals turn by a
+// kept near the surface as a mesh's creases are; chains under minLength go. A smooth shape's normals turn by a
 // few degrees between neighbours: no creases. Boundaries are a mesh's only.
 FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, const FeatureOptions& options = {});
 
@@ -71,7 +72,7 @@ public:
 
 private:
     struct Entry {
-        Eigen::Vector3f p, n, t;  // position, unit normal, unit tangent
+        Eigen::Vector3f p, n, t;  // position, normal (a crease's: its faces' mean), unit tangent
     };
     uint64_t key(const Eigen::Vector3f& p, int dx, int dy, int dz) const;
     std::vector<Entry> entries_;

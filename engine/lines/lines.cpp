@@ -176,6 +176,7 @@ void splitAtCusps(const std::vector<Vector3d>& curve, const std::vector<Vector3d
 }
 
 size_t markOccluded(const Surface& hrbf, const Vector3d& eye, double minLength, std::vector<PenStroke>& pieces) {
+    constexpr double kFlatRadial = 0.5;
     size_t count = 0;
     for (PenStroke& p : pieces) {
         const size_t m = p.points.size();
@@ -192,8 +193,10 @@ size_t markOccluded(const Surface& hrbf, const Vector3d& eye, double minLength, 
             r -= r.dot(n) * n;  // on the contour n·v = 0: the view ray's direction in the tangent plane
             if (!(r.norm() > 1e-9)) continue;
             r.normalize();
-            const double radial = r.dot(h * r);  // κ_r |∇f|
-            if (std::isfinite(radial)) votes += radial < 0 ? 1 : -1;
+            // κ_r, normalized units (the diagonal is 1): where the surface is nearly flat along the view (a
+            // radius of curvature over two diagonals) the fit's noise would decide, and the point abstains.
+            const double radial = r.dot(h * r) / g.norm();
+            if (std::isfinite(radial) && std::abs(radial) > kFlatRadial) votes += radial < 0 ? 1 : -1;
         }
         p.occluded = votes > 0;
         count += p.occluded;

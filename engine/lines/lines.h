@@ -102,9 +102,10 @@ void splitAtCusps(const std::vector<Eigen::Vector3d>& curve, const std::vector<E
 // sign). The depth test, which passes what lies within a few splat radii of the surface in front, drew such
 // pieces where they leave a visible line: the generator of a drilled hole's wall, a tick below each end of the
 // rim. Each piece between cusps is judged by the sign at five points along it, the majority deciding (a ripple
-// of the fit may flip one); pieces shorter than `minLength` are left to the depth test: where the fit ripples
-// along a rounded crease its contour turns in and out in short pieces of both signs, which the depth test keeps
-// as one line.
+// of the fit may flip one; a point where the surface is nearly flat along the view, |κ_r| under 0.5 a diagonal,
+// abstains: the fit's noise would decide there, and a piece without votes is left to the depth test); pieces shorter
+// than `minLength` are left to the depth test: where the fit ripples along a rounded crease its contour turns in and
+// out in short pieces of both signs, which the depth test keeps as one line.
 constexpr double kOccludedSteps = 8;  // the tracers' minLength: eight predictor steps (ContourOptions::step)
 size_t markOccluded(const Surface& hrbf, const Eigen::Vector3d& eye, double minLength, std::vector<PenStroke>& pieces);
 

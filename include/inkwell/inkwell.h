@@ -360,7 +360,8 @@ public:
     // The same with the reasons: why this up axis, and the view's viewpoint entropy.
     FirstView firstViewReport(float aspect = 1.0f) const;
     FirstView firstViewReport(Up up, float aspect = 1.0f) const;
-    // The model's crease and boundary lines on the surface (all of them, whatever DrawingOptions asks drawn).
+    // The model's crease and boundary lines, along its edges beside the fitted surface (all of them, whatever
+    // DrawingOptions asks drawn).
     std::vector<Polyline> creases() const;
     std::vector<Polyline> boundaries() const;
     // The points of all sets, and the refinement's and the pen lines' figures as one JSON object: `refine`

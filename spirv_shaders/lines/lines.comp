@@ -2,8 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Once per traced segment and frame: whether it shows, against the splat depth grid the dots' pass built.
 // - Contours: visible when not behind the surface (tested two push-backs nearer the camera, as silhouette dots
-//   are) and not a piece its own surface hides (KIND_OCCLUDED), else hidden; interior when there is surface on both sides of it in the image (it lies in front of more
-//   surface), which gets the halo.
+//   are) and not a piece its own surface hides (KIND_OCCLUDED), else hidden; interior when there is surface on
+//   both sides of it in the image (it lies in front of more surface), which gets the halo.
 // - Hatching: drawn where its surface faces the camera, its tone is dark enough for its family and level, and it is
 //   not behind the surface, over a run of its stroke long enough to read as a stroke (tone.w pixels). The strokes
 //   are fixed to the model; only these per-frame decisions change.
@@ -97,7 +97,7 @@ void main() {
             // t2.xyz: the mean m of the faces' unit normals n₁, n₂ (length cos(α/2)). With u the unit vector across
             // the edge in their plane, n₁,₂ = m ± sin(α/2) u, so the face turned more to the eye v has
             // n·v = m·v + sin(α/2)|u·v|, u = m × (b − a) normalized.
-            vec3 across = cross(n, b - a);
+            vec3 across = cross(n, mat3(cam.view) * (t1.xyz - t0.xyz));  // b − a, without the camera's offset
             float turned = sqrt(max(0.0, 1.0 - dot(n, n))), toward = dot(n, -normalize(mid));
             if (dot(across, across) > 1e-20) toward += turned * abs(dot(across, normalize(mid))) / length(across);
             visible = visible && toward > -FACING_SLACK;

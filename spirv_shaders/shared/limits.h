@@ -52,9 +52,10 @@ INK_CONST uint HATCH_FAMILY_SHIFT = 1u;
 INK_CONST uint HATCH_LEVEL_SHIFT = 3u;
 INK_CONST uint KIND_CREASE = 16u;
 INK_CONST uint KIND_BOUNDARY = 32u;
-INK_CONST uint KIND_OCCLUDED = 64u;  // a contour piece its own surface hides (PenStroke::occluded)
-INK_CONST uint KIND_FACED =
-    128u;  // a crease of a closed part, hidden where both its faces turn away (PenStroke::faced)
+// A contour piece its own surface hides (PenStroke::occluded); a crease of a closed part, hidden where both its
+// faces turn away (PenStroke::faced).
+INK_CONST uint KIND_OCCLUDED = 64u;
+INK_CONST uint KIND_FACED = 128u;
 // A crease shows only where one of its faces turns towards the eye, n·v above −FACING_SLACK (lines.comp).
 INK_CONST float FACING_SLACK = 0.02;
 // Every segment also carries how many segments of its stroke lie before it (bits 8–15) and after it (bits 16–23),

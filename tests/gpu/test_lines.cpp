@@ -2,9 +2,12 @@
 #include "base/image.h"
 #include "base/point_hash.h"
 #include "draw/camera.h"
+#include "draw/renderer.h"
+#include "draw/scene.h"
 #include "gpu_fixture.h"
 #include "lines/contour_device.h"
 #include "lines/lines.h"
+#include "run_command.h"
 #include "skip.h"
 #include "surface/model.h"
 #include "surface/shapes.h"
@@ -19,6 +22,7 @@
 #include <glm/glm.hpp>
 #include <map>
 #include <set>
+#include <sstream>
 
 using Eigen::Vector3d;
 
@@ -145,6 +149,41 @@ TEST_CASE("contours: the pieces a hole's own wall hides are marked so, the outli
         CHECK(longest->length() > 2.0);
         CHECK_FALSE(longest->occluded);
     }
+}
+
+// The same marks when the device traces the contour (a GPU's default, autoOnDevice; lavapipe traces on the CPU).
+TEST_CASE("contours: traced on the device, the pieces a hole's own wall hides are marked so too" *
+          doctest::test_suite("gpu")) {
+    GpuFixture gpu;
+    ink::LineOptions lines;
+    lines.contours = true;
+    lines.contourTracer = ink::LineOptions::ContourTracer::Device;
+    ink::RefineOptions refine;
+    refine.levels = 3;
+    ink::Scene scene(gpu.ctx, ink::loadModel(INKWELL_SOURCE_DIR "/tests/models/plate-with-hole.obj", {}),
+                     ink::DrawStyle::Stipple, refine, lines);
+    ink::Camera camera;
+    camera.up = ink::UpAxis::PosZ;
+    camera.azimuthDeg = 30;
+    camera.elevationDeg = 30;
+    scene.traceContours(camera);
+    REQUIRE(scene.contourStats.onDevice);
+    size_t wall = 0, wallHidden = 0;
+    for (const ink::PenStroke& p : scene.contours) {
+        size_t onWall = 0;
+        double low = 1, high = -1;
+        for (const Eigen::Vector3f& x : p.points) {
+            const Vector3d q = scene.model.surface.frame.toInput(x.cast<double>());
+            onWall += std::abs(std::hypot(q.x(), q.y()) - 0.4) < 0.03;
+            low = std::min(low, q.z()), high = std::max(high, q.z());
+        }
+        if (onWall == p.points.size() && high - low > 0.4) ++wall, wallHidden += p.occluded;
+    }
+    MESSAGE("device: " << scene.contours.size() << " pieces, " << scene.contourStats.occluded << " occluded, on the "
+                       << "hole's wall " << wallHidden << " of " << wall);
+    CHECK(wall == 2);
+    CHECK(wallHidden == wall);
+    gpu.requireNoValidationErrors();
 }
 
 TEST_CASE("contours: a march the corrector holds in place stops there, without piling up vertices" *
@@ -295,10 +334,6 @@ TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of 
 }
 
 // ---- On the device ----------------------------------------------------------------------------------------------
-
-#include "draw/renderer.h"
-#include "draw/scene.h"
-#include "gpu_fixture.h"
 
 namespace {
 
@@ -581,8 +616,8 @@ TEST_CASE("contours: each frame decides on the device which contour segments are
                          << unexcused << " disagree farther than 6 px from a change of visibility");
     CHECK(hidden > drawn.size() / 10);
     // 600 of 615 on lavapipe by the depth test alone; 614 with the pieces the torus's inner wall hides marked so
-    // (ink::markOccluded: concave along the view).
-    CHECK(double(agree) >= 0.99 * double(drawn.size()));
+    // (ink::markOccluded: concave along the view). A GPU traces on the device (autoOnDevice): a little room.
+    CHECK(double(agree) >= 0.98 * double(drawn.size()));
     CHECK(unexcused <= drawn.size() / 100);
     gpu.requireNoValidationErrors();
 }
@@ -687,12 +722,6 @@ TEST_CASE("contours: a wide hidden pen inks one grey, with quads as with stamps"
     }
     gpu.requireNoValidationErrors();
 }
-
-#include "run_command.h"
-#include "temp_dir.h"
-
-#include <fstream>
-#include <sstream>
 
 TEST_CASE("lines: render -o out.svg writes the pen lines as polylines in their own layers" *
           doctest::test_suite("cli")) {

@@ -285,11 +285,16 @@ TEST_CASE("features: a point cloud's sharp edges are crease lines, a smooth one'
     CHECK(creases.size() == 12);
     CHECK(totalLength(creases) > 8 * side);  // 9.0 measured: near the corners, where three faces meet, none
     CHECK(totalLength(creases) < 12.5 * side);
-    for (const ink::PenStroke& s : creases)
-        for (const Eigen::Vector3f& p : s.points) {
-            const Eigen::Vector3d x = model.surface.frame.toInput(p.cast<double>()).cwiseAbs();
+    for (const ink::PenStroke& s : creases) {
+        CHECK(s.faced);  // a point cloud is drawn from one side: its faces hide its creases
+        for (size_t i = 0; i < s.points.size(); ++i) {
+            const Eigen::Vector3d x = model.surface.frame.toInput(s.points[i].cast<double>()).cwiseAbs();
             CHECK(int(x.x() > 0.44) + int(x.y() > 0.44) + int(x.z() > 0.44) >= 2);
+            // The normal: the mean of the two groups' (two axes at 90°: length cos 45°), outward.
+            CHECK(s.normals[i].norm() == doctest::Approx(std::sqrt(0.5)).epsilon(0.02));
+            CHECK(s.normals[i].cast<double>().dot(model.surface.frame.toInput(s.points[i].cast<double>())) > 0);
         }
+    }
     CHECK(model.features.boundaries.empty());
     // A smooth shape's points, however curved (the torus's inner ring), have none.
     for (const ink::OrientedPoints& mesh : {torusMesh(), sphereMesh()}) {
@@ -633,6 +638,23 @@ TEST_CASE("features: a box's edges between two back faces never show, even besid
                 edges.push_back({c, to, back});
             }
         // Along each back edge, away (4 px) from the image of every edge that has a face towards the eye: paper.
+        // Along each outline edge (one face towards the eye, one away; the face turned more to the eye decides,
+        // m·v + sin(α/2)|u·v|, where m·v alone is near 0 or below), ink.
+        int outline = 0, outlineInked = 0;
+        for (const Edge& b : edges) {
+            int toward = 0;
+            for (int f = 0; f < 3; ++f) {
+                const Vector3d d = b.to - b.from;
+                if (std::abs(d[f]) > 0.5) continue;  // the edge's own axis
+                const Vector3d normal = Vector3d::Unit(f) * (b.from[f] > 0 ? 1.0 : -1.0);
+                toward += normal.dot(eye - 0.5 * (b.from + b.to)) > 0;
+            }
+            if (b.back || toward != 1) continue;
+            for (double t = 0.1; t <= 0.9; t += 0.02) {
+                ++outline;
+                outlineInked += inked(pixel(b.from + t * (b.to - b.from)));
+            }
+        }
         int samples = 0, inkedSamples = 0, nearOutline = 0;
         for (const Edge& b : edges) {
             if (!b.back) continue;
@@ -656,6 +678,9 @@ TEST_CASE("features: a box's edges between two back faces never show, even besid
         REQUIRE(samples >= 50);
         REQUIRE(nearOutline >= 4);  // the samples where the stubs stood
         CHECK(inkedSamples == 0);
+        MESSAGE("  " << outlineInked << " of " << outline << " samples of the outline edges inked");
+        REQUIRE(outline >= 80);
+        CHECK(outlineInked >= 0.95 * outline);
     }
     gpu.requireNoValidationErrors();
 }
