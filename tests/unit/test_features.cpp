@@ -23,6 +23,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 
 using Eigen::Vector3d;
@@ -116,6 +117,35 @@ double totalLength(const std::vector<ink::PenStroke>& strokes) {
     double l = 0;
     for (const ink::PenStroke& s : strokes) l += s.length();
     return l;
+}
+
+// A cube's crease lines alone, refined to two levels (a drawing of lines alone: large splat disks).
+std::unique_ptr<ink::Scene> cubeCreases(GpuFixture& gpu) {
+    ink::LineOptions lines;
+    lines.creases = true;
+    ink::RefineOptions refine;
+    refine.levels = 2;
+    return std::make_unique<ink::Scene>(gpu.ctx, ink::fitModel(cubeMesh(8), {}), ink::DrawStyle::Stipple, refine,
+                                        lines);
+}
+
+// Where a point (input units) of `model` lands in a size × size image drawn with `clip`, in pixels.
+Eigen::Vector2d toPixel(const ink::Model& model, const glm::mat4& clip, uint32_t size, const Vector3d& input) {
+    const Vector3d x = model.surface.frame.toNormalized(input);
+    const glm::vec4 c = clip * glm::vec4(float(x.x()), float(x.y()), float(x.z()), 1.0f);
+    return Eigen::Vector2d((c.x / c.w * 0.5 + 0.5) * size, (c.y / c.w * 0.5 + 0.5) * size);
+}
+
+// The inked pixels (red under 128) within `reach` of p, each way.
+int inkAround(const ink::RgbaImage& image, uint32_t size, const Eigen::Vector2d& p, int reach) {
+    int found = 0;
+    for (int dy = -reach; dy <= reach; ++dy)
+        for (int dx = -reach; dx <= reach; ++dx) {
+            const int x = int(p.x()) + dx, y = int(p.y()) + dy;
+            if (x >= 0 && y >= 0 && x < int(size) && y < int(size))
+                found += image.pixels[(size_t(y) * size + size_t(x)) * 4] < 128;
+        }
+    return found;
 }
 
 void writeObj(const std::string& path, const ink::OrientedPoints& m) {
@@ -503,11 +533,8 @@ TEST_CASE("features: a cube's hidden edges stay hidden where its splat disks spa
     // Two levels (a drawing of lines alone) give large disks, and 4× supersampling many depth cells a disk: sampled
     // every few cells, the depth grid had holes, and the three edges behind the cube showed through its faces.
     GpuFixture gpu;
-    ink::LineOptions lines;
-    lines.creases = true;
-    ink::RefineOptions refine;
-    refine.levels = 2;
-    ink::Scene scene(gpu.ctx, ink::fitModel(cubeMesh(8), {}), ink::DrawStyle::Stipple, refine, lines);
+    const std::unique_ptr<ink::Scene> cube = cubeCreases(gpu);
+    ink::Scene& scene = *cube;
     REQUIRE(scene.model.features.creases.size() == 12);
     ink::RenderStyle style;
     style.drawDots = false;
@@ -520,21 +547,8 @@ TEST_CASE("features: a cube's hidden edges stay hidden where its splat disks spa
     camera.distance = 1.8f;
     const ink::RgbaImage image = renderer.render(camera);
     const glm::mat4 clip = camera.projection(1.0f) * camera.view();
-    auto pixel = [&](const Vector3d& input) {
-        const Vector3d x = scene.model.surface.frame.toNormalized(input);
-        const glm::vec4 c = clip * glm::vec4(float(x.x()), float(x.y()), float(x.z()), 1.0f);
-        return Eigen::Vector2d((c.x / c.w * 0.5 + 0.5) * size, (c.y / c.w * 0.5 + 0.5) * size);
-    };
-    auto inkNear = [&](const Eigen::Vector2d& p) {
-        int found = 0;
-        for (int dy = -2; dy <= 2; ++dy)
-            for (int dx = -2; dx <= 2; ++dx) {
-                const int x = int(p.x()) + dx, y = int(p.y()) + dy;
-                if (x >= 0 && y >= 0 && x < int(size) && y < int(size))
-                    found += image.pixels[(size_t(y) * size + size_t(x)) * 4] < 128;
-            }
-        return found;
-    };
+    auto pixel = [&](const Vector3d& input) { return toPixel(scene.model, clip, size, input); };
+    auto inkNear = [&](const Eigen::Vector2d& p) { return inkAround(image, size, p, 2); };
     // The corners ±½; the edges of the one farthest from the eye are hidden, those of the nearest visible.
     const glm::vec3 e = camera.eye();
     const Vector3d eye = scene.model.surface.frame.toInput(Vector3d(e.x, e.y, e.z));
@@ -583,11 +597,8 @@ TEST_CASE("features: a cube's hidden edges stay hidden where its splat disks spa
 TEST_CASE("features: a box's edges between two back faces never show, even beside its outline" *
           doctest::test_suite("gpu")) {
     GpuFixture gpu;
-    ink::LineOptions lines;
-    lines.creases = true;
-    ink::RefineOptions refine;
-    refine.levels = 2;
-    ink::Scene scene(gpu.ctx, ink::fitModel(cubeMesh(8), {}), ink::DrawStyle::Stipple, refine, lines);
+    const std::unique_ptr<ink::Scene> cube = cubeCreases(gpu);
+    ink::Scene& scene = *cube;
     REQUIRE(scene.model.features.creases.size() == 12);
     ink::RenderStyle style;
     style.drawDots = false;
@@ -600,21 +611,8 @@ TEST_CASE("features: a box's edges between two back faces never show, even besid
         camera.distance = 1.8f;
         const ink::RgbaImage image = renderer.render(camera);
         const glm::mat4 clip = camera.projection(1.0f) * camera.view();
-        auto pixel = [&](const Vector3d& input) {
-            const Vector3d x = scene.model.surface.frame.toNormalized(input);
-            const glm::vec4 c = clip * glm::vec4(float(x.x()), float(x.y()), float(x.z()), 1.0f);
-            return Eigen::Vector2d((c.x / c.w * 0.5 + 0.5) * size, (c.y / c.w * 0.5 + 0.5) * size);
-        };
-        auto inked = [&](const Eigen::Vector2d& p) {
-            int found = 0;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int x = int(p.x()) + dx, y = int(p.y()) + dy;
-                    if (x >= 0 && y >= 0 && x < int(size) && y < int(size))
-                        found += image.pixels[(size_t(y) * size + size_t(x)) * 4] < 128;
-                }
-            return found > 0;
-        };
+        auto pixel = [&](const Vector3d& input) { return toPixel(scene.model, clip, size, input); };
+        auto inked = [&](const Eigen::Vector2d& p) { return inkAround(image, size, p, 1) > 0; };
         const glm::vec3 e = camera.eye();
         const Vector3d eye = scene.model.surface.frame.toInput(Vector3d(e.x, e.y, e.z));
         // The twelve edges: from corner c along axis a; their faces' normals are the other two axes, signed as c.
