@@ -155,12 +155,12 @@ void smoothLaid(const Surface& surface, PenStroke& stroke, const std::vector<boo
 }
 
 // The chain resampled at `step` along its edges, each point kept within kLineOffset of the surface; pieces
-// between points that do not reach it, shorter than minLength, are dropped. `faces` (a crease's; empty for a boundary):
-// per segment of the chain, the mean of the unit normals of the two faces it divides, which a crease's points carry as
-// their normals (PenStroke::normals) for the device to tell whether either face turns towards the eye; without, unit
-// ∇f.
+// between points that do not reach it, shorter than minLength, are dropped. `faces` (a crease's; empty for a
+// boundary): per segment of the chain, the mean of the unit normals of the two faces it divides, which a crease's
+// points carry as their normals (PenStroke::normals) for the device to tell whether either face turns towards the
+// eye; without, unit ∇f. `faced`: the strokes' PenStroke::faced.
 void layOnSurface(const Chain& chain, const std::vector<Eigen::Vector3d>& positions, const Surface& surface,
-                  const FeatureOptions& options, const std::vector<Eigen::Vector3d>& faces,
+                  const FeatureOptions& options, const std::vector<Eigen::Vector3d>& faces, bool faced,
                   std::vector<PenStroke>& out) {
     const SmoothChain smooth = smoothChain(chain, positions);
     const std::vector<Eigen::Vector3d>& x = smooth.x;
@@ -170,6 +170,7 @@ void layOnSurface(const Chain& chain, const std::vector<Eigen::Vector3d>& positi
     auto flush = [&] {
         if (stroke.points.size() >= 2 && stroke.length() >= options.minLength) {
             smoothLaid(surface, stroke, pinned, !faces.empty());
+            stroke.faced = faced;
             out.push_back(std::move(stroke));
         }
         stroke = {};
@@ -423,12 +424,10 @@ FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, co
             faces[i] = 0.5 * (normals[u.faces[0]] + normals[u.faces[1]]);
             closed = closed && !open[root(u.faces[0])];
         }
-        const size_t first = lines.creases.size();
-        layOnSurface(c, mesh.positions, surface, options, faces, lines.creases);
-        for (size_t k = first; k < lines.creases.size(); ++k) lines.creases[k].faced = closed;
+        layOnSurface(c, mesh.positions, surface, options, faces, closed, lines.creases);
     }
     for (const Chain& c : chainEdges(boundaries))
-        layOnSurface(c, mesh.positions, surface, options, {}, lines.boundaries);
+        layOnSurface(c, mesh.positions, surface, options, {}, false, lines.boundaries);
     return lines;
 }
 
@@ -545,10 +544,8 @@ FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, 
         std::vector<Eigen::Vector3d> faces(c.closed ? n : n - 1);
         for (size_t i = 0; i < faces.size(); ++i)
             faces[i] = 0.5 * (mean[c.vertices[i]] + mean[c.vertices[(i + 1) % n]]);
-        const size_t first = lines.creases.size();
-        layOnSurface(c, x, surface, options, faces, lines.creases);
         // A point cloud's surface is drawn from one side (as its dots are): its faces hide its creases.
-        for (size_t k = first; k < lines.creases.size(); ++k) lines.creases[k].faced = true;
+        layOnSurface(c, x, surface, options, faces, true, lines.creases);
     }
     return lines;
 }

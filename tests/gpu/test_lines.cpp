@@ -53,6 +53,13 @@ struct Outline {
     }
 };
 
+// The contour tracer's seeds: the fit's control points with their normals.
+std::vector<ink::SurfaceSample> seedsOf(const ink::Model& m) {
+    std::vector<ink::SurfaceSample> seeds;
+    for (size_t i = 0; i < m.surface.size(); ++i) seeds.push_back({m.surface.centers[i], m.surface.normals[i]});
+    return seeds;
+}
+
 }  // namespace
 
 // The contour's cusps and vertices of a model fitted with default options, seen by the default camera.
@@ -61,12 +68,40 @@ ink::ContourStats contourOf(const ink::Model& m, float azimuth, float elevation)
     camera.azimuthDeg = azimuth;
     camera.elevationDeg = elevation;
     const glm::vec3 e = camera.eye();
-    std::vector<ink::SurfaceSample> seeds;
-    for (size_t i = 0; i < m.surface.size(); ++i) seeds.push_back({m.surface.centers[i], m.surface.normals[i]});
     ink::ContourStats stats;
-    ink::traceContours(m.surface, Vector3d(e.x, e.y, e.z), seeds, {}, &stats);
+    ink::traceContours(m.surface, Vector3d(e.x, e.y, e.z), seedsOf(m), {}, &stats);
     return stats;
 }
+
+namespace {
+
+// tests/models/plate-with-hole.obj ([-1, 1]² × [-0.3, 0.3], a hole of radius 0.4 along z) from 30° above.
+ink::Camera plateCamera(float azimuth) {
+    ink::Camera camera;
+    camera.up = ink::UpAxis::PosZ;
+    camera.azimuthDeg = azimuth;
+    camera.elevationDeg = 30;
+    return camera;
+}
+
+// The plate's contour pieces that run down its hole's wall from rim to rim, and how many of them are occluded.
+size_t holeWallPieces(const ink::Model& plate, const std::vector<ink::PenStroke>& pieces, size_t& occluded) {
+    size_t wall = 0;
+    occluded = 0;
+    for (const ink::PenStroke& p : pieces) {
+        size_t onWall = 0;
+        double low = 1, high = -1;
+        for (const Eigen::Vector3f& x : p.points) {
+            const Vector3d q = plate.surface.frame.toInput(x.cast<double>());
+            onWall += std::abs(std::hypot(q.x(), q.y()) - 0.4) < 0.03;
+            low = std::min(low, q.z()), high = std::max(high, q.z());
+        }
+        if (onWall == p.points.size() && high - low > 0.4) ++wall, occluded += p.occluded;
+    }
+    return wall;
+}
+
+}  // namespace
 
 TEST_CASE("contours: fitted meshes have their true cusps only (issue 24)" * doctest::test_suite("unit")) {
     // A 64 × 32 torus mesh of 2,048 vertices: its contour has no cusp at these views; the fit to its vertices and
@@ -113,39 +148,22 @@ TEST_CASE("contours: the pieces a hole's own wall hides are marked so, the outli
     const ink::Model plate = ink::loadModel(INKWELL_SOURCE_DIR "/tests/models/plate-with-hole.obj", {});
     for (const float azimuth : {30.0f, 135.0f, 200.0f}) {
         CAPTURE(azimuth);
-        ink::Camera camera;
-        camera.up = ink::UpAxis::PosZ;
-        camera.azimuthDeg = azimuth;
-        camera.elevationDeg = 30;
-        const glm::vec3 e = camera.eye();
-        std::vector<ink::SurfaceSample> seeds;
-        for (size_t i = 0; i < plate.surface.size(); ++i)
-            seeds.push_back({plate.surface.centers[i], plate.surface.normals[i]});
+        const glm::vec3 e = plateCamera(azimuth).eye();
         ink::ContourStats stats;
         const std::vector<ink::PenStroke> pieces =
-            ink::traceContours(plate.surface, Vector3d(e.x, e.y, e.z), seeds, {}, &stats);
-        // The plate [-1, 1]² × [-0.3, 0.3], the hole of radius 0.4: a piece on the wall, away from the rims, and one
-        // along the outer faces.
+            ink::traceContours(plate.surface, Vector3d(e.x, e.y, e.z), seedsOf(plate), {}, &stats);
         // A piece down the wall from rim to rim is hidden; the longest, around the outer faces, is not (where the
         // fit's rounded vertical edges ripple it turns in and out in short pieces, which the depth test judges).
-        size_t wall = 0, wallHidden = 0;
+        size_t wallHidden = 0;
+        const size_t wall = holeWallPieces(plate, pieces, wallHidden);
         const ink::PenStroke* longest = nullptr;
-        for (const ink::PenStroke& p : pieces) {
-            size_t onWall = 0;
-            double low = 1, high = -1;
-            for (const Eigen::Vector3f& x : p.points) {
-                const Vector3d q = plate.surface.frame.toInput(x.cast<double>());
-                onWall += std::abs(std::hypot(q.x(), q.y()) - 0.4) < 0.03;
-                low = std::min(low, q.z()), high = std::max(high, q.z());
-            }
-            if (onWall == p.points.size() && high - low > 0.4) ++wall, wallHidden += p.occluded;
+        for (const ink::PenStroke& p : pieces)
             if (!longest || p.length() > longest->length()) longest = &p;
-        }
+        REQUIRE(longest);
         MESSAGE("azimuth " << azimuth << ": " << pieces.size() << " pieces, " << stats.occluded << " occluded; on the "
                            << "hole's wall " << wallHidden << " of " << wall << "; the longest " << longest->length());
         CHECK(wall == 2);
         CHECK(wallHidden == wall);
-        REQUIRE(longest);
         CHECK(longest->length() > 2.0);
         CHECK_FALSE(longest->occluded);
     }
@@ -162,23 +180,10 @@ TEST_CASE("contours: traced on the device, the pieces a hole's own wall hides ar
     refine.levels = 3;
     ink::Scene scene(gpu.ctx, ink::loadModel(INKWELL_SOURCE_DIR "/tests/models/plate-with-hole.obj", {}),
                      ink::DrawStyle::Stipple, refine, lines);
-    ink::Camera camera;
-    camera.up = ink::UpAxis::PosZ;
-    camera.azimuthDeg = 30;
-    camera.elevationDeg = 30;
-    scene.traceContours(camera);
+    scene.traceContours(plateCamera(30));
     REQUIRE(scene.contourStats.onDevice);
-    size_t wall = 0, wallHidden = 0;
-    for (const ink::PenStroke& p : scene.contours) {
-        size_t onWall = 0;
-        double low = 1, high = -1;
-        for (const Eigen::Vector3f& x : p.points) {
-            const Vector3d q = scene.model.surface.frame.toInput(x.cast<double>());
-            onWall += std::abs(std::hypot(q.x(), q.y()) - 0.4) < 0.03;
-            low = std::min(low, q.z()), high = std::max(high, q.z());
-        }
-        if (onWall == p.points.size() && high - low > 0.4) ++wall, wallHidden += p.occluded;
-    }
+    size_t wallHidden = 0;
+    const size_t wall = holeWallPieces(scene.model, scene.contours, wallHidden);
     MESSAGE("device: " << scene.contours.size() << " pieces, " << scene.contourStats.occluded << " occluded, on the "
                        << "hole's wall " << wallHidden << " of " << wall);
     CHECK(wall == 2);
@@ -219,9 +224,7 @@ TEST_CASE("contours: swallowtails smaller than the pen are no cusps; the pieces 
     camera.azimuthDeg = 330;
     camera.elevationDeg = 15;
     const glm::vec3 e = camera.eye();
-    std::vector<ink::SurfaceSample> seeds;
-    for (size_t i = 0; i < bunny.surface.size(); ++i)
-        seeds.push_back({bunny.surface.centers[i], bunny.surface.normals[i]});
+    const std::vector<ink::SurfaceSample> seeds = seedsOf(bunny);
     auto trace = [&](double minSwallowtail, ink::ContourStats& stats) {
         ink::ContourOptions options;
         options.minSwallowtail = minSwallowtail;
