@@ -188,6 +188,7 @@ FitReport Model::report() const {
     r.inputPoints = m.inputPoints;
     r.mergedDuplicates = m.mergedDuplicates;
     r.flippedNormals = m.flippedNormals;
+    r.twoSided = m.twoSided;
     r.controlPoints = m.fit.controlPoints;
     r.seconds = m.fit.seconds;
     r.maxDistance = m.fit.maxDistance;

@@ -19,7 +19,9 @@ json fitJson(const ink::Model& m) {
               {"max_normal_angle_deg", m.fit.maxNormalAngleDeg},
               {"input_max_distance", m.inputMaxDistance},
               {"input_mean_distance", m.inputMeanDistance},
-              {"input_max_normal_angle_deg", m.inputMaxAngleDeg}};
+              {"input_max_normal_angle_deg", m.inputMaxAngleDeg},
+              {"two_sided", m.twoSided},
+              {"turned_outward", m.turnedOutward}};
     if (!m.fit.phases.ms.empty()) {  // a fitted model: where its fit's time went
         json phases = json::object();
         for (const auto& [step, ms] : m.fit.phases.ms) phases[step] = ms;

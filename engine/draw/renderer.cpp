@@ -93,7 +93,7 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
         styleBuffer_ =
             createBuffer(ctx, sizeof(StyleBlock), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                          MemoryUse::Device);
-        std::vector<uint32_t> counts;
+        bool twoSided = false;
         for (const GpuRefinement* r : sets) {
             uint32_t draw[4];
             downloadBuffer(ctx, r->indirect, r->drawOffset(), draw, sizeof(draw));
@@ -103,8 +103,9 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
             viewInfo.range = VK_WHOLE_SIZE;
             const bool direction = r->options.style == SampleStyle::Direction;
             sets_.push_back({VK_NULL_HANDLE, splatSpacing(*r), draw[0], draw[2], direction ? "direction" : "stipple",
-                             r->selection ? float(r->selection->plan.areaEstimate) : 0.0f, direction,
+                             r->selection ? float(r->selection->plan.areaEstimate) : 0.0f, direction, r->twoSided,
                              r->selection != nullptr && !direction});
+            twoSided = twoSided || r->twoSided;
             VK_CHECK(vkCreateBufferView(ctx.device, &viewInfo, nullptr, &sets_.back().texels));
         }
         const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -131,7 +132,8 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
         stamp_ = createComputePipeline(ctx, layout_, spv_stamp_comp);
         space_ = createComputePipeline(ctx, layout_, spv_spacing_comp);
         ink_ = createBlendedPipeline(ctx, layout_, colorFormat, spv_ink_vert, spv_ink_frag);
-        if (strokes) lines_ = std::make_unique<LineRenderer>(ctx, *strokes, colorFormat, uint32_t(frames_.size()));
+        if (strokes)
+            lines_ = std::make_unique<LineRenderer>(ctx, *strokes, colorFormat, uint32_t(frames_.size()), twoSided);
     } catch (...) {
         release();
         throw;
@@ -206,13 +208,14 @@ PointRenderer::Push PointRenderer::push(const Set& s, const Camera& camera, VkEx
     const bool spaced = spacing_.x > 0 && s.spaced;
     float k = spaced ? kSupply * kCoverage / (dotPixels * lambda) : std::min(1.0f, 0.9f / (sphereLambda * dotPixels));
     float radius = style_.occlusion ? style_.splatScale * s.splatRadius : 0.0f;
-    return Push{camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]),
-                glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
-                glm::vec4(radius, radius, k, camera.distance * camera.distance),
-                glm::uvec4(s.points,
-                           (style_.hiddenLines ? gpu::CAMERA_HIDDEN : 0u) |
-                               (s.sparseSplats ? gpu::CAMERA_SPARSE_SPLATS : 0u) | (spaced ? gpu::CAMERA_SPACED : 0u),
-                           s.first, gpu::PASS_VISIBILITY)};
+    return Push{
+        camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]),
+        glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
+        glm::vec4(radius, radius, k, camera.distance * camera.distance),
+        glm::uvec4(s.points,
+                   (style_.hiddenLines ? gpu::CAMERA_HIDDEN : 0u) | (s.sparseSplats ? gpu::CAMERA_SPARSE_SPLATS : 0u) |
+                       (spaced ? gpu::CAMERA_SPACED : 0u) | (s.twoSided ? gpu::CAMERA_TWO_SIDED : 0u),
+                   s.first, gpu::PASS_VISIBILITY)};
 }
 
 void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2D extent, uint32_t frame) {

@@ -88,6 +88,7 @@ Scene::Sets Scene::build(DrawStyle style, const RefineOptions& options) const {
                  (sampling == SampleStyle::Stipple ? "stipple" : "direction") +
                  " points where the input has no points (an open surface's holes, the fit's stray sheets; --no-trim "
                  "keeps them)");
+        made.back()->gpu().twoSided = model.twoSided;
     }
     return made;
 }

@@ -342,6 +342,48 @@ bool projectToSurface(const Surface& surface, Eigen::Vector3d& x, Eigen::Vector3
     return false;
 }
 
+namespace {
+
+bool degenerate(const Triangle& t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; }
+
+}  // namespace
+
+MeshParts meshParts(const OrientedPoints& mesh) {
+    const uint32_t n = uint32_t(mesh.triangles.size());
+    struct Use {
+        uint32_t count = 0, face = 0;  // the edge's faces, and the first of them
+    };
+    std::unordered_map<uint64_t, Use> uses;
+    uses.reserve(3 * size_t(n) / 2);
+    auto forEdges = [&](auto&& visit) {
+        for (uint32_t t = 0; t < n; ++t)
+            for (size_t e = 0; e < 3 && !degenerate(mesh.triangles[t]); ++e)
+                visit(t, edgeKey(mesh.triangles[t][e], mesh.triangles[t][(e + 1) % 3]));
+    };
+    forEdges([&](uint32_t t, uint64_t key) {
+        Use& u = uses[key];
+        if (u.count++ == 0) u.face = t;
+    });
+    // Union-find over the triangles: an edge of two faces joins them.
+    MeshParts parts;
+    parts.part.resize(n);
+    for (uint32_t t = 0; t < n; ++t) parts.part[t] = t;
+    auto root = [&](uint32_t t) {
+        while (parts.part[t] != t) t = parts.part[t] = parts.part[parts.part[t]];
+        return t;
+    };
+    forEdges([&](uint32_t t, uint64_t key) {
+        const Use& u = uses[key];
+        if (u.count == 2 && u.face != t) parts.part[root(u.face)] = root(t);
+    });
+    for (uint32_t t = 0; t < n; ++t) parts.part[t] = root(t);
+    parts.open.assign(n, 0);
+    forEdges([&](uint32_t t, uint64_t key) {
+        if (uses[key].count != 2) parts.open[parts.part[t]] = parts.anyOpen = true;
+    });
+    return parts;
+}
+
 FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, const FeatureOptions& options) {
     FeatureLines lines;
     if (mesh.triangles.empty()) return lines;
@@ -361,9 +403,8 @@ FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, co
     };
     std::unordered_map<uint64_t, Uses> uses;
     std::vector<Edge> order;  // each edge once, in the order the triangles give them
-    // A triangle with a repeated vertex is a segment: it joins nothing (its one edge, counted twice, made the face
-    // beside it an edge of three).
-    auto degenerate = [&](const Triangle& t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; };
+    // A triangle with a repeated vertex is a segment (degenerate): it joins nothing (its one edge, counted twice,
+    // made the face beside it an edge of three).
     for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
         for (size_t e = 0; e < 3 && !degenerate(mesh.triangles[t]); ++e) {
             const uint32_t a = mesh.triangles[t][e], b = mesh.triangles[t][(e + 1) % 3];
@@ -398,23 +439,7 @@ FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, co
                 creases.push_back(e);
         }
     }
-    // The mesh's parts (triangles joined across edges of two faces), and which are open: an edge of one face, or of
-    // more than two. Only a closed part's faces hide its creases: an open one is seen from both sides (an open box
-    // from above shows its walls' insides, and the edges between them).
-    std::vector<uint32_t> part(mesh.triangles.size());
-    for (uint32_t t = 0; t < part.size(); ++t) part[t] = t;
-    auto root = [&](uint32_t t) {
-        while (part[t] != t) t = part[t] = part[part[t]];
-        return t;
-    };
-    for (const Edge& e : order) {
-        const Uses& u = uses[edgeKey(e[0], e[1])];
-        if (u.count == 2) part[root(u.faces[0])] = root(u.faces[1]);
-    }
-    std::vector<char> open(part.size(), 0);
-    for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
-        for (size_t e = 0; e < 3 && !degenerate(mesh.triangles[t]); ++e)
-            if (uses[edgeKey(mesh.triangles[t][e], mesh.triangles[t][(e + 1) % 3])].count != 2) open[root(t)] = 1;
+    const MeshParts parts = meshParts(mesh);
     for (const Chain& c : chainEdges(creases)) {
         const size_t n = c.vertices.size();
         std::vector<Eigen::Vector3d> faces(c.closed ? n : n - 1);
@@ -422,7 +447,7 @@ FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, co
         for (size_t i = 0; i < faces.size(); ++i) {
             const Uses& u = uses[edgeKey(c.vertices[i], c.vertices[(i + 1) % n])];
             faces[i] = 0.5 * (normals[u.faces[0]] + normals[u.faces[1]]);
-            closed = closed && !open[root(u.faces[0])];
+            closed = closed && !parts.openAt(u.faces[0]);
         }
         layOnSurface(c, mesh.positions, surface, options, faces, closed, lines.creases);
     }

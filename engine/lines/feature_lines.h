@@ -42,6 +42,18 @@ struct FeatureOptions {
 // the line.
 FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, const FeatureOptions& options = {});
 
+// The parts of a mesh (triangles joined across edges of two faces) and which are open: a part with an edge of one
+// face, or of three and more (a rim, a hole, a fin on a body). An open part is seen from both sides: its faces do
+// not hide its creases, and its back is drawn (Model::twoSided). A triangle with a repeated vertex joins nothing and is
+// its own closed part.
+struct MeshParts {
+    std::vector<uint32_t> part;  // a triangle's part: the index of one of its triangles
+    std::vector<char> open;      // by part index
+    bool anyOpen = false;
+    bool openAt(size_t triangle) const { return open[part[triangle]] != 0; }
+};
+MeshParts meshParts(const OrientedPoints& mesh);
+
 // The crease lines of a point cloud (normalized coordinates, oriented points without faces) on `surface`: where a
 // point's 12 nearest neighbours' normals fall into two tight groups (each within ~18°) turning by more than the
 // crease angle, with at most one normal between them (a smooth bend as sharp turns them through every angle;

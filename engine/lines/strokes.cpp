@@ -139,8 +139,9 @@ void StrokeBuffers::set(Kind kind, const std::vector<PenStroke>& strokes) {
     ++s.generation;
 }
 
-LineRenderer::LineRenderer(Context& ctx, const StrokeBuffers& strokes, VkFormat colorFormat, uint32_t framesInFlight)
-    : ctx_(ctx), strokes_(strokes), frames_(std::max(1u, framesInFlight)) {
+LineRenderer::LineRenderer(Context& ctx, const StrokeBuffers& strokes, VkFormat colorFormat, uint32_t framesInFlight,
+                           bool twoSided)
+    : ctx_(ctx), strokes_(strokes), twoSided_(twoSided), frames_(std::max(1u, framesInFlight)) {
     try {
         styleBuffer_ =
             createBuffer(ctx, sizeof(LineStyleBlock),
@@ -253,7 +254,7 @@ void LineRenderer::recordCull(VkCommandBuffer cmd, const glm::mat4& view, const 
     Frame& f = frames_.at(frame);
     f.push =
         Push{view, projection, glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
-             glm::vec4(pushBack, pixelScale_, 0, 0), glm::uvec4(0)};
+             glm::vec4(pushBack, pixelScale_, twoSided_ ? 1.0f : 0.0f, 0), glm::uvec4(0)};
     // One dispatch a kind of stroke, a thread a segment.
     auto dispatch = [&](VkPipeline pipeline, bool hatching) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);

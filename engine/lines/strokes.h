@@ -60,7 +60,9 @@ constexpr uint32_t kSegmentVisible = gpu::SEG_VISIBLE, kSegmentHidden = gpu::SEG
 // The per-frame side, owned by PointRenderer.
 class LineRenderer {
 public:
-    LineRenderer(Context& ctx, const StrokeBuffers& strokes, VkFormat colorFormat, uint32_t framesInFlight);
+    // `twoSided`: the strokes lie on an open surface, whose hatching shows where it faces away too.
+    LineRenderer(Context& ctx, const StrokeBuffers& strokes, VkFormat colorFormat, uint32_t framesInFlight,
+                 bool twoSided = false);
     ~LineRenderer();
     LineRenderer(const LineRenderer&) = delete;
     LineRenderer& operator=(const LineRenderer&) = delete;
@@ -99,6 +101,7 @@ private:
 
     Context& ctx_;
     const StrokeBuffers& strokes_;
+    bool twoSided_ = false;
     std::vector<Frame> frames_;
     Buffer styleBuffer_;
     float pixelScale_ = 1.0f;

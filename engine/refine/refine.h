@@ -32,6 +32,9 @@ struct GpuRefinement {
     VkQueryPool timestamps = VK_NULL_HANDLE;
     GpuSelection* selection = nullptr;  // owned; null when every refined point is drawn
     HostMs hostMs;                      // of making and running it (select.h)
+    // The points lie on a surface that may be open (the scene sets it from Model::twoSided): its back, where it
+    // shows through an opening, is drawn too (gpu::CAMERA_TWO_SIDED).
+    bool twoSided = false;
     // In `indirect` (gpu::IndirectArgs): the refinement's VkDrawIndirectCommand, and the selection's.
     static constexpr VkDeviceSize kDrawOffset = offsetof(gpu::IndirectArgs, draw);
     static constexpr VkDeviceSize kSelectedDrawOffset = offsetof(gpu::IndirectArgs, selectedDraw);

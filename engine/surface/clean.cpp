@@ -411,6 +411,23 @@ std::vector<size_t> farthestPointSample(const std::vector<Vector3d>& positions, 
     return picked;
 }
 
+bool normalsPointInward(const std::vector<Eigen::Vector3d>& positions, const std::vector<Eigen::Vector3d>& normals) {
+    const size_t k = std::clamp<size_t>(positions.size() / 64, 1, kOutermost);
+    size_t inward = 0, outward = 0;
+    std::vector<std::pair<double, size_t>> along(positions.size());
+    for (int axis = 0; axis < 3; ++axis)
+        for (double side : {-1.0, 1.0}) {
+            for (size_t i = 0; i < positions.size(); ++i) along[i] = {-side * positions[i][axis], i};
+            std::partial_sort(along.begin(), along.begin() + std::ptrdiff_t(k), along.end());
+            for (size_t j = 0; j < k; ++j) {
+                const double lean = side * normals[along[j].second][axis];
+                inward += lean < -0.3;
+                outward += lean > 0.3;
+            }
+        }
+    return inward > 3 * outward;
+}
+
 size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals) {
     const size_t m = positions.size();
     constexpr size_t kNeighbours = 8, kScreenPoints = 20000;

@@ -37,6 +37,14 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance);
 // its pairs are opposed.
 size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals);
 
+// Whether consistently oriented normals point into the shape (a mesh wound inside out, a scan's normals estimated
+// facing inward): the points farthest along each of ±x, ±y, ±z (a 64th of them, 1 to kOutermost) vote, each by the sign
+// of its normal along that direction where it leans along it (|n·d| > 0.3: a rim's or a flat sheet's edge says
+// nothing), and inward wins by three to one. A closed shape's outermost points face outward; an open sheet's votes
+// split (a terrain's lowest and highest points face the same way) and it stays as it is.
+bool normalsPointInward(const std::vector<Eigen::Vector3d>& positions, const std::vector<Eigen::Vector3d>& normals);
+constexpr size_t kOutermost = 16;
+
 // Deterministic farthest-point sampling: starts at the point with the smallest (x, y, z) in
 // lexicographic order, then repeatedly takes the point farthest from those chosen (ties: lowest index).
 // Returns indices into `positions`; count >= positions.size() returns all of them in input order.

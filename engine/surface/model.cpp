@@ -3,6 +3,7 @@
 #include "base/common.h"
 #include "io/hrbf_io.h"
 #include "io/normals.h"
+#include "surface/clean.h"
 #include "surface/surface_sampling.h"
 
 #include <Eigen/Geometry>
@@ -127,6 +128,15 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
                  std::to_string(points.normals.size()) +
                  " normals to agree with their neighbours' (they were not consistently oriented)");
         }
+    }
+    // Inside out (a mesh wound so, a scan's normals estimated inward): turned outward, the winding with them. Drawn
+    // as it was, its "front" was the inside of its far side (CGAL's head.off showed the inside of its face), its
+    // contours' occlusion and its creases' facing tests turned round.
+    if (normalsPointInward(inputs.positions, inputs.normals)) {
+        model.turnedOutward = true;
+        for (size_t i = 0; i < points.normals.size(); ++i) points.normals[i] = inputs.normals[i] = -inputs.normals[i];
+        for (Triangle& t : points.triangles) std::swap(t[1], t[2]);
+        note("turned the input's normals outward: its outermost points' normals pointed inward (inside out)");
     }
     phases.lap("orient");
 
@@ -350,6 +360,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     if (options.features)
         model.features = mesh.triangles.empty() ? pointFeatures(inputs, surface, {options.creaseAngleDeg})
                                                 : meshFeatures(mesh, surface, {options.creaseAngleDeg});
+    if (!mesh.triangles.empty()) model.twoSided = meshParts(mesh).anyOpen;
     phases.lap("features");
     // A mesh supports the surface near its triangles, by twice what the fit misses its vertices by where that is
     // more (a fit of fewer control points); points near themselves.

@@ -33,7 +33,8 @@ struct Model {
     size_t inputPoints = 0;  // read from the file (a mesh's vertices)
     size_t faceSamples = 0;  // points sampled over a mesh's faces and fitted besides its vertices
     size_t mergedDuplicates = 0;
-    size_t flippedNormals = 0;  // a point cloud's normals turned to agree with their neighbours' (orientNormals)
+    size_t flippedNormals = 0;   // a point cloud's normals turned to agree with their neighbours' (orientNormals)
+    bool turnedOutward = false;  // every normal turned: they pointed inward (normalsPointInward)
     double loadSeconds = 0;
     // The error at every point the fit was given (all input points, not only the control points), normalized
     // units (fractions of the diagonal), evaluated as the device evaluates.
@@ -46,6 +47,10 @@ struct Model {
     // the patches' weights fade, away from the data, its coarse HRBF takes over, and its zero set there is a
     // stray sheet no input point stands for (a CAD part's flat faces grew domes 4% of the diagonal high).
     bool trimFarField = false;
+    // Its back is drawn where it shows (GpuRefinement::twoSided): an open surface's inside, seen through its
+    // openings. A mesh's where a part of it is open (meshParts: a rim, a hole, a fin); a point cloud's and a .hrbf
+    // model's always, their rims unknown (on a closed surface the back shows almost nowhere: docs/algorithm.md §4).
+    bool twoSided = true;
 
     // Whether the drawing keeps x (normalized coordinates): the input supports it, and where the partition of
     // unity is trimmed, its patches carry the blend (Σ w_i ≥ kFarFieldTrim · τ: the far field holds under a

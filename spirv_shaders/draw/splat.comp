@@ -19,7 +19,9 @@ layout(local_size_x = GROUP_SIZE) in;
 // sampling) a sample writes its own cell only, beyond MAX_SPARSE_CELLS a side.
 const int MAX_CELLS = 24, MAX_SPARSE_CELLS = 9;
 
-void splat(vec3 c, vec3 n) {
+// `back`: the disk of an open surface's back (CAMERA_TWO_SIDED), which marks the cells it is nearest in with the
+// depth's lowest bit (one ulp): stamp.comp hides a back dot behind a front-facing disk more strictly.
+void splat(vec3 c, vec3 n, bool back) {
     vec4 clip = project(c);
     vec2 grid = cam.viewport.zw;
     vec2 center = (clip.xy / clip.w * 0.5 + 0.5) * grid;
@@ -78,6 +80,7 @@ void splat(vec3 c, vec3 n) {
             hit += along * (cam.splat.y + curve);
             vec4 h = project(hit);
             uint cellDepth = floatBitsToUint(max(h.z / h.w, 0.0));
+            if ((cam.counts.y & CAMERA_TWO_SIDED) != 0u) cellDepth = cellDepth & ~1u | (back ? 1u : 0u);
             for (int by = y; by < min(y + block, hi.y + 1); ++by)
                 for (int bx = x; bx < min(x + block, hi.x + 1); ++bx) atomicMin(depth[by * int(grid.x) + bx], cellDepth);
         }
@@ -86,9 +89,9 @@ void splat(vec3 c, vec3 n) {
 
 // Whether the point's dot may show — its class is not BACK, its tone keeps it, it is in the frustum — and
 // that dot.
-bool selectDot(Point p, uint index, vec3 c, vec3 n, float nv, out Dot d) {
+bool selectDot(Point p, uint index, vec3 c, vec3 n, float nv, bool back, out Dot d) {
     uint cls = classify(nv);
-    d.cls = cls | (index << 2u);
+    d.cls = cls | (back ? DOT_BACK_SIDE : 0u) | (index << 3u);
     d.radius = 0.0;
     d.key = floatBitsToUint(p.tone);
     d.state = SPACE_FIXED;
@@ -137,12 +140,21 @@ void main() {
     vec3 c = (cam.view * vec4(p.position, 1.0)).xyz;
     vec3 n = mat3(cam.view) * p.normal;
     float nv = dot(n, -normalize(c));
+    // Disks facing away lie behind the front surface of a closed shape; keep a margin for edge-on ones. An open
+    // surface's (CAMERA_TWO_SIDED) are its back, seen through its openings: splatted, and its points drawn as the
+    // other side, facing the eye (lit and classified so); those that would be BACK are tested as such (stamp.comp).
+    bool twoSided = (cam.counts.y & CAMERA_TWO_SIDED) != 0u;
+    bool backDisk = twoSided && nv < -0.2, backDot = twoSided && nv <= -style.size.w;
+    if (twoSided && nv < 0.0) {
+        n = -n;
+        nv = -nv;
+        p.normal = -p.normal;
+    }
     bool inFront = i < cam.counts.x && -c.z > 1e-6;
-    // Disks facing away lie behind the front surface of a closed shape; keep a margin for edge-on ones.
-    if (inFront && cam.splat.x > 0.0 && nv >= -0.2) splat(c, n);
+    if (inFront && cam.splat.x > 0.0 && nv >= -0.2) splat(c, n, backDisk);
 
     Dot d;
-    bool selected = inFront && style.options.y == 0.0 && selectDot(p, i, c, n, nv, d);
+    bool selected = inFront && style.options.y == 0.0 && selectDot(p, i, c, n, nv, backDot, d);
     // Appended a subgroup at a time: one atomic for the slots, one for the dispatch size.
     uvec4 ballot = subgroupBallot(selected);
     uint count = subgroupBallotBitCount(ballot), first = 0u;

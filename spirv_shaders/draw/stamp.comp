@@ -37,7 +37,21 @@ uint visibleClass(Dot d) {
     if (cam.splat.x <= 0.0) return cls;
     vec2 grid = cam.viewport.zw;
     ivec2 cell = clamp(ivec2(d.pixel / cam.viewport.xy * grid), ivec2(0), ivec2(grid) - 1);
-    if (d.z <= uintBitsToFloat(depth[cell.y * int(grid.x) + cell.x])) return cls;
+    bool shows = d.z <= uintBitsToFloat(depth[cell.y * int(grid.x) + cell.x]);
+    if (shows && (d.cls & DOT_BACK_SIDE) != 0u) {
+        // The back of an open surface shows in front of every front-facing disk in its cell and the cells around
+        // (a cell the front surface's disks leave uncovered is no opening), tested two push-backs farther (view
+        // depth z = −P32 / (ndc + P22)).
+        float view = -cam.projection.w / (d.z + cam.projection.z) - 2.0 * cam.splat.y;
+        float z = -cam.projection.z - cam.projection.w / view;
+        ivec2 lo = max(cell - 1, ivec2(0)), hi = min(cell + 1, ivec2(grid) - 1);
+        for (int y = lo.y; y <= hi.y && shows; ++y)
+            for (int x = lo.x; x <= hi.x; ++x) {
+                uint nearest = depth[y * int(grid.x) + x];
+                if ((nearest & 1u) == 0u && z > uintBitsToFloat(nearest)) shows = false;
+            }
+    }
+    if (shows) return cls;
     return cls == SILHOUETTE && (cam.counts.y & CAMERA_HIDDEN) != 0u ? HIDDEN : BACK;
 }
 
@@ -47,7 +61,7 @@ void main() {
     if (cam.counts.w == PASS_VISIBILITY) {
         if (i >= list.dispatch.w) return;
         uint cls = visibleClass(d);
-        list.dots[i].cls = d.cls >> 2u << 4u | cls << 2u | (d.cls & 3u);
+        list.dots[i].cls = d.cls >> 3u << 4u | cls << 2u | (d.cls & 3u);
         if (cls == BACK) list.dots[i].state = SPACE_FIXED;
         return;
     }

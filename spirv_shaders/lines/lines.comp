@@ -40,8 +40,14 @@ bool hatchShows(uint index, out float pixels) {
     vec3 mid = 0.5 * (a + b), n = mat3(cam.view) * t2.xyz;
     pixels = -a.z > 1e-6 && -b.z > 1e-6 ? length(toPixels(project(b)) - toPixels(project(a))) : 0.0;
     float nv = dot(n, -normalize(mid));
+    vec3 normal = t2.xyz;
+    if (cam.params.z != 0.0 && nv < 0.0) {  // an open surface seen from behind: its other side (CAMERA_TWO_SIDED)
+        n = -n;
+        nv = -nv;
+        normal = -normal;
+    }
     uint family = (kind >> HATCH_FAMILY_SHIFT) & 3u, level = (kind >> HATCH_LEVEL_SHIFT) & 1u;
-    float lit = max(0.0, dot(lineStyle.options.x != 0.0 ? t2.xyz : n, lineStyle.light.xyz));
+    float lit = max(0.0, dot(lineStyle.options.x != 0.0 ? normal : n, lineStyle.light.xyz));
     float darkness = (lineStyle.tone.y + pow(1.0 - lit, max(lineStyle.light.w, 1e-3))) * lineStyle.tone.x;
     float threshold = family < 2u ? lineStyle.thresholds[family * 2u + level] : lineStyle.diagonal[level];
     // The diagonal family needs the surface turned towards the eye more (diagonal.z): beside an outline the view

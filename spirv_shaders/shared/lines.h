@@ -55,7 +55,8 @@ struct LineCamera {
     mat4 view;        // model → view (rigid)
     vec4 projection;  // P00, P11, P22, P32
     vec4 viewport;    // width, height in pixels; width, height of the depth grid
-    vec4 params;      // x: push-back (model units); y: pixel scale (supersampling)
+    vec4 params;      // x: push-back (model units); y: pixel scale (supersampling); z: 1 on an open surface
+                      // (hatching shows where it faces away too, as the dots do: gpu::CAMERA_TWO_SIDED)
     uvec4 counts;     // x: segments; y: draw mode (line.vert): 0 hatching, 1 hidden contours, 2 halos, 3 contours;
                       // lines_stamp.comp: 0 hatching, 1 contours (and crease and boundary lines)
 };

@@ -101,6 +101,50 @@ TEST_CASE("fit: a point cloud's normals pointing every way are oriented; consist
     CHECK(ink::fitModel(plate, {}).flippedNormals == 0);
 }
 
+TEST_CASE("fit: a shape whose normals all point inward is turned outward, its winding with them; a sheet is left" *
+          doctest::test_suite("unit")) {
+    // An octahedron's mesh wound inside out (CGAL's head.off is: its face was drawn from inside), and the same
+    // vertices as a point cloud with inward normals.
+    ink::OrientedPoints mesh;
+    for (int axis = 0; axis < 3; ++axis)
+        for (double side : {-1.0, 1.0}) {
+            mesh.positions.push_back(side * Vector3d::Unit(axis));
+            mesh.normals.push_back(-side * Vector3d::Unit(axis));
+        }
+    for (uint32_t x : {0u, 1u})
+        for (uint32_t y : {2u, 3u})
+            for (uint32_t z : {4u, 5u}) {
+                // Outward winding when the corners' signs multiply to +1; reversed here.
+                const bool outward = (x == 1) == (y == 3) ? z == 5 : z == 4;
+                mesh.triangles.push_back(outward ? ink::Triangle{x, z, y} : ink::Triangle{x, y, z});
+            }
+    CHECK(ink::normalsPointInward(mesh.positions, mesh.normals));
+    const ink::Model turned = ink::fitModel(mesh, {});
+    CHECK(turned.turnedOutward);
+    Vector3d g;
+    const Vector3d outside = turned.surface.frame.toNormalized(Vector3d(0, 0, 0.5));
+    CHECK(turned.surface.eval(turned.surface.frame.toNormalized(Vector3d::Zero()), g) < 0);  // inside
+    turned.surface.eval(outside, g);
+    CHECK(g.z() > 0);  // ∇f points out of the shape
+    ink::OrientedPoints cloud = mesh;
+    cloud.triangles.clear();
+    CHECK(ink::fitModel(cloud, {}).turnedOutward);
+    for (Vector3d& n : cloud.normals) n = -n;
+    CHECK_FALSE(ink::normalsPointInward(cloud.positions, cloud.normals));
+    CHECK_FALSE(ink::fitModel(cloud, {}).turnedOutward);
+    // A rolling sheet, normals up: its highest points face out, its lowest in, its sides say nothing.
+    ink::OrientedPoints sheet;
+    for (int i = 0; i < 40; ++i)
+        for (int j = 0; j < 40; ++j) {
+            const double x = i / 39.0, y = j / 39.0;
+            sheet.positions.push_back({x, y, 0.1 * std::sin(6 * x) * std::cos(5 * y)});
+            sheet.normals.push_back(
+                Vector3d(-0.6 * std::cos(6 * x) * std::cos(5 * y), 0.5 * std::sin(6 * x) * std::sin(5 * y), 1)
+                    .normalized());
+        }
+    CHECK_FALSE(ink::normalsPointInward(sheet.positions, sheet.normals));
+}
+
 TEST_CASE("fit: a large cloud's normals are screened on a sample first, and still oriented where they disagree" *
           doctest::test_suite("unit")) {
     // Over 40,000 points orientNormals looks at a sample first; a cloud that needs orienting must still get the
