@@ -27,8 +27,10 @@ constexpr int kSmoothingRounds = 10;  // λ|μ pairs
 // its image on the fit, which ripples along a rounded crease by a pixel or two at every mesh vertex (a box's
 // outline drawn wavy). Of the points of the plate-with-hole's, the fandisk's and CGAL's cube's creases, 99% lie within
 // 0.0015–0.0028 of f = 0 (all within 0.0037); the farthest, where a chain cuts a small part's corner, are drawn this
-// far towards the edge. The device's visibility test for these lines allows four splat radii.
+// far towards the edge. The device's visibility test for these lines allows two splat radii and each point's standoff.
 constexpr double kLineOffset = 0.004;
+// The most a point's PenStroke::standoff allows for: a little more than kLineOffset either way.
+constexpr double kMaxStandoff = 0.01;
 
 struct Chain {
     std::vector<uint32_t> vertices;
@@ -165,16 +167,26 @@ void layOnSurface(const Chain& chain, const std::vector<Eigen::Vector3d>& positi
     const SmoothChain smooth = smoothChain(chain, positions);
     const std::vector<Eigen::Vector3d>& x = smooth.x;
     PenStroke stroke;
-    std::vector<bool> pinned;  // the stroke's points at the chain's fixed points
+    std::vector<bool> pinned;         // the stroke's points at the chain's fixed points
+    std::vector<Eigen::Vector3d> at;  // the edge at each of its points, before it was kept near the fit
     bool broken = false;
     auto flush = [&] {
         if (stroke.points.size() >= 2 && stroke.length() >= options.minLength) {
             smoothLaid(surface, stroke, pinned, !faces.empty());
             stroke.faced = faced;
+            // PenStroke::standoff: inside the fit (f < 0), and drawn back from the edge.
+            for (size_t k = 0; k < stroke.points.size(); ++k) {
+                const Eigen::Vector3d p = stroke.points[k].cast<double>();
+                Eigen::Vector3d g;
+                const double f = surface.eval(p, g), length = g.norm();
+                const double inside = length > 0 && std::isfinite(f) ? std::max(0.0, -f / length) : 0.0;
+                stroke.standoff.push_back(float(std::min(inside + (at[k] - p).norm(), kMaxStandoff)));
+            }
             out.push_back(std::move(stroke));
         }
         stroke = {};
         pinned.clear();
+        at.clear();
     };
     const size_t n = chain.vertices.size(), segments = chain.closed ? n : n - 1;
     for (size_t i = 0; i < segments; ++i) {
@@ -198,6 +210,7 @@ void layOnSurface(const Chain& chain, const std::vector<Eigen::Vector3d>& positi
                 continue;
             }
             // The edge itself where it lies within kLineOffset of the fit, else the point that far towards it.
+            at.push_back(p);
             const double off = (p - q).norm();
             if (off > kLineOffset) p = q + (p - q) * (kLineOffset / off);
             stroke.points.push_back(p.cast<float>());
@@ -569,7 +582,9 @@ FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, 
         std::vector<Eigen::Vector3d> faces(c.closed ? n : n - 1);
         for (size_t i = 0; i < faces.size(); ++i)
             faces[i] = 0.5 * (mean[c.vertices[i]] + mean[c.vertices[(i + 1) % n]]);
-        // A point cloud's surface is drawn from one side (as its dots are): its faces hide its creases.
+        // Faced: a cloud's creases are mostly a closed CAD scan's, whose faces hide them where both turn away. Its
+        // dots are drawn from both sides (its rims are not known), so an open scan seen from behind shows its back
+        // without these lines.
         layOnSurface(c, x, surface, options, faces, true, lines.creases);
     }
     return lines;

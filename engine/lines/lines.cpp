@@ -277,6 +277,7 @@ std::vector<PenStroke> keepRuns(const std::vector<PenStroke>& strokes, const std
             }
             run.points.push_back(s.points[i]);
             run.normals.push_back(s.normals[i]);
+            if (!s.standoff.empty()) run.standoff.push_back(s.standoff[i]);
             run.curve = s.curve;
             run.family = s.family;
             run.level = s.level;

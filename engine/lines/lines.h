@@ -33,6 +33,10 @@ struct PenStroke {
     // Creases: of a closed part (a point cloud's, or a mesh's without open edges), whose faces hide it where both turn
     // away from the eye; an open part is seen from both sides.
     bool faced = false;
+    // Crease and boundary lines, a value a point (else empty): how far it lies behind the surface the eye sees there
+    // (normalized units): inside the fit where the fit fills a concave crease, plus how far it was drawn back from the
+    // edge towards the fit. The depth test allows for it (lines.comp), so that the fixed allowance stays small.
+    std::vector<float> standoff;
     double length() const;
 };
 

@@ -48,7 +48,10 @@ std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, StrokeBu
         std::vector<float> arc(m, 0.0f);
         for (size_t i = 1; i < m; ++i) arc[i] = arc[i - 1] + (s.points[i] - s.points[i - 1]).norm();
         const float length = arc.back(), taper = std::min(kTaper, 0.3f * length);
-        auto width = [&](size_t i) {
+        // The points' fourth texel: a feature line's standoff (PenStroke::standoff), else the pen's width factor,
+        // which tapers a hatching stroke's open ends.
+        auto fourth = [&](size_t i) {
+            if (feature) return s.standoff.empty() ? 0.0f : s.standoff[i];
             if (!hatching || s.closed) return 1.0f;
             return 0.25f + 0.75f * std::min(1.0f, std::min(arc[i], length - arc[i]) / taper);
         };
@@ -79,8 +82,8 @@ std::vector<float> segmentTexels(const std::vector<PenStroke>& strokes, StrokeBu
             const Eigen::Vector3f n = feature == gpu::KIND_CREASE
                                           ? Eigen::Vector3f(0.5f * (normals[i] + normals[j]))
                                           : Eigen::Vector3f((normals[i] + normals[j]).normalized());
-            const float texels[12] = {s.points[i].x(), s.points[i].y(), s.points[i].z(), width(i),
-                                      s.points[j].x(), s.points[j].y(), s.points[j].z(), width(j),
+            const float texels[12] = {s.points[i].x(), s.points[i].y(), s.points[i].z(), fourth(i),
+                                      s.points[j].x(), s.points[j].y(), s.points[j].z(), fourth(j),
                                       n.x(),           n.y(),           n.z(),           floatOf(kind)};
             out.insert(out.end(), texels, texels + 12);
         }

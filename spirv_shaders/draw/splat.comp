@@ -144,17 +144,17 @@ void main() {
     // surface's (CAMERA_TWO_SIDED) are its back, seen through its openings: splatted, and its points drawn as the
     // other side, facing the eye (lit and classified so); those that would be BACK are tested as such (stamp.comp).
     bool twoSided = (cam.counts.y & CAMERA_TWO_SIDED) != 0u;
-    bool backDisk = twoSided && nv < -0.2, backDot = twoSided && nv <= -style.size.w;
+    bool back = twoSided && nv <= -style.size.w;  // what one-sided drawing classifies BACK
     if (twoSided && nv < 0.0) {
         n = -n;
         nv = -nv;
         p.normal = -p.normal;
     }
     bool inFront = i < cam.counts.x && -c.z > 1e-6;
-    if (inFront && cam.splat.x > 0.0 && nv >= -0.2) splat(c, n, backDisk);
+    if (inFront && cam.splat.x > 0.0 && nv >= -0.2) splat(c, n, back);
 
     Dot d;
-    bool selected = inFront && style.options.y == 0.0 && selectDot(p, i, c, n, nv, backDot, d);
+    bool selected = inFront && style.options.y == 0.0 && selectDot(p, i, c, n, nv, back, d);
     // Appended a subgroup at a time: one atomic for the slots, one for the dispatch size.
     uvec4 ballot = subgroupBallot(selected);
     uint count = subgroupBallotBitCount(ballot), first = 0u;

@@ -28,6 +28,23 @@ uint depthAt(vec2 pixel) {
 
 vec2 toPixels(vec4 clip) { return (clip.xy / clip.w * 0.5 + 0.5) * cam.viewport.xy; }
 
+// Whether a point of an open surface's back (CAMERA_TWO_SIDED) lies behind a front-facing disk of its depth cell or
+// the eight around by more than two push-backs: hidden then, as stamp.comp hides the back's dots (the depth's lowest
+// bit clear: written by a front-facing disk), so that a closed part's back does not show at folds and thin parts.
+bool behindFront(vec3 p) {
+    vec4 farther = project(p + normalize(p) * (2.0 * cam.params.x));
+    float z = farther.z / farther.w;
+    vec2 grid = cam.viewport.zw;
+    ivec2 cell = clamp(ivec2(toPixels(farther) / cam.viewport.xy * grid), ivec2(0), ivec2(grid) - 1);
+    ivec2 lo = max(cell - 1, ivec2(0)), hi = min(cell + 1, ivec2(grid) - 1);
+    for (int y = lo.y; y <= hi.y; ++y)
+        for (int x = lo.x; x <= hi.x; ++x) {
+            uint nearest = depth[y * int(grid.x) + x];
+            if ((nearest & 1u) == 0u && z > uintBitsToFloat(nearest)) return true;
+        }
+    return false;
+}
+
 // Whether hatching segment `index` shows: it faces the camera, its tone is dark enough for its family and level,
 // and it is not behind the surface (tested one push-back nearer the camera against the depth grid; past the
 // image's edge, where there is no depth to test, a segment the walk reaches counts, so that strokes are not cut
@@ -41,7 +58,8 @@ bool hatchShows(uint index, out float pixels) {
     pixels = -a.z > 1e-6 && -b.z > 1e-6 ? length(toPixels(project(b)) - toPixels(project(a))) : 0.0;
     float nv = dot(n, -normalize(mid));
     vec3 normal = t2.xyz;
-    if (cam.params.z != 0.0 && nv < 0.0) {  // an open surface seen from behind: its other side (CAMERA_TWO_SIDED)
+    bool back = cam.params.z != 0.0 && nv < 0.0;
+    if (back) {  // an open surface seen from behind: its other side (CAMERA_TWO_SIDED)
         n = -n;
         nv = -nv;
         normal = -normal;
@@ -56,7 +74,7 @@ bool hatchShows(uint index, out float pixels) {
     vec4 nearer = project(mid - normalize(mid) * cam.params.x);
     vec2 pixel = toPixels(nearer);
     if (any(lessThan(pixel, vec2(0.0))) || any(greaterThanEqual(pixel, cam.viewport.xy))) return true;
-    return nearer.z / nearer.w <= uintBitsToFloat(depthAt(pixel));
+    return nearer.z / nearer.w <= uintBitsToFloat(depthAt(pixel)) && !(back && behindFront(mid));
 }
 
 void main() {
@@ -95,9 +113,12 @@ void main() {
         flags = SEG_VISIBLE;
         width = lineStyle.widths.z;
     } else if (feature) {
-        // Four push-backs: the fit rounds a crease, and the splat disks of the faces either side stand out past
-        // the rounded edge (two left the fandisk's curved creases dashed).
-        vec4 nearer = project(mid - normalize(mid) * (4.0 * cam.params.x));
+        // Two push-backs, and the line's standoff (how far it lies behind the surface the eye sees: inside the fit's
+        // fillet of a concave crease) as far along the view as the faces' mean normal makes it, at most four times.
+        // Four push-backs alone let creases behind thin walls show (CGAL's cheese).
+        vec3 facing = dot(n, n) > 1e-12 ? normalize(n) : vec3(0.0);
+        float standoff = 0.5 * (t0.w + t1.w) / max(abs(dot(facing, normalize(mid))), 0.25);
+        vec4 nearer = project(mid - normalize(mid) * (2.0 * cam.params.x + standoff));
         bool visible = nearer.z / nearer.w <= uintBitsToFloat(depthAt(toPixels(nearer)));
         if ((kind & KIND_FACED) != 0u) {
             // t2.xyz: the mean m of the faces' unit normals n₁, n₂ (length cos(α/2)). With u the unit vector across
@@ -135,7 +156,7 @@ void main() {
     }
     DrawSegment s;
     s.ends = vec4(pa, pb);
-    s.widths = 0.5 * width * vec2(t0.w, t1.w);
+    s.widths = 0.5 * width * (feature ? vec2(1.0) : vec2(t0.w, t1.w));
     s.flags = keep ? flags : 0u;
     s.segment = index | raw;
     if (i < cam.counts.x) drawList.list[i] = s;

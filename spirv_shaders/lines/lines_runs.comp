@@ -48,5 +48,6 @@ void main() {
     // Flipped: no halo for a contour made visible (its interior test was not made), nothing for a hidden one
     // unless hidden lines are drawn.
     drawList.list[i].flags = shows ? SEG_VISIBLE : (lineStyle.options.y != 0.0 ? SEG_HIDDEN : 0u);
-    drawList.list[i].widths = 0.5 * lineWidth(kind, shows) * vec2(t0.w, t1.w);
+    bool feature = (kind & (KIND_CREASE | KIND_BOUNDARY)) != 0u;  // their w is a standoff (lines.h)
+    drawList.list[i].widths = 0.5 * lineWidth(kind, shows) * (feature ? vec2(1.0) : vec2(t0.w, t1.w));
 }

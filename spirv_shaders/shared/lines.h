@@ -8,10 +8,11 @@
 
 INK_BEGIN
 
-// Traced segments, fixed in object space: LINE_TEXELS RGBA32F texels each, (p0, width factor 0), (p1, width
-// factor 1), (unit normal (a crease's: the mean of its faces' unit normals, of length cos(α/2)), kind bits:
-// limits.h's KIND_HATCH | family << HATCH_FAMILY_SHIFT | level << HATCH_LEVEL_SHIFT, or KIND_CREASE | KIND_FACED,
-// KIND_BOUNDARY, a contour's KIND_OCCLUDED, and the segments before and after it in its stroke).
+// Traced segments, fixed in object space: LINE_TEXELS RGBA32F texels each, (p0, w0), (p1, w1), (unit normal (a
+// crease's: the mean of its faces' unit normals, of length cos(α/2)), kind bits: limits.h's KIND_HATCH | family <<
+// HATCH_FAMILY_SHIFT | level << HATCH_LEVEL_SHIFT, or KIND_CREASE | KIND_FACED, KIND_BOUNDARY, a contour's
+// KIND_OCCLUDED, and the segments before and after it in its stroke). w: the pen's width factor at the end (hatching
+// tapers), a crease's or boundary's standoff there (PenStroke::standoff, model units).
 INK_CONST uint LINE_TEXELS = 3u;
 
 // A segment that shows this frame, in pixels (std430). The draw list is a uvec4 header (VkDrawIndirectCommand: 6
