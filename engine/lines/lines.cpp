@@ -375,6 +375,11 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, c
         std::vector<Vector3d> curve(backward.rbegin(), backward.rend());
         curve.push_back(x0);
         curve.insert(curve.end(), forward.begin(), forward.end());
+        // Closed only where its ends meet: a backward march that came back near the seed after the forward one
+        // stopped elsewhere (a small loop at the seed, a branch passing it) left the forward march's end far from
+        // its start, and the closing segment bridged them (CGAL's elephant-with-holes from behind: across the paper
+        // from the trunk to the rump).
+        closed = closed && (curve.back() - curve.front()).norm() <= 5 * step;
         double loop = 0;
         for (size_t i = 1; i < curve.size(); ++i) loop += (curve[i] - curve[i - 1]).norm();
         if (curve.size() < 4 || (closed && loop < options.minLoopLength)) {
