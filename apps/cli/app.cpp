@@ -25,6 +25,7 @@ inkwell::ModelOptions modelOptions(const Options& o) {
     m.method = o.fit == "global" ? inkwell::FitMethod::Global : inkwell::FitMethod::PartitionOfUnity;
     m.creaseAngleDeg = o.creaseAngle;
     m.trim = o.trim;
+    m.removeOutliers = o.removeOutliers;
     // The feature lines only where they may be drawn: by the style's pen lines, or in the viewer, whose panel
     // turns them on (fit, sample and a render of dots alone skip them).
     m.features = o.drawing.creases || o.drawing.boundaries || (o.command && o.command->get_name() == "view");
@@ -44,6 +45,9 @@ void addModelOptions(CLI::App* cmd, Options& o) {
     cmd->add_flag("!--no-trim", o.trim,
                   "Keep the surface the input does not support (by default an open scan's holes stay open, the "
                   "fit's caps over them dropped, and so are its stray sheets away from the data)");
+    cmd->add_flag("!--keep-outliers", o.removeOutliers,
+                  "Fit every point of a point cloud (by default points that stand alone, off the surface their "
+                  "neighbours sample, are left out: a scan's stray returns, each drawn as a floating blob)");
     cmd->add_option("--fit", o.fit,
                     "pu: local HRBFs blended by a partition of unity (any size, float on the device); global: the "
                     "report's single dense HRBF (at most 4000 points, needs shaderFloat64)")

@@ -47,6 +47,7 @@ struct Options {
     std::string hatchField = "auto";     // --hatch-field: auto, cpu or device
     double creaseAngle = 60;
     bool trim = true;
+    bool removeOutliers = true;
     std::vector<float> camera;  // azimuth, elevation, distance
     std::vector<uint32_t> size{1024, 1024};
     std::string ink = "#000000", paper = "#ffffff", preset;

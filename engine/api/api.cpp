@@ -146,8 +146,9 @@ using api::toVec3;
 // ---- Model
 
 ink::ModelOptions api::toInk(const ModelOptions& o) {
-    return {o.controlPoints, o.method == FitMethod::Global ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity,
-            o.creaseAngleDeg, o.trim, o.features};
+    return {o.controlPoints,  o.method == FitMethod::Global ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity,
+            o.creaseAngleDeg, o.trim,
+            o.removeOutliers, o.features};
 }
 
 void checkModelOptions(const ModelOptions& options) { ink::checkModelOptions(api::toInk(options)); }

@@ -21,7 +21,8 @@ json fitJson(const ink::Model& m) {
               {"input_mean_distance", m.inputMeanDistance},
               {"input_max_normal_angle_deg", m.inputMaxAngleDeg},
               {"two_sided", m.twoSided},
-              {"turned_outward", m.turnedOutward}};
+              {"turned_outward", m.turnedOutward},
+              {"outliers", m.outliers}};
     if (!m.fit.phases.ms.empty()) {  // a fitted model: where its fit's time went
         json phases = json::object();
         for (const auto& [step, ms] : m.fit.phases.ms) phases[step] = ms;

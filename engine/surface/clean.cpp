@@ -411,6 +411,56 @@ std::vector<size_t> farthestPointSample(const std::vector<Vector3d>& positions, 
     return picked;
 }
 
+size_t removeOutliers(OrientedPoints& points) {
+    const size_t m = points.positions.size(), k = kOutlierNeighbours;
+    if (!points.triangles.empty() || m <= 8 * k) return 0;
+    const PointCloud cloud{points.positions};
+    const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    std::vector<float> spacing(m, 0.0f);
+    std::vector<uint32_t> neighbours(m * k, 0);
+    parallelChunks(m, 4096, [&](size_t begin, size_t end, size_t) {
+        std::array<uint32_t, kOutlierNeighbours + 1> index{};
+        std::array<double, kOutlierNeighbours + 1> squared{};
+        for (size_t i = begin; i < end; ++i) {
+            const size_t found = tree.knnSearch(points.positions[i].data(), k + 1, index.data(), squared.data());
+            double sum = 0;
+            size_t used = 0;
+            for (size_t j = 0; j < found && used < k; ++j) {
+                if (index[j] == i) continue;
+                sum += std::sqrt(squared[j]);
+                neighbours[i * k + used++] = index[j];
+            }
+            for (size_t j = used; j < k; ++j) neighbours[i * k + j] = uint32_t(i);
+            spacing[i] = used > 0 ? float(sum / double(used)) : 0.0f;
+        }
+    });
+    auto median = [](std::vector<float> v) {
+        std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+        return v[v.size() / 2];
+    };
+    const float global = median(spacing);
+    std::vector<char> outlier(m, 0);
+    parallelChunks(m, 4096, [&](size_t begin, size_t end, size_t) {
+        std::vector<float> around(k);
+        for (size_t i = begin; i < end; ++i) {
+            for (size_t j = 0; j < k; ++j) around[j] = spacing[neighbours[i * k + j]];
+            const float local = median(around);
+            outlier[i] = (local > 0 && spacing[i] > float(kOutlierLocal) * local) ||
+                         (global > 0 && spacing[i] > float(kOutlierGlobal) * global);
+        }
+    });
+    size_t kept = 0;
+    for (size_t i = 0; i < m; ++i) {
+        if (outlier[i]) continue;
+        points.positions[kept] = points.positions[i];
+        points.normals[kept] = points.normals[i];
+        ++kept;
+    }
+    points.positions.resize(kept);
+    points.normals.resize(kept);
+    return m - kept;
+}
+
 bool normalsPointInward(const std::vector<Eigen::Vector3d>& positions, const std::vector<Eigen::Vector3d>& normals) {
     const size_t k = std::clamp<size_t>(positions.size() / 64, 1, kOutermost);
     size_t inward = 0, outward = 0;

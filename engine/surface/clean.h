@@ -37,6 +37,16 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance);
 // its pairs are opposed.
 size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals);
 
+// A point cloud's outliers: points that stand alone, off the surface their neighbours sample (a scan's stray returns).
+// Each point's spacing is its mean distance to its kOutlierNeighbours nearest; a point is an outlier where that is
+// over kOutlierLocal times the median of its neighbours' spacings (it lies away from a surface they sample densely)
+// or over kOutlierGlobal times the median spacing of the whole cloud (far from everything). Both follow the local
+// density, so a sparsely scanned region keeps its points. Removes them (and their normals); returns how many.
+// A mesh (points with triangles) is left alone.
+size_t removeOutliers(OrientedPoints& points);
+constexpr size_t kOutlierNeighbours = 8;
+constexpr double kOutlierLocal = 4.0, kOutlierGlobal = 10.0;
+
 // Whether consistently oriented normals point into the shape (a mesh wound inside out, a scan's normals estimated
 // facing inward): the points farthest along each of ±x, ±y, ±z (a 64th of them, 1 to kOutermost) vote, each by the sign
 // of its normal along that direction where it leans along it (|n·d| > 0.3: a rim's or a flat sheet's edge says

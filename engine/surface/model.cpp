@@ -110,6 +110,11 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     Model model;
     PhaseTimes& phases = model.fit.phases;
     model.inputPoints = points.positions.size();
+    if (options.removeOutliers && (model.outliers = removeOutliers(points)))
+        note("left out " + std::to_string(model.outliers) + " of the input's " + std::to_string(model.inputPoints) +
+             " points that stand alone, off the surface their neighbours sample (outliers; --keep-outliers keeps "
+             "them)");
+    phases.lap("outliers");
     if (model.inputPoints > kMaxPuPoints && options.controlPoints == 0)
         throw Error("the input has " + std::to_string(model.inputPoints) + " points, more than the fit takes (" +
                     std::to_string(kMaxPuPoints) + "): choose fewer with --control-points");

@@ -21,7 +21,8 @@ struct ModelOptions {
     size_t controlPoints = 0;
     FitMethod method = FitMethod::PartitionOfUnity;
     double creaseAngleDeg = kCreaseAngleDeg;  // the feature lines' creases (feature_lines.h), in (0, 180)
-    bool trim = true;  // drop what the input does not support (support.h): an open scan's extrapolated caps
+    bool trim = true;            // drop what the input does not support (support.h): an open scan's extrapolated caps
+    bool removeOutliers = true;  // a point cloud's points that stand alone, off its surface (clean.h)
     // Find the feature lines (Model::features; a 10⁶-point scan's creases take 2 s): off where none will be drawn.
     bool features = true;
 };
@@ -35,6 +36,7 @@ struct Model {
     size_t mergedDuplicates = 0;
     size_t flippedNormals = 0;   // a point cloud's normals turned to agree with their neighbours' (orientNormals)
     bool turnedOutward = false;  // every normal turned: they pointed inward (normalsPointInward)
+    size_t outliers = 0;         // a point cloud's points left out, standing alone off its surface (removeOutliers)
     double loadSeconds = 0;
     // The error at every point the fit was given (all input points, not only the control points), normalized
     // units (fractions of the diagonal), evaluated as the device evaluates.

@@ -52,6 +52,9 @@ struct ModelOptions {
     // Drops what the input does not support: the fit's caps over an open scan's holes, and its stray sheets away
     // from the data where its far field takes over (docs/lines.md).
     bool trim = true;
+    // Leaves out a point cloud's outliers: points that stand alone, off the surface their neighbours sample (a scan's
+    // stray returns), each of which the fit would otherwise draw as a floating blob (docs/file-formats.md).
+    bool removeOutliers = true;
     // Looks for the crease and boundary lines (Drawing::creases; a 10⁶-point scan's creases take 2 s): off where
     // none will be drawn.
     bool features = true;
