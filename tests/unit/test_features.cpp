@@ -150,6 +150,16 @@ int inkAround(const ink::RgbaImage& image, uint32_t size, const Eigen::Vector2d&
     return found;
 }
 
+// The points a refinement draws (its stipples, or its refined points), as the device holds them.
+std::vector<ink::gpu::Point> drawnPoints(GpuFixture& gpu, const ink::GpuRefinement& r) {
+    uint32_t draw[4];
+    ink::downloadBuffer(gpu.ctx, r.indirect, r.drawOffset(), draw, sizeof(draw));
+    std::vector<ink::gpu::Point> points(draw[0]);
+    ink::downloadBuffer(gpu.ctx, r.drawnPoints(), VkDeviceSize(draw[2]) * sizeof(ink::gpu::Point), points.data(),
+                        points.size() * sizeof(ink::gpu::Point));
+    return points;
+}
+
 void writeObj(const std::string& path, const ink::OrientedPoints& m) {
     std::ofstream out(path);
     for (const Vector3d& p : m.positions) out << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
@@ -483,12 +493,7 @@ TEST_CASE("features: the inside of an open hemisphere shows where ray casting se
     style.toneGamma = 0.0f;
     style.screenSpacing = false;
     ink::OffscreenRenderer renderer(gpu.ctx, 512, 512, style, scene.pointers());
-    const ink::GpuRefinement& r = *scene.pointers()[0];
-    uint32_t draw[4];
-    ink::downloadBuffer(gpu.ctx, r.indirect, r.drawOffset(), draw, sizeof(draw));
-    std::vector<ink::gpu::Point> points(draw[0]);
-    ink::downloadBuffer(gpu.ctx, r.drawnPoints(), VkDeviceSize(draw[2]) * sizeof(ink::gpu::Point), points.data(),
-                        points.size() * sizeof(ink::gpu::Point));
+    const std::vector<ink::gpu::Point> points = drawnPoints(gpu, *scene.pointers()[0]);
     for (float elevation : {-15.0f, -30.0f, -60.0f}) {
         ink::Camera camera;
         camera.azimuthDeg = 30;
@@ -849,12 +854,7 @@ TEST_CASE("features: a torus's dots behind its near tube stay hidden where that 
     camera.distance = 1.6f;
     renderer.render(camera);
     const std::vector<ink::gpu::Dot> dots = renderer.dotList(0);
-    const ink::GpuRefinement& r = *scene.pointers()[0];
-    uint32_t draw[4];
-    ink::downloadBuffer(gpu.ctx, r.indirect, r.drawOffset(), draw, sizeof(draw));
-    std::vector<ink::gpu::Point> points(draw[0]);
-    ink::downloadBuffer(gpu.ctx, r.drawnPoints(), VkDeviceSize(draw[2]) * sizeof(ink::gpu::Point), points.data(),
-                        points.size() * sizeof(ink::gpu::Point));
+    const std::vector<ink::gpu::Point> points = drawnPoints(gpu, *scene.pointers()[0]);
     const glm::vec3 e = camera.eye();
     const Vector3d eye(e.x, e.y, e.z);
     const double outside = scene.model.surface.f(eye);
