@@ -81,13 +81,16 @@ ink::ViewSamples firstSamples(ink::Scene& scene) {
     return scene.sets.empty() ? ink::ViewSamples{} : ink::viewSamples(ink::readPoints(scene.ctx, scene.sets[0]->gpu()));
 }
 
-Up upOf(const std::optional<ink::UpAxis>& convention, const ink::ViewSamples& samples, bool empty,
-        std::string* reason) {
+Up upOf(const std::optional<ink::UpAxis>& convention, const std::optional<ink::UpAxis>& base,
+        const ink::ViewSamples& samples, bool empty, std::string* reason) {
     std::string why;
     Up up = Up::Y;
     if (convention) {
         why = "the glTF convention";
         up = Up(int(*convention));
+    } else if (base) {
+        why = "away from its open base";
+        up = Up(int(*base));
     } else if (empty) {
         why = "no points";
     } else {
@@ -123,8 +126,9 @@ FirstView viewOf(const ink::ViewSamples& samples, Up up, float aspect) {
 
 Up Drawing::firstUp(std::string* reason) const {
     ink::Scene& scene = impl_->scene;
-    const ink::ViewSamples samples = impl_->convention ? ink::ViewSamples{} : firstSamples(scene);
-    return upOf(impl_->convention, samples, scene.sets.empty(), reason);
+    const bool given = impl_->convention || scene.model.baseUp;
+    const ink::ViewSamples samples = given ? ink::ViewSamples{} : firstSamples(scene);
+    return upOf(impl_->convention, scene.model.baseUp, samples, scene.sets.empty(), reason);
 }
 
 Camera Drawing::firstView(float aspect) const { return firstViewReport(aspect).camera; }
@@ -136,7 +140,8 @@ FirstView Drawing::firstViewReport(float aspect) const {
     ink::Scene& scene = impl_->scene;
     const ink::ViewSamples samples = firstSamples(scene);
     std::string reason;
-    FirstView v = viewOf(samples, upOf(impl_->convention, samples, scene.sets.empty(), &reason), aspect);
+    FirstView v =
+        viewOf(samples, upOf(impl_->convention, scene.model.baseUp, samples, scene.sets.empty(), &reason), aspect);
     v.upReason = reason;
     return v;
 }

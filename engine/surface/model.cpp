@@ -101,6 +101,37 @@ void measureInputs(Model& model, const std::vector<Eigen::Vector3d>& points,
     model.inputMeanDistance = points.empty() ? 0 : sum / double(points.size());
 }
 
+// Model::baseUp: where every open edge's vertex lies within kBasePlane of the mesh's extent across one coordinate axis,
+// at that axis's one end (within kBasePlane of it), and spreads over at least kBaseWidth of the extent along both
+// other axes: the base a scan was cut at, and up points away from it.
+constexpr double kBasePlane = 0.05, kBaseWidth = 0.1;
+std::optional<UpAxis> openBase(const std::vector<Eigen::Vector3d>& positions, const std::vector<bool>& rim) {
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo, rimLo = lo, rimHi = -lo;
+    size_t rims = 0;
+    for (size_t i = 0; i < positions.size(); ++i) {
+        lo = lo.cwiseMin(positions[i]);
+        hi = hi.cwiseMax(positions[i]);
+        if (!rim[i]) continue;
+        rimLo = rimLo.cwiseMin(positions[i]);
+        rimHi = rimHi.cwiseMax(positions[i]);
+        ++rims;
+    }
+    if (rims < 3) return std::nullopt;
+    const Eigen::Vector3d extent = hi - lo;
+    std::optional<UpAxis> up;
+    for (int a = 0; a < 3; ++a) {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        if (!(extent[a] > 0) || rimHi[a] - rimLo[a] > kBasePlane * extent[a] ||
+            rimHi[b] - rimLo[b] < kBaseWidth * extent[b] || rimHi[c] - rimLo[c] < kBaseWidth * extent[c])
+            continue;
+        const bool low = rimLo[a] - lo[a] <= kBasePlane * extent[a], high = hi[a] - rimHi[a] <= kBasePlane * extent[a];
+        if (low == high) continue;    // neither end, or a slab thinner than the band: no base
+        if (up) return std::nullopt;  // two axes would do: no one base
+        up = UpAxis(2 * a + (low ? 0 : 1));
+    }
+    return up;
+}
+
 }  // namespace
 
 Model fitModel(OrientedPoints points, const ModelOptions& options) {
@@ -166,6 +197,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         std::vector<bool> rimVertex(mesh.positions.size(), false);
         for (const auto& [edge, uses] : edges)
             if (uses == 1) rimVertex[edge >> 32] = rimVertex[edge & 0xffffffffu] = true;
+        model.baseUp = openBase(mesh.positions, rimVertex);
         onRim.resize(samples.positions.size());
         for (size_t i = 0; i < onRim.size(); ++i) {
             const Triangle& t = mesh.triangles[triangleOf[i]];

@@ -2,11 +2,13 @@
 // farthest-point sampling, fit (ALGORITHM.md §1–2).
 #pragma once
 
+#include "draw/camera.h"
 #include "io/points.h"
 #include "lines/feature_lines.h"
 #include "surface/support.h"
 #include "surface/surface.h"
 
+#include <optional>
 #include <string>
 
 namespace ink {
@@ -36,7 +38,11 @@ struct Model {
     size_t mergedDuplicates = 0;
     size_t flippedNormals = 0;   // a point cloud's normals turned to agree with their neighbours' (orientNormals)
     bool turnedOutward = false;  // every normal turned: they pointed inward (normalsPointInward)
-    size_t outliers = 0;         // a point cloud's points left out, standing alone off its surface (removeOutliers)
+    // A mesh cut flat at one end of its box (every open edge there, across one coordinate axis: a bust's neck, a
+    // mushroom's stem, a height field's skirt): up points away from that end (openBase; the first picture's up axis
+    // before the shape's, docs/usage.md). None for other models.
+    std::optional<UpAxis> baseUp;
+    size_t outliers = 0;  // a point cloud's points left out, standing alone off its surface (removeOutliers)
     double loadSeconds = 0;
     // The error at every point the fit was given (all input points, not only the control points), normalized
     // units (fractions of the diagonal), evaluated as the device evaluates.

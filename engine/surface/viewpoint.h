@@ -35,6 +35,7 @@ struct UpChoice {
 // - flat (thinnest spread under 0.55 of the middle one): that axis, snapped to the nearest coordinate axis (a
 //   spider, a plate, a knot lying down), unless it is a mirror axis while y is not (a camel, thin flank to flank);
 // - else +y (most modelling tools; a z-up figure needs --up z).
+// (A mesh cut flat at one end stands on its cut before this: Model::baseUp.)
 // Always the positive direction: files are seldom upside down, and neither a base nor the mass told the sign
 // reliably on the test models (docs/usage.md).
 UpChoice detectUpAxis(const ViewSamples& samples);

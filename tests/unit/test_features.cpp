@@ -436,6 +436,36 @@ TEST_CASE("features: a mesh with an open part is drawn two-sided, a closed one n
     CHECK(ink::meshParts(m).anyOpen);
 }
 
+TEST_CASE("features: a mesh cut flat at one end of its box stands up away from the cut; others have no base" *
+          doctest::test_suite("unit")) {
+    // The tests' hemisphere: its rim at y = 0, the dome above. Turned over, the rim is at the top.
+    ink::OrientedPoints dome = ink::loadPoints(kModels + "hemisphere.obj");
+    REQUIRE(ink::fitModel(dome, {}).baseUp.has_value());
+    CHECK(*ink::fitModel(dome, {}).baseUp == ink::UpAxis::PosY);
+    for (Vector3d& p : dome.positions) p.y() = -p.y();
+    for (Vector3d& n : dome.normals) n.y() = -n.y();
+    for (ink::Triangle& t : dome.triangles) std::swap(t[1], t[2]);
+    REQUIRE(ink::fitModel(dome, {}).baseUp.has_value());
+    CHECK(*ink::fitModel(dome, {}).baseUp == ink::UpAxis::NegY);
+    // A cube without its z = −½ face stands on it; closed, it has no base.
+    ink::OrientedPoints box = cubeMesh(4);
+    const size_t perFace = box.triangles.size() / 6;  // faces in order −x, +x, −y, +y, −z, +z
+    box.triangles.erase(box.triangles.begin() + std::ptrdiff_t(4 * perFace),
+                        box.triangles.begin() + std::ptrdiff_t(5 * perFace));
+    REQUIRE(ink::fitModel(box, {}).baseUp.has_value());
+    CHECK(*ink::fitModel(box, {}).baseUp == ink::UpAxis::PosZ);
+    CHECK_FALSE(ink::fitModel(cubeMesh(4), {}).baseUp.has_value());
+    CHECK_FALSE(ink::fitModel(torusMesh(), {}).baseUp.has_value());
+    // A tube open at both ends: rims at both ends of its axis, no one base.
+    const ink::OrientedPoints tube = gridMesh(32, 8, false, [](double u, double t, Vector3d& p, Vector3d& n) {
+        n = Vector3d(std::cos(u), std::sin(u), 0);
+        p = 0.3 * n + Vector3d(0, 0, t - 0.5);
+    });
+    CHECK_FALSE(ink::fitModel(tube, {}).baseUp.has_value());
+    // A point cloud has no rims to tell.
+    CHECK_FALSE(ink::fitModel(ink::torusPoints(32, 12), {}).baseUp.has_value());
+}
+
 TEST_CASE("features: an open hemisphere seen from below shows its inside, stippled and hatched" *
           doctest::test_suite("gpu")) {
     GpuFixture gpu;
