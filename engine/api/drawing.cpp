@@ -89,7 +89,7 @@ Up upOf(const std::optional<ink::UpAxis>& convention, const std::optional<ink::U
         why = "the glTF convention";
         up = Up(int(*convention));
     } else if (base) {
-        why = "away from its open base";
+        why = "its open edges at one end";
         up = Up(int(*base));
     } else if (empty) {
         why = "no points";

@@ -103,7 +103,9 @@ void measureInputs(Model& model, const std::vector<Eigen::Vector3d>& points,
 
 // Model::baseUp: where every open edge's vertex lies within kBasePlane of the mesh's extent across one coordinate axis,
 // at that axis's one end (within kBasePlane of it), and spreads over at least kBaseWidth of the extent along both
-// other axes: the base a scan was cut at, and up points away from it.
+// other axes, that axis is up, in its positive direction as every up axis the shape chooses: a base a scan was cut
+// at lies at the low end (a bust's neck), and at the high end an opening is a container's (an open box, a bowl),
+// whose opening is its top; a file is seldom stored upside down.
 constexpr double kBasePlane = 0.05, kBaseWidth = 0.1;
 std::optional<UpAxis> openBase(const std::vector<Eigen::Vector3d>& positions, const std::vector<bool>& rim) {
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo, rimLo = lo, rimHi = -lo;
@@ -127,7 +129,7 @@ std::optional<UpAxis> openBase(const std::vector<Eigen::Vector3d>& positions, co
         const bool low = rimLo[a] - lo[a] <= kBasePlane * extent[a], high = hi[a] - rimHi[a] <= kBasePlane * extent[a];
         if (low == high) continue;    // neither end, or a slab thinner than the band: no base
         if (up) return std::nullopt;  // two axes would do: no one base
-        up = UpAxis(2 * a + (low ? 0 : 1));
+        up = UpAxis(2 * a);
     }
     return up;
 }

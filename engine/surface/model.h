@@ -39,8 +39,8 @@ struct Model {
     size_t flippedNormals = 0;   // a point cloud's normals turned to agree with their neighbours' (orientNormals)
     bool turnedOutward = false;  // every normal turned: they pointed inward (normalsPointInward)
     // A mesh cut flat at one end of its box (every open edge there, across one coordinate axis: a bust's neck, a
-    // mushroom's stem, a height field's skirt): up points away from that end (openBase; the first picture's up axis
-    // before the shape's, docs/usage.md). None for other models.
+    // mushroom's stem, an open box's top): that axis is up, positive (openBase; the first picture's up axis before
+    // the shape's, docs/usage.md). None for other models.
     std::optional<UpAxis> baseUp;
     size_t outliers = 0;  // a point cloud's points left out, standing alone off its surface (removeOutliers)
     double loadSeconds = 0;

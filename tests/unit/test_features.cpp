@@ -436,9 +436,9 @@ TEST_CASE("features: a mesh with an open part is drawn two-sided, a closed one n
     CHECK(ink::meshParts(m).anyOpen);
 }
 
-TEST_CASE("features: a mesh cut flat at one end of its box stands up away from the cut; others have no base" *
+TEST_CASE("features: a mesh cut flat at one end of its box stands on that axis; others have no base" *
           doctest::test_suite("unit")) {
-    // The tests' hemisphere: its rim at y = 0, the dome above. Turned over, the rim is at the top.
+    // The tests' hemisphere: its rim at y = 0, the dome above. Turned over (a bowl), its opening stays up.
     ink::OrientedPoints dome = ink::loadPoints(kModels + "hemisphere.obj");
     REQUIRE(ink::fitModel(dome, {}).baseUp.has_value());
     CHECK(*ink::fitModel(dome, {}).baseUp == ink::UpAxis::PosY);
@@ -446,7 +446,7 @@ TEST_CASE("features: a mesh cut flat at one end of its box stands up away from t
     for (Vector3d& n : dome.normals) n.y() = -n.y();
     for (ink::Triangle& t : dome.triangles) std::swap(t[1], t[2]);
     REQUIRE(ink::fitModel(dome, {}).baseUp.has_value());
-    CHECK(*ink::fitModel(dome, {}).baseUp == ink::UpAxis::NegY);
+    CHECK(*ink::fitModel(dome, {}).baseUp == ink::UpAxis::PosY);
     // A cube without its z = −½ face stands on it; closed, it has no base.
     ink::OrientedPoints box = cubeMesh(4);
     const size_t perFace = box.triangles.size() / 6;  // faces in order −x, +x, −y, +y, −z, +z
