@@ -131,6 +131,22 @@ std::unique_ptr<ink::Scene> cubeCreases(GpuFixture& gpu) {
     return scene;
 }
 
+// cubeCreases drawn: its lines alone at kSize², supersampled `supersample` times.
+struct CubeLines {
+    static constexpr uint32_t kSize = 512;
+    std::unique_ptr<ink::Scene> scene;
+    ink::OffscreenRenderer renderer;
+    CubeLines(GpuFixture& gpu, uint32_t supersample)
+        : scene(cubeCreases(gpu)),
+          renderer(gpu.ctx, kSize, kSize, linesAlone(supersample), scene->pointers(), scene->strokes.get()) {}
+    static ink::RenderStyle linesAlone(uint32_t supersample) {
+        ink::RenderStyle style;
+        style.drawDots = false;
+        style.supersample = supersample;
+        return style;
+    }
+};
+
 // Where a point (input units) of `model` lands in a size × size image drawn with `clip`, in pixels.
 Eigen::Vector2d toPixel(const ink::Model& model, const glm::mat4& clip, uint32_t size, const Vector3d& input) {
     const Vector3d x = model.surface.frame.toNormalized(input);
@@ -718,13 +734,10 @@ TEST_CASE("features: a cube's hidden edges stay hidden where its splat disks spa
     // Two levels (a drawing of lines alone) give large disks, and 4× supersampling many depth cells a disk: sampled
     // every few cells, the depth grid had holes, and the three edges behind the cube showed through its faces.
     GpuFixture gpu;
-    const std::unique_ptr<ink::Scene> cube = cubeCreases(gpu);
-    ink::Scene& scene = *cube;
-    ink::RenderStyle style;
-    style.drawDots = false;
-    style.supersample = 4;
-    const uint32_t size = 512;
-    ink::OffscreenRenderer renderer(gpu.ctx, size, size, style, scene.pointers(), scene.strokes.get());
+    CubeLines cube(gpu, 4);
+    ink::Scene& scene = *cube.scene;
+    ink::OffscreenRenderer& renderer = cube.renderer;
+    const uint32_t size = CubeLines::kSize;
     ink::Camera camera;
     camera.azimuthDeg = 30;
     camera.elevationDeg = 25;
@@ -776,17 +789,15 @@ TEST_CASE("features: a cube's hidden edges stay hidden where its splat disks spa
 }
 
 // A crease shows only where one of its two faces turns towards the eye (lines.comp, FACING_SLACK). The depth test
-// alone, four push-backs nearer the camera, let an edge between two back faces stand out beside the outline: the
-// stubs below a box's far top corner and beside its far bottom ones, in every CAD part's drawing.
+// alone (then four push-backs nearer the camera) let an edge between two back faces stand out beside the outline:
+// the stubs below a box's far top corner and beside its far bottom ones, in every CAD part's drawing.
 TEST_CASE("features: a box's edges between two back faces never show, even beside its outline" *
           doctest::test_suite("gpu")) {
     GpuFixture gpu;
-    const std::unique_ptr<ink::Scene> cube = cubeCreases(gpu);
-    ink::Scene& scene = *cube;
-    ink::RenderStyle style;
-    style.drawDots = false;
-    const uint32_t size = 512;
-    ink::OffscreenRenderer renderer(gpu.ctx, size, size, style, scene.pointers(), scene.strokes.get());
+    CubeLines cube(gpu, 2);
+    ink::Scene& scene = *cube.scene;
+    ink::OffscreenRenderer& renderer = cube.renderer;
+    const uint32_t size = CubeLines::kSize;
     for (const float azimuth : {45.0f, 20.0f, 160.0f}) {
         ink::Camera camera;
         camera.azimuthDeg = azimuth;
