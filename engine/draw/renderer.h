@@ -92,7 +92,7 @@ private:
         const char* name = "stipple";  // its vector layer's
         float area = 0;                // the surface's, normalized units (the selection's estimate); 0: unknown
         bool sparseSplats = false;     // its large disks sampled sparsely (gpu::CAMERA_SPARSE_SPLATS)
-        bool twoSided = false;         // on an open surface (GpuRefinement::twoSided, gpu::CAMERA_TWO_SIDED)
+        bool twoSided = false;         // may be open (GpuRefinement::twoSided, gpu::CAMERA_TWO_SIDED)
         bool spaced = false;           // blue-noise stipples, spaced on the page with the style's screen spacing
                                        // (gpu::CAMERA_SPACED); not direction sampling's lines, nor the report's
                                        // random tone values

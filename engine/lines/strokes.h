@@ -60,7 +60,7 @@ constexpr uint32_t kSegmentVisible = gpu::SEG_VISIBLE, kSegmentHidden = gpu::SEG
 // The per-frame side, owned by PointRenderer.
 class LineRenderer {
 public:
-    // `twoSided`: the strokes lie on an open surface, whose hatching shows where it faces away too.
+    // `twoSided`: the strokes lie on a surface that may be open, whose hatching shows where it faces away too.
     LineRenderer(Context& ctx, const StrokeBuffers& strokes, VkFormat colorFormat, uint32_t framesInFlight,
                  bool twoSided = false);
     ~LineRenderer();

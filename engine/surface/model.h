@@ -57,7 +57,8 @@ struct Model {
     bool trimFarField = false;
     // Its back is drawn where it shows (GpuRefinement::twoSided): an open surface's inside, seen through its
     // openings. A mesh's where a part of it is open (meshParts: a rim, a hole, a fin); a point cloud's and a .hrbf
-    // model's always, their rims unknown (on a closed surface the back shows almost nowhere: docs/algorithm.md §4).
+    // model's always, their rims unknown (on a closed surface the back shows almost nowhere: docs/usage.md, Open
+    // surfaces).
     bool twoSided = true;
 
     // Whether the drawing keeps x (normalized coordinates): the input supports it, and where the partition of

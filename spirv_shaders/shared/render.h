@@ -96,7 +96,7 @@ INK_CONST uint CAMERA_SPARSE_SPLATS = 2u;
 // The set's toned dots are spaced on the page (DotStyle::options.z, spacing.comp): blue-noise stipples only;
 // direction sampling's dots lie on lines, the report's look draws every point of a random tone value.
 INK_CONST uint CAMERA_SPACED = 4u;
-// The set lies on an open surface (GpuRefinement::twoSided): a point facing away is drawn as its other side,
+// The set lies on a surface that may be open (GpuRefinement::twoSided): a point facing away is drawn as its other side,
 // whose back shows through the openings (a bowl's inside, a one-sided scan from behind); the splat depth hides it
 // where the surface in front covers it.
 INK_CONST uint CAMERA_TWO_SIDED = 8u;
