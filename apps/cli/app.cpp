@@ -33,7 +33,9 @@ inkwell::ModelOptions modelOptions(const Options& o) {
 }
 
 void addModelOptions(CLI::App* cmd, Options& o) {
-    cmd->add_option("model", o.model, "Mesh, oriented points or fitted model (.obj, .ply, .pts/.xyzn/.txt, .hrbf)")
+    cmd->add_option("model", o.model,
+                    "Mesh, points (with normals or without) or fitted model (.obj, .ply, .off, .stl, .gltf/.glb, "
+                    ".pts/.xyz/.xyzn/.pwn/.txt, .hrbf)")
         ->required();
     cmd->add_option("--control-points", o.controlPoints,
                     "Control points chosen by farthest-point sampling (default: all; at most 1000 for --fit global)")

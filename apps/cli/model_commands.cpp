@@ -21,6 +21,7 @@ static int runFit(Options& o, const std::string& output, bool text) {
                             {"face_samples", fit.faceSamples},
                             {"merged_duplicates", fit.mergedDuplicates},
                             {"flipped_normals", fit.flippedNormals},
+                            {"estimated_normals", fit.estimatedNormals},
                             {"load_seconds", fit.loadSeconds},
                             {"fit", json::parse(model.statsJson())}});
     outputs.commit();

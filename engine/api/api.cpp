@@ -189,6 +189,7 @@ FitReport Model::report() const {
     r.inputPoints = m.inputPoints;
     r.mergedDuplicates = m.mergedDuplicates;
     r.flippedNormals = m.flippedNormals;
+    r.estimatedNormals = m.estimatedNormals;
     r.twoSided = m.twoSided;
     r.controlPoints = m.fit.controlPoints;
     r.seconds = m.fit.seconds;

@@ -22,7 +22,8 @@ json fitJson(const ink::Model& m) {
               {"input_max_normal_angle_deg", m.inputMaxAngleDeg},
               {"two_sided", m.twoSided},
               {"turned_outward", m.turnedOutward},
-              {"outliers", m.outliers}};
+              {"outliers", m.outliers},
+              {"estimated_normals", m.estimatedNormals}};
     if (!m.fit.phases.ms.empty()) {  // a fitted model: where its fit's time went
         json phases = json::object();
         for (const auto& [step, ms] : m.fit.phases.ms) phases[step] = ms;

@@ -83,9 +83,14 @@ std::vector<uint32_t> weld(const std::vector<Eigen::Vector3d>& positions, std::v
 OrientedPoints areaNormalPoints(const std::vector<Eigen::Vector3d>& positions, const Polygons& polygons,
                                 std::vector<size_t>& kept, size_t& degenerate);
 
+// What a zero normal means to finish(): a mesh's vertex must have one (its faces' replaced a zero one before), a
+// point cloud's point may lack it (a file without normals, or a 0 0 0 one): it stays zero, and the fit estimates it
+// from the point's neighbours (estimateNormals, surface/clean.h).
+enum class ZeroNormal { Refused, Estimated };
+
 // Checks and normalizes; `where(i)` names point i for messages ("vertex 17", "line 4").
 template <class Where>
-void finish(OrientedPoints& points, const std::string& name, Where where) {
+void finish(OrientedPoints& points, const std::string& name, Where where, ZeroNormal zero = ZeroNormal::Refused) {
     if (points.positions.empty()) fail(name, "no vertices");
     for (size_t i = 0; i < points.positions.size(); ++i) {
         const Eigen::Vector3d& p = points.positions[i];
@@ -93,7 +98,11 @@ void finish(OrientedPoints& points, const std::string& name, Where where) {
         if (!p.allFinite()) fail(name, where(i) + ": coordinate is not finite " + str(p));
         if (!n.allFinite()) fail(name, where(i) + ": normal is not finite " + str(n));
         double length = safeNorm(n);
-        if (!(length > kZeroNormal)) fail(name, where(i) + ": normal is zero");
+        if (!(length > kZeroNormal)) {
+            if (zero == ZeroNormal::Refused) fail(name, where(i) + ": normal is zero");
+            n = Eigen::Vector3d::Zero();
+            continue;
+        }
         n = safeNormalized(n);
     }
 }

@@ -157,15 +157,17 @@ OrientedPoints parseObj(const std::string& bytes, const std::string& name) {
 
     OrientedPoints out;
     if (scan.faces.sizes.empty()) {
-        // A point cloud written as OBJ: normals can only pair with vertices one to one, in order.
-        if (scan.vn.empty()) fail(name, "has no faces and no normals: cannot orient points");
-        if (scan.vn.size() != scan.v.size())
+        // A point cloud written as OBJ: normals can only pair with vertices one to one, in order; without any, the
+        // fit estimates them.
+        if (!scan.vn.empty() && scan.vn.size() != scan.v.size())
             fail(name, "has no faces, and its " + std::to_string(scan.vn.size()) + " normals do not pair up with its " +
                            std::to_string(scan.v.size()) + " vertices");
         out.positions = scan.v;
-        out.normals = scan.vn;
-        finish(out, name,
-               [&](size_t i) { return "vertex " + std::to_string(i + 1) + " (" + lineName(scan.vLine[i]) + ")"; });
+        out.normals = scan.vn.empty() ? std::vector<Vector3d>(scan.v.size(), Vector3d::Zero()) : scan.vn;
+        finish(
+            out, name,
+            [&](size_t i) { return "vertex " + std::to_string(i + 1) + " (" + lineName(scan.vLine[i]) + ")"; },
+            ZeroNormal::Estimated);
         return out;
     }
 

@@ -168,10 +168,14 @@ OrientedPoints parseOff(const std::string& bytes, const std::string& name) {
     if (kind.normal) {
         appendTriangles(polygons, {}, 0, points.triangles);
         replaceZeroNormals(points, name);
-        finish(points, name, vertexName);
+        finish(points, name, vertexName, polygons.sizes.empty() ? ZeroNormal::Estimated : ZeroNormal::Refused);
         return points;
     }
-    if (polygons.sizes.empty()) fail(name, "has no faces and no normals: cannot orient points");
+    if (polygons.sizes.empty()) {  // a point cloud without normals: the fit estimates them
+        points.normals.assign(points.positions.size(), Vector3d::Zero());
+        finish(points, name, vertexName, ZeroNormal::Estimated);
+        return points;
+    }
     // As PLY and OBJ: vertices no face uses are dropped, and a used one whose faces have no area is an error.
     return meshPoints(points.positions, polygons, name, vertexName);
 }

@@ -14,7 +14,9 @@ using Triangle = std::array<uint32_t, 3>;  // indices into OrientedPoints::posit
 
 struct OrientedPoints {
     std::vector<Eigen::Vector3d> positions;
-    std::vector<Eigen::Vector3d> normals;  // unit length, one per position
+    // One per position: unit length, or zero where a point cloud's file gives none (or 0 0 0): the fit estimates
+    // those (estimateNormals, surface/clean.h). A mesh's are all unit length.
+    std::vector<Eigen::Vector3d> normals;
     // A mesh's faces, fan-triangulated, in the numbering of `positions` (after a reader's own dropping of
     // unused or degenerate vertices; faces that touched a dropped vertex are dropped). Empty for point formats.
     // Triangles may have zero area; their winding is the file's (or, for glTF, the world's after mirroring).

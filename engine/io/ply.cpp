@@ -401,8 +401,7 @@ OrientedPoints parsePly(const std::string& bytes, const std::string& name) {
             fail(name, "face element has no 'vertex_indices' list");
         if (!isInteger(face->properties[size_t(faceList)].type)) fail(name, "face vertex indices must be integers");
     }
-    if (!hasNormals && (!face || face->count == 0))
-        fail(name, "has no normals (nx ny nz) and no faces: cannot orient points");
+    const bool cloud = !face || face->count == 0;  // a point cloud: its missing or zero normals are estimated
 
     OrientedPoints points;
     Polygons polygons;
@@ -448,10 +447,10 @@ OrientedPoints parsePly(const std::string& bytes, const std::string& name) {
     }
 
     auto where = [](size_t i) { return "vertex " + std::to_string(i); };
-    if (hasNormals) {
+    if (hasNormals || cloud) {
         appendTriangles(polygons, {}, 0, points.triangles);
         replaceZeroNormals(points, name);
-        finish(points, name, where);
+        finish(points, name, where, cloud ? ZeroNormal::Estimated : ZeroNormal::Refused);
         return points;
     }
     // Vertices no face uses have no normal and are dropped, keeping their original numbers for messages.

@@ -5,7 +5,7 @@
 //   .obj            v / vn / f, polygons, negative indices
 //   .ply            ascii, binary_little_endian, binary_big_endian; float or double x y z,
 //                   optional nx ny nz, optional faces (vertex_indices / vertex_index lists)
-//   .pts .xyzn .txt one oriented point per line: x y z nx ny nz; '#' starts a comment
+//   .pts .xyzn .txt one point per line: x y z nx ny nz, or x y z on every line; '#' starts a comment
 //   .xyz .pwn       the same, with an optional first line holding the number of points
 //   .off            OFF, COFF, NOFF, CNOFF (normals used), polygons
 //   .stl            ascii and binary; corners welded, normals from the winding
@@ -25,8 +25,9 @@
 
 namespace ink {
 
-// Picks the loader by extension (case-insensitive). Normals are normalized; a non-finite normal, a zero one that
-// no faces can replace, or a non-finite coordinate, is an error naming where it is.
+// Picks the loader by extension (case-insensitive). Normals are normalized; a point cloud's missing or zero ones are
+// zero (the fit estimates them); a non-finite normal, a mesh's zero one that no faces can replace, or a non-finite
+// coordinate, is an error naming where it is.
 OrientedPoints loadPoints(const std::string& path);
 
 // The same loaders on bytes already in memory (used by tests and fuzzers); `name` is used in messages,

@@ -1,9 +1,11 @@
 // Cleaning oriented points for fitting: duplicate merging and farthest-point sampling.
 #include "surface/clean.h"
 
+#include "base/common.h"
 #include "base/parallel.h"
 #include "base/point_tree.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -478,20 +480,62 @@ bool normalsPointInward(const std::vector<Eigen::Vector3d>& positions, const std
     return inward > 3 * outward;
 }
 
-size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals) {
+namespace {
+
+// Prim's tree over `around` from the points already `reached` (their neighbours first), then from each unreached
+// part's extreme point along x (`byX`), that point's normal turned to face +x; each point reached is turned to agree
+// with the one it is reached from, weights 1 − |nᵢ·nⱼ| (ties by index: deterministic). Returns the flips.
+size_t growOrientation(const std::vector<std::vector<uint32_t>>& around, const std::vector<uint32_t>& byX,
+                       std::vector<Vector3d>& normals, std::vector<char>& reached) {
+    using Item = std::tuple<double, uint32_t, uint32_t>;  // weight, point, the point it is reached from
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    size_t flipped = 0;
+    const auto grow = [&] {
+        while (!queue.empty()) {
+            const auto [weight, i, from] = queue.top();
+            queue.pop();
+            if (i != from) {
+                if (reached[i]) continue;
+                reached[i] = 1;
+                if (normals[i].dot(normals[from]) < 0) normals[i] = -normals[i], ++flipped;
+            }
+            for (uint32_t j : around[i])
+                if (!reached[j]) queue.push({1.0 - std::abs(normals[i].dot(normals[j])), j, i});
+        }
+    };
+    for (uint32_t i = 0; i < reached.size(); ++i)
+        if (reached[i]) queue.push({0.0, i, i});
+    grow();
+    for (uint32_t root : byX) {
+        if (reached[root]) continue;
+        reached[root] = 1;
+        if (normals[root].x() < 0) normals[root] = -normals[root], ++flipped;  // on the hull: facing +x
+        queue.push({0.0, root, root});
+        grow();
+    }
+    return flipped;
+}
+
+}  // namespace
+
+size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals,
+                     const std::vector<char>& estimated) {
     const size_t m = positions.size();
     constexpr size_t kNeighbours = 8, kScreenPoints = 20000;
     if (m <= kNeighbours + 1) return 0;
+    const bool anyEstimated = std::find(estimated.begin(), estimated.end(), 1) != estimated.end();
+    const auto isEstimated = [&](size_t i) { return anyEstimated && estimated[i]; };
     const PointCloud cloud{positions};
     const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     // Point i's neighbours along the surface, up to kNeighbours into `out`; counts its pairs and opposed ones.
-    const auto along = [&](size_t i, uint32_t* out, size_t& pairs, size_t& opposed) {
+    // `given`: only points whose normals the file gave, signs telling; else every point, signs not considered.
+    const auto along = [&](size_t i, bool given, uint32_t* out, size_t& pairs, size_t& opposed) {
         std::array<uint32_t, kNeighbours + 1> index{};
         std::array<double, kNeighbours + 1> squared{};
         const size_t found = tree.knnSearch(positions[i].data(), kNeighbours + 1, index.data(), squared.data());
         size_t used = 0;
         for (size_t k = 0; k < found && used < kNeighbours; ++k) {
-            if (index[k] == i) continue;
+            if (index[k] == i || (given && isEstimated(index[k]))) continue;
             // Only neighbours along the surface, not across it: the two sides of a thin part face apart
             // rightly (each lies behind the other's tangent plane: a = nᵢ·d̂ and b = nⱼ·d̂ of opposite signs,
             // both clear of 0; the walls of a narrow gap face each other, the same), and the tree must not
@@ -500,7 +544,8 @@ size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<
             const double length = d.norm();
             if (!(length > 0)) continue;
             const double a = normals[i].dot(d) / length, b = normals[index[k]].dot(d) / length;
-            if (std::abs(a) > 0.5 || std::abs(b) > 0.5 || (a * b < 0 && std::abs(a) > 0.05 && std::abs(b) > 0.05))
+            if (std::abs(a) > 0.5 || std::abs(b) > 0.5 ||
+                (given && a * b < 0 && std::abs(a) > 0.05 && std::abs(b) > 0.05))
                 continue;
             if (out) out[used] = index[k];
             ++used;
@@ -508,54 +553,100 @@ size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<
             opposed += normals[i].dot(normals[index[k]]) < -0.5;
         }
     };
-    // A large cloud is screened first on every stride-th point: where under half the share that decides is
-    // opposed there (a scan with consistent normals), the full pass is not needed (1M points: 2.4 → 0.4 s).
-    if (m > 2 * kScreenPoints) {
-        const size_t stride = m / kScreenPoints;
-        size_t pairs = 0, opposed = 0;
-        for (size_t i = 0; i < m; i += stride) along(i, nullptr, pairs, opposed);
-        if (opposed * 40 <= pairs) return 0;
-    }
-    std::vector<uint32_t> neighbours(m * kNeighbours, UINT32_MAX);
-    std::vector<size_t> opposedIn(64, 0), pairsIn(64, 0);
-    const size_t chunks = parallelChunks(m, 1024, [&](size_t begin, size_t end, size_t chunk) {
-        for (size_t i = begin; i < end; ++i) along(i, &neighbours[i * kNeighbours], pairsIn[chunk], opposedIn[chunk]);
-    });
-    size_t opposed = 0, pairs = 0;
-    for (size_t c = 0; c < chunks; ++c) opposed += opposedIn[c], pairs += pairsIn[c];
-    if (opposed * 20 <= pairs) return 0;
     // The graph both ways: j among i's nearest, or i among j's.
-    std::vector<std::vector<uint32_t>> around(m);
-    for (size_t i = 0; i < m; ++i)
-        for (size_t k = 0; k < kNeighbours; ++k) {
-            const uint32_t j = neighbours[i * kNeighbours + k];
-            if (j == UINT32_MAX) continue;
-            around[i].push_back(j);
-            around[j].push_back(uint32_t(i));
-        }
+    const auto graph = [&](const std::vector<uint32_t>& neighbours) {
+        std::vector<std::vector<uint32_t>> around(m);
+        for (size_t i = 0; i < m; ++i)
+            for (size_t k = 0; k < kNeighbours; ++k) {
+                const uint32_t j = neighbours[i * kNeighbours + k];
+                if (j == UINT32_MAX) continue;
+                around[i].push_back(j);
+                around[j].push_back(uint32_t(i));
+            }
+        return around;
+    };
     std::vector<uint32_t> byX(m);
     for (uint32_t i = 0; i < m; ++i) byX[i] = i;
     std::stable_sort(byX.begin(), byX.end(),
                      [&](uint32_t a, uint32_t b) { return positions[a].x() > positions[b].x(); });
-    std::vector<char> reached(m, 0);
-    size_t flipped = 0;
-    using Item = std::tuple<double, uint32_t, uint32_t>;  // weight, point, the point it is reached from
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-    for (uint32_t root : byX) {
-        if (reached[root]) continue;
-        if (normals[root].x() < 0) normals[root] = -normals[root], ++flipped;  // on the hull: facing +x
-        queue.push({0.0, root, root});
-        while (!queue.empty()) {
-            const auto [weight, i, from] = queue.top();
-            queue.pop();
-            if (reached[i]) continue;
-            reached[i] = 1;
-            if (i != from && normals[i].dot(normals[from]) < 0) normals[i] = -normals[i], ++flipped;
-            for (uint32_t j : around[i])
-                if (!reached[j]) queue.push({1.0 - std::abs(normals[i].dot(normals[j])), j, i});
+
+    // The normals the file gave: turned to agree where more than 5% of their pairs are opposed.
+    const auto orientGiven = [&]() -> size_t {
+        // A large cloud is screened first on every stride-th point: where under half the share that decides is
+        // opposed there (a scan with consistent normals), the full pass is not needed (1M points: 2.4 → 0.4 s).
+        if (m > 2 * kScreenPoints) {
+            const size_t stride = m / kScreenPoints;
+            size_t pairs = 0, opposed = 0;
+            for (size_t i = 0; i < m; i += stride)
+                if (!isEstimated(i)) along(i, true, nullptr, pairs, opposed);
+            if (opposed * 40 <= pairs) return 0;
         }
-    }
+        std::vector<uint32_t> neighbours(m * kNeighbours, UINT32_MAX);
+        std::vector<size_t> opposedIn(64, 0), pairsIn(64, 0);
+        const size_t chunks = parallelChunks(m, 1024, [&](size_t begin, size_t end, size_t chunk) {
+            for (size_t i = begin; i < end; ++i)
+                if (!isEstimated(i)) along(i, true, &neighbours[i * kNeighbours], pairsIn[chunk], opposedIn[chunk]);
+        });
+        size_t opposed = 0, pairs = 0;
+        for (size_t c = 0; c < chunks; ++c) opposed += opposedIn[c], pairs += pairsIn[c];
+        if (opposed * 20 <= pairs) return 0;
+        // The estimated points are not part of this tree: marked reached, and without edges in its graph, so that
+        // growing from them reaches nothing.
+        std::vector<char> reached(m, 0);
+        for (size_t i = 0; i < m; ++i) reached[i] = isEstimated(i);
+        return growOrientation(graph(neighbours), byX, normals, reached);
+    };
+    const size_t flipped = orientGiven();
+    if (!anyEstimated) return flipped;
+
+    // The estimated normals, from the given ones (held) or from each part's extreme point.
+    std::vector<uint32_t> neighbours(m * kNeighbours, UINT32_MAX);
+    parallelChunks(m, 1024, [&](size_t begin, size_t end, size_t) {
+        size_t pairs = 0, opposed = 0;
+        for (size_t i = begin; i < end; ++i) along(i, false, &neighbours[i * kNeighbours], pairs, opposed);
+    });
+    std::vector<char> reached(m, 0);
+    for (size_t i = 0; i < m; ++i) reached[i] = !estimated[i];
+    growOrientation(graph(neighbours), byX, normals, reached);
     return flipped;
+}
+
+size_t estimateNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals,
+                       std::vector<char>& estimated) {
+    const size_t m = positions.size();
+    estimated.assign(m, 0);
+    size_t missing = 0;
+    for (size_t i = 0; i < m; ++i) missing += estimated[i] = normals[i].squaredNorm() == 0;
+    if (missing == 0) return 0;
+    if (m < kNormalNeighbours)
+        throw Error(std::to_string(missing) + " of the input's " + std::to_string(m) + " points have no normal, and " +
+                    std::to_string(m) + " points are too few to estimate one from (" +
+                    std::to_string(kNormalNeighbours) + " are needed)");
+    const PointCloud cloud{positions};
+    const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    parallelChunks(m, 1024, [&](size_t begin, size_t end, size_t) {
+        std::array<uint32_t, kNormalNeighbours> index{};
+        std::array<double, kNormalNeighbours> squared{};
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+        for (size_t i = begin; i < end; ++i) {
+            if (!estimated[i]) continue;
+            const size_t found = tree.knnSearch(positions[i].data(), kNormalNeighbours, index.data(), squared.data());
+            Vector3d centroid = Vector3d::Zero();
+            for (size_t k = 0; k < found; ++k) centroid += positions[index[k]];
+            centroid /= double(found);
+            Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+            for (size_t k = 0; k < found; ++k) {
+                const Vector3d d = positions[index[k]] - centroid;
+                covariance += d * d.transpose();
+            }
+            solver.compute(covariance);
+            // Eigenvalues ascending: the first eigenvector is the direction of least variance. Neighbours all at one
+            // place (a pile of duplicates) leave the covariance zero and any direction; +z then.
+            const Vector3d n = solver.eigenvectors().col(0);
+            normals[i] = n.allFinite() && n.squaredNorm() > 0.5 ? n.normalized() : Vector3d::UnitZ();
+        }
+    });
+    return missing;
 }
 
 }  // namespace ink

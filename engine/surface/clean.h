@@ -35,7 +35,22 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance);
 // part starts again from its own extreme point. Returns the normals flipped (0 when consistent already). Over
 // 40,000 points, every (m / 20,000)-th point is screened first, and the full pass runs only where over 2.5% of
 // its pairs are opposed.
-size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals);
+// With `estimated` (a flag a point, from estimateNormals), those points are left out of that test and tree, and then
+// oriented from the others: a second tree grows from every point whose normal the file gave (held as it is) into the
+// estimated ones, over neighbours within 30° of both tangent planes whatever the normals' signs (an estimate has
+// none), each turned to agree with the one it is reached from; a part with no given normal starts from its extreme
+// point along x, facing +x. The flips of estimated normals are not counted.
+size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals,
+                     const std::vector<char>& estimated = {});
+
+// A point cloud's points without a normal (zero: the file gave none, or 0 0 0) get one estimated from their
+// kNormalNeighbours nearest points, as Hoppe et al. (1992) do: the direction of least variance of their covariance
+// about their centroid (the fitted tangent plane's normal, PCA). Its sign is arbitrary until orientNormals orients
+// it. `estimated` gets a flag a point. Returns how many were estimated; throws ink::Error when some are missing
+// and the cloud has fewer than kNormalNeighbours points to estimate them from.
+size_t estimateNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals,
+                       std::vector<char>& estimated);
+constexpr size_t kNormalNeighbours = 16;
 
 // A point cloud's outliers: points that stand alone, off the surface their neighbours sample (a scan's stray returns).
 // Each point's spacing is its mean distance to its kOutlierNeighbours nearest; a point is an outlier where that is

@@ -1,6 +1,7 @@
 #include "surface/model.h"
 
 #include "base/common.h"
+#include "base/point_tree.h"
 #include "io/hrbf_io.h"
 #include "io/normals.h"
 #include "surface/clean.h"
@@ -8,6 +9,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <chrono>
 #include <cmath>
@@ -28,8 +30,12 @@ constexpr int kFaceSampleRounds = 6;
 constexpr size_t kFewVertices = 64;
 
 // About the distance between neighbouring points, if they cover a surface as large as the faces of their
-// bounding box: sqrt(box surface / 2 / count) (a closed surface fills about half of it).
-double typicalSpacing(const std::vector<Eigen::Vector3d>& points) {
+// bounding box: sqrt(box surface / 2 / count) (a closed surface fills about half of it); robust to how many points
+// sit in close pairs (a crease's split vertices, face samples by vertices). A point cloud that fills little of its
+// box (parts far apart, a scene) takes at most twice the median distance to the sixth nearest point, on up to 4,096
+// of them (a cloud of three unit spheres 30 apart: 9,738 of its 12,000 points merged by the box's spacing, 5,108 so;
+// closed shapes and scans measure 0.5 to 1.9 times that distance by their box, and stay as they were).
+double typicalSpacing(const std::vector<Eigen::Vector3d>& points, bool pointCloud) {
     if (points.size() < 2) return 0;
     Eigen::Vector3d lo = points.front(), hi = points.front();
     for (const auto& p : points) {
@@ -38,7 +44,22 @@ double typicalSpacing(const std::vector<Eigen::Vector3d>& points) {
     }
     Eigen::Vector3d d = hi - lo;
     double area = d.x() * d.y() + d.y() * d.z() + d.z() * d.x();
-    return std::sqrt(area / double(points.size()));
+    const double box = std::sqrt(area / double(points.size()));
+    constexpr size_t kNearest = 7, kProbes = 4096;  // the point itself and six
+    if (!pointCloud || points.size() < 2 * kNearest) return box;
+    const PointCloud cloud{points};
+    const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    std::vector<double> sixth;
+    const size_t stride = std::max<size_t>(1, points.size() / kProbes);
+    for (size_t i = 0; i < points.size(); i += stride) {
+        std::array<uint32_t, kNearest> index{};
+        std::array<double, kNearest> squared{};
+        if (tree.knnSearch(points[i].data(), kNearest, index.data(), squared.data()) == kNearest)
+            sixth.push_back(std::sqrt(squared.back()));
+    }
+    if (sixth.empty()) return box;
+    std::nth_element(sixth.begin(), sixth.begin() + std::ptrdiff_t(sixth.size() / 2), sixth.end());
+    return std::min(box, 2 * sixth[sixth.size() / 2]);
 }
 
 // The mesh with each position kept once (io/normals.h's weld: bit-identical coordinates): triangles renumbered,
@@ -148,6 +169,18 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
              " points that stand alone, off the surface their neighbours sample (outliers; --keep-outliers keeps "
              "them)");
     phases.lap("outliers");
+    // A point cloud's points without normals (an .xyz of positions alone, a PLY without nx ny nz, 0 0 0 in the file):
+    // estimated from their neighbours, then oriented with the rest (orientNormals).
+    std::vector<char> estimated;
+    if (points.triangles.empty() &&
+        (model.estimatedNormals = estimateNormals(points.positions, points.normals, estimated))) {
+        const bool all = model.estimatedNormals == points.positions.size();
+        note("estimated the normals of " + (all ? std::string() : std::to_string(model.estimatedNormals) + " of ") +
+             "the input's " + std::to_string(points.positions.size()) + " points, which the file " +
+             (all ? "does not give" : "gives as zero") + ", from their " + std::to_string(kNormalNeighbours) +
+             " nearest neighbours, oriented along the surface");
+        phases.lap("normals");
+    }
     if (model.inputPoints > kMaxPuPoints && options.controlPoints == 0)
         throw Error("the input has " + std::to_string(model.inputPoints) + " points, more than the fit takes (" +
                     std::to_string(kMaxPuPoints) + "): choose fewer with --control-points");
@@ -159,9 +192,9 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     }
     phases.lap("normalize");
     if (points.triangles.empty()) {  // a mesh's winding orients its normals; a point cloud's may point every way
-        model.flippedNormals = orientNormals(inputs.positions, inputs.normals);
+        model.flippedNormals = orientNormals(inputs.positions, inputs.normals, estimated);
+        if (model.flippedNormals || model.estimatedNormals) points.normals = inputs.normals;
         if (model.flippedNormals) {
-            points.normals = inputs.normals;
             note("turned " + std::to_string(model.flippedNormals) + " of the input's " +
                  std::to_string(points.normals.size()) +
                  " normals to agree with their neighbours' (they were not consistently oriented)");
@@ -272,7 +305,8 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         // neighbours (a face sample beside a vertex) gives it coefficients large enough (Σ|α| ~ 10⁴) for float
         // evaluation to miss the surface: on the bunny with face samples, 2.6e-5 of the diagonal merging within
         // 1%, 1.9e-6 within 10%, 3.7e-7 within 25%.
-        near = mergeNearPoints(fitted, (global ? 0.01 : 0.25) * typicalSpacing(fitted.positions));
+        near =
+            mergeNearPoints(fitted, (global ? 0.01 : 0.25) * typicalSpacing(fitted.positions, mesh.positions.empty()));
         phases.lap("merge_near");
         if (fitted.positions.size() < 2)
             throw Error("too few distinct points to fit a surface: " + std::to_string(fitted.positions.size()) +

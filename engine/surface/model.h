@@ -36,8 +36,9 @@ struct Model {
     size_t inputPoints = 0;  // read from the file (a mesh's vertices)
     size_t faceSamples = 0;  // points sampled over a mesh's faces and fitted besides its vertices
     size_t mergedDuplicates = 0;
-    size_t flippedNormals = 0;   // a point cloud's normals turned to agree with their neighbours' (orientNormals)
-    bool turnedOutward = false;  // every normal turned: they pointed inward (normalsPointInward)
+    size_t flippedNormals = 0;    // a point cloud's normals turned to agree with their neighbours' (orientNormals)
+    size_t estimatedNormals = 0;  // a point cloud's points without a normal in the file, given one (estimateNormals)
+    bool turnedOutward = false;   // every normal turned: they pointed inward (normalsPointInward)
     // A mesh cut flat at one end of its box (every open edge there, across one coordinate axis: a bust's neck, a
     // mushroom's stem, an open box's top): that axis is up, positive (openBase; the first picture's up axis before
     // the shape's, docs/usage.md). None for other models.

@@ -64,6 +64,8 @@ struct FitReport {
     size_t inputPoints = 0;       // read from the file (0 for a .hrbf model)
     size_t mergedDuplicates = 0;  // input points dropped as duplicates
     size_t flippedNormals = 0;    // a point cloud's normals turned to agree with their neighbours'
+    size_t estimatedNormals =
+        0;  // a point cloud's points without a normal in the file, given one from their neighbours
     // Its back is drawn where it shows through an opening: a mesh with an open part (a rim, a hole), and every point
     // cloud and .hrbf model, whose rims are not known (docs/usage.md, Open surfaces).
     bool twoSided = true;

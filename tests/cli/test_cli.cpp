@@ -7,8 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include <sys/wait.h>
+#include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -289,6 +291,42 @@ TEST_CASE("cli: --up z stands a z-up model up as the y-up original, also from a 
     Run bad = run("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --up w -o " + (dir / "bad.png").string());
     CHECK(bad.status == 1);
     CHECK(bad.output == "inkwell: --up: up axis 'w' is not one of x, -x, y, -y, z, -z or auto\n");
+}
+
+TEST_CASE("cli: a point cloud without normals is drawn as the same cloud with its normals" *
+          doctest::test_suite("cli")) {
+    // A torus of positions alone (.xyz, three numbers a line) and with its normals (.xyzn): the first has its normals
+    // estimated (estimateNormals, orientNormals), with a note and its count in the stats, and draws the same torus.
+    TempDir tmp;
+    std::string bare, full;
+    for (int i = 0; i < 96; ++i)
+        for (int j = 0; j < 48; ++j) {
+            const double u = 2 * M_PI * i / 96, v = 2 * M_PI * j / 48;
+            const Eigen::Vector3d n(std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v)),
+                p = 0.3 * Eigen::Vector3d(std::cos(u), std::sin(u), 0) + 0.1 * n;
+            char position[100], normal[100];
+            std::snprintf(position, sizeof position, "%.9g %.9g %.9g", p.x(), p.y(), p.z());
+            std::snprintf(normal, sizeof normal, " %.9g %.9g %.9g\n", n.x(), n.y(), n.z());
+            bare += std::string(position) + "\n";
+            full += std::string(position) + normal;
+        }
+    const std::string common = " --levels 3 --camera 30,40,1.6 --size 256 256 -o ";
+    const Run estimated =
+        run("render " + tmp.write("torus.xyz", bare) + common + (tmp / "bare.png") + " --stats " + (tmp / "bare.json"));
+    REQUIRE(estimated.status == 0);
+    CHECK(estimated.output.find("note: estimated the normals of the input's 4608 points, which the file does not "
+                                "give, from their 16 nearest neighbours, oriented along the surface\n") !=
+          std::string::npos);
+    REQUIRE(run("render " + tmp.write("torus.xyzn", full) + common + (tmp / "full.png") + " -q").status == 0);
+    std::ifstream stats(tmp / "bare.json");
+    CHECK(nlohmann::json::parse(stats)["fit"]["estimated_normals"] == 4608);
+    const Ink a = inkOf(ink::readPng(tmp / "bare.png")), b = inkOf(ink::readPng(tmp / "full.png"));
+    REQUIRE(b.count > 1000);
+    CHECK(std::abs(int(a.x0) - int(b.x0)) <= 2);
+    CHECK(std::abs(int(a.x1) - int(b.x1)) <= 2);
+    CHECK(std::abs(int(a.y0) - int(b.y0)) <= 2);
+    CHECK(std::abs(int(a.y1) - int(b.y1)) <= 2);
+    CHECK(double(a.count) == doctest::Approx(double(b.count)).epsilon(0.05));
 }
 
 TEST_CASE("cli: the hidden lines' dot size, contour width and opacity take effect, from options and a preset" *

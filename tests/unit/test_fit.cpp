@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -210,6 +211,122 @@ TEST_CASE("fit: a large cloud's normals are screened on a sample first, and stil
     size_t outward = 0;
     for (size_t i = 0; i < mixed.size(); ++i) outward += mixed[i].dot(positions[i]) > 0;
     CHECK(outward == mixed.size());
+}
+
+namespace {
+
+// The largest angle, degrees, between each point's normal and the true one.
+double worstAngleDeg(const std::vector<Vector3d>& normals, const std::vector<Vector3d>& truth) {
+    double worst = 0;
+    for (size_t i = 0; i < normals.size(); ++i)
+        worst = std::max(worst, std::acos(std::clamp(normals[i].dot(truth[i]), -1.0, 1.0)) * 180 / M_PI);
+    return worst;
+}
+
+}  // namespace
+
+TEST_CASE("fit: a cloud without normals has them estimated from its neighbours and oriented along its surface" *
+          doctest::test_suite("unit")) {
+    SUBCASE("a torus and a sphere of positions alone: every normal within a few degrees of the true one, outward") {
+        for (const ink::OrientedPoints& shape : {ink::torusPoints(96, 48, 0.3, 0.1), ink::spherePoints(3000, 0.5)}) {
+            std::vector<Vector3d> normals(shape.positions.size(), Vector3d::Zero());
+            std::vector<char> estimated;
+            CHECK(ink::estimateNormals(shape.positions, normals, estimated) == shape.positions.size());
+            CHECK(std::count(estimated.begin(), estimated.end(), 1) == std::ptrdiff_t(shape.positions.size()));
+            CHECK(ink::orientNormals(shape.positions, normals, estimated) == 0);  // no normal of the file's turned
+            CHECK_FALSE(ink::normalsPointInward(shape.positions, normals));
+            const double worst = worstAngleDeg(normals, shape.normals);
+            INFO(shape.positions.size() << " points: worst " << worst << " degrees");
+            CHECK(worst < 5);  // measured: 1.9 (torus), 0.98 (sphere)
+        }
+    }
+    SUBCASE("a thin closed slab: its two faces, a little over a spacing apart, face apart") {
+        // A box 1 × 1 × 0.05 sampled every 0.025 over its six faces: the faces' points' neighbours include the
+        // other face's (the estimates there lean), and the tree must not turn one face to agree with the other.
+        std::vector<Vector3d> positions, truth;
+        const double h = 0.025;
+        auto face = [&](const Vector3d& origin, const Vector3d& u, const Vector3d& v, double lu, double lv,
+                        const Vector3d& n) {
+            for (int i = 0; i <= int(std::lround(lu / h)); ++i)
+                for (int j = 0; j <= int(std::lround(lv / h)); ++j) {
+                    positions.push_back(origin + i * h * u + j * h * v);
+                    truth.push_back(n);
+                }
+        };
+        const Vector3d x = Vector3d::UnitX(), y = Vector3d::UnitY(), z = Vector3d::UnitZ();
+        face({0, 0, 0.05}, x, y, 1, 1, z);
+        face({0, 0, 0}, x, y, 1, 1, -z);
+        face({0, 0, h}, y, z, 1, 0, -x);  // the four sides' middle row (their rims are the faces' edges)
+        face({1, 0, h}, y, z, 1, 0, x);
+        face({h, 0, h}, x, z, 1 - 2 * h, 0, -y);
+        face({h, 1, h}, x, z, 1 - 2 * h, 0, y);
+        std::vector<Vector3d> normals(positions.size(), Vector3d::Zero());
+        std::vector<char> estimated;
+        ink::estimateNormals(positions, normals, estimated);
+        ink::orientNormals(positions, normals, estimated);
+        if (ink::normalsPointInward(positions, normals))
+            for (Vector3d& n : normals) n = -n;
+        size_t inner = 0, right = 0;  // the two faces' points two spacings and more from their rims
+        for (size_t i = 0; i < positions.size(); ++i) {
+            const Vector3d& p = positions[i];
+            if (std::abs(truth[i].z()) < 1 || std::min({p.x(), p.y(), 1 - p.x(), 1 - p.y()}) < 2 * h - 1e-9) continue;
+            ++inner;
+            right += normals[i].dot(truth[i]) > 0.9;
+        }
+        INFO(right << " of " << inner << " face points facing their way");
+        CHECK(inner == 2 * 37 * 37);
+        CHECK(right == inner);
+    }
+    SUBCASE("a cloud with a few zero normals: those take their neighbours' side, the file's stay as they were") {
+        ink::OrientedPoints sphere = ink::spherePoints(2000, 0.5), given = sphere;
+        for (size_t i = 0; i < given.normals.size(); i += 50) given.normals[i] = Vector3d::Zero();
+        std::vector<char> estimated;
+        CHECK(ink::estimateNormals(given.positions, given.normals, estimated) == 40);
+        CHECK(ink::orientNormals(given.positions, given.normals, estimated) == 0);
+        for (size_t i = 0; i < given.normals.size(); ++i)
+            if (!estimated[i]) CHECK(given.normals[i] == sphere.normals[i]);
+        CHECK(worstAngleDeg(given.normals, sphere.normals) < 5);
+    }
+    SUBCASE("through the fit: the count in the model, the surface through the points, its gradient outward") {
+        ink::OrientedPoints torus = ink::torusPoints(64, 32, 0.3, 0.1), bare = torus;
+        for (Vector3d& n : bare.normals) n = Vector3d::Zero();
+        const ink::Model model = ink::fitModel(bare, {});
+        CHECK(model.estimatedNormals == torus.positions.size());
+        CHECK(model.flippedNormals == 0);
+        CHECK(model.inputMaxDistance < 1e-3);
+        size_t outward = 0;
+        for (size_t i = 0; i < torus.positions.size(); ++i) {
+            Vector3d g;
+            model.surface.eval(model.surface.frame.toNormalized(torus.positions[i]), g);
+            outward += g.normalized().dot(torus.normals[i]) > std::cos(5 * M_PI / 180);
+        }
+        CHECK(outward == torus.positions.size());
+    }
+    SUBCASE("too few points to estimate from") {
+        ink::OrientedPoints few = ink::spherePoints(10, 0.5);
+        few.normals[3] = Vector3d::Zero();
+        CHECK_THROWS_WITH_AS(ink::fitModel(few, {}),
+                             "1 of the input's 10 points have no normal, and 10 points are too few to estimate one "
+                             "from (16 are needed)",
+                             ink::Error);
+    }
+}
+
+TEST_CASE("fit: a point cloud of parts far apart keeps its points: the merging spacing is measured, not its box's" *
+          doctest::test_suite("unit")) {
+    // Three spheres 30 radii apart: their box's faces are some 80 times their surface, and the spacing that
+    // measured (the points as if spread over the box) merged all but 2,991 of the 12,000 points as near pairs.
+    ink::OrientedPoints cloud;
+    for (const Vector3d& centre : {Vector3d(0, 0, 0), Vector3d(30, 0, 0), Vector3d(0, 25, 10)}) {
+        const ink::OrientedPoints sphere = ink::spherePoints(4000, 1.0);
+        for (size_t i = 0; i < sphere.positions.size(); ++i) {
+            cloud.positions.push_back(sphere.positions[i] + centre);
+            cloud.normals.push_back(sphere.normals[i]);
+        }
+    }
+    const ink::Model model = ink::fitModel(cloud, {});
+    INFO(model.fit.controlPoints << " control points of 12000");
+    CHECK(model.fit.controlPoints > 11000);
 }
 
 TEST_CASE("fit: farthest-point sampling through fitModel picks the same centres every time" *

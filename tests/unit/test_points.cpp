@@ -47,6 +47,13 @@ bool allUnit(const OrientedPoints& p) {
     return p.normals.size() == p.positions.size();
 }
 
+// A point cloud's normals may also be zero (none in the file: the fit estimates them); a mesh's may not.
+bool unitOrCloudZero(const OrientedPoints& p) {
+    for (const Vector3d& n : p.normals)
+        if (std::abs(n.norm() - 1.0) > 1e-12 && !(p.triangles.empty() && n == Vector3d::Zero())) return false;
+    return p.normals.size() == p.positions.size();
+}
+
 OrientedPoints obj(const std::string& text) { return parsePoints(text, "obj", "t.obj"); }
 OrientedPoints ply(const std::string& bytes) { return parsePoints(bytes, "ply", "t.ply"); }
 OrientedPoints pts(const std::string& text) { return parsePoints(text, "pts", "t.pts"); }
@@ -179,7 +186,6 @@ TEST_CASE("points: bad obj input" * doctest::test_suite("unit")) {
     };
     bad("", "t.obj: no vertices");
     bad("# nothing\n", "no vertices");
-    bad("v 0 0 0\nv 1 0 0\n", "has no faces and no normals: cannot orient points");
     bad("v 0 0 0\nv 1 0 0\nvn 0 0 1\n", "do not pair up");
     bad("v 0 0 0\nv 1 abc 0\n", "t.obj: line 2: 'abc' is not a number");
     bad("v 0 0\n", "line 1: expected 3 to 7 numbers");
@@ -314,9 +320,6 @@ TEST_CASE("points: bad ply input" * doctest::test_suite("unit")) {
         bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
             "property float nx\nend_header\n0 0 0 1\n",
             "some of nx, ny, nz");
-        bad("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
-            "end_header\n0 0 0\n",
-            "has no normals (nx ny nz) and no faces: cannot orient points");
         bad("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\n"
             "property float nx\nproperty float ny\nproperty float nz\nend_header\n",
             "t.ply: no vertices");
@@ -347,7 +350,6 @@ TEST_CASE("points: bad ply input" * doctest::test_suite("unit")) {
         bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 nan 0 0 0 1\n",
             "t.ply: vertex 1: coordinate is not finite");
         bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 0 0 0 inf 1\n", "vertex 1: normal is not finite");
-        bad(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 0 0 0 0 0\n", "t.ply: vertex 1: normal is zero");
 
         Bytes b{false, binaryTriangleHeader()};
         for (int i = 0; i < 9; ++i) b.put(float(i == 3 || i == 7));
@@ -402,6 +404,27 @@ TEST_CASE("points: oriented point text with comments and blank lines" * doctest:
     CHECK(near(p.normals[2], {0, -1, 0}));
 }
 
+TEST_CASE("points: a point cloud without normals, or with zero ones, is read with those normals zero" *
+          doctest::test_suite("unit")) {
+    // The fit estimates them (estimateNormals); a mesh's vertex still needs one (its faces' where the file's is zero).
+    const auto zeroAt = [](const OrientedPoints& p, std::vector<size_t> zero) {
+        REQUIRE(p.normals.size() == p.positions.size());
+        CHECK(p.triangles.empty());
+        for (size_t i = 0; i < p.normals.size(); ++i)
+            CHECK(p.normals[i].squaredNorm() == doctest::Approx(std::find(zero.begin(), zero.end(), i) == zero.end()));
+    };
+    zeroAt(pts("1 2 3\n4 5 6\n# x y z\n7 8 9\n"), {0, 1, 2});
+    CHECK(pts("1 2 3\n4 5 6\n").positions[1] == Vector3d(4, 5, 6));
+    zeroAt(pts("1 2 3 0 0 1\n1 2 4 0 0 0\n"), {1});
+    zeroAt(obj("v 0 0 0\nv 1 0 0\n"), {0, 1});
+    zeroAt(ply("ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+               "end_header\n0 0 0\n1 0 0\n"),
+           {0, 1});
+    zeroAt(ply(std::string(kAsciiNormalsHeader) + "0 0 0 0 0 1\n0 0 0 0 0 0\n"), {1});
+    zeroAt(parsePoints("OFF\n2 0 0\n0 0 0\n1 0 0\n", "off", "t.off"), {0, 1});
+    zeroAt(parsePoints("3\n0 0 0\n1 0 0\n0 1 0\n", "xyz", "t.xyz"), {0, 1, 2});
+}
+
 TEST_CASE("points: bad oriented point text" * doctest::test_suite("unit")) {
     auto bad = [](const std::string& text, const char* words) {
         CHECK_THROWS_WITH_AS(pts(text), doctest::Contains(words), Error);
@@ -411,7 +434,8 @@ TEST_CASE("points: bad oriented point text" * doctest::test_suite("unit")) {
     bad("1 2 3 0 0 1\n1 2 3 0 0\n", "t.pts: line 2: expected 6 numbers (x y z nx ny nz), found 5 fields");
     bad("1 2 3 0 0 1 7\n", "line 1: expected 6 numbers");
     bad("1 2 3 0 0 1\n\n1 2 three 0 0 1\n", "t.pts: line 3: 'three' is not a number");
-    bad("1 2 3 0 0 1\n1 2 3 0 0 0\n", "t.pts: line 2: normal is zero");
+    bad("1 2 3\n1 2 3 0 0 1\n", "t.pts: line 2: expected 3 numbers (x y z, as the first point), found 6 fields");
+    bad("1 2 3 0\n", "t.pts: line 1: expected 6 numbers (x y z nx ny nz) or 3 (x y z), found 4 fields");
     bad("1 2 3 0 0 1\n1 2 inf 0 0 1\n", "line 2: coordinate is not finite");
     bad("1 2 3 0 0 1\n1 2 3 nan 0 1\n", "line 2: normal is not finite");
     bad(std::string("1 2 3 0 0 1\n\0\n", 14), "line 2: binary data");
@@ -457,7 +481,7 @@ TEST_CASE("points: garbage input only ever throws ink::Error" * doctest::test_su
         for (const char* format : formats) {
             try {
                 OrientedPoints p = parsePoints(bytes, format, "g");
-                CHECK(allUnit(p));
+                CHECK(unitOrCloudZero(p));
                 ++parsed;
             } catch (const Error&) {
                 ++refused;
