@@ -37,8 +37,10 @@ int parseOnce(const uint8_t* data, size_t size, Parse parse) {
     if (p.positions.size() != p.normals.size()) broken("positions and normals differ in number");
     for (size_t i = 0; i < p.positions.size(); ++i) {
         if (!p.positions[i].allFinite()) broken("a coordinate is not finite");
-        if (!p.normals[i].allFinite() || std::abs(p.normals[i].norm() - 1.0) > 1e-9)
-            broken("a normal is not of unit length");
+        // Unit length; or zero in a point cloud (none in the file, or 0 0 0: the fit estimates it).
+        const bool cloudZero = p.triangles.empty() && p.normals[i] == Eigen::Vector3d::Zero();
+        if (!p.normals[i].allFinite() || (std::abs(p.normals[i].norm() - 1.0) > 1e-9 && !cloudZero))
+            broken("a normal is neither of unit length nor a point cloud's zero");
     }
     return 0;
 }

@@ -596,19 +596,32 @@ size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<
         for (size_t i = 0; i < m; ++i) reached[i] = isEstimated(i);
         return growOrientation(graph(neighbours), byX, normals, reached);
     };
-    const size_t flipped = orientGiven();
-    if (!anyEstimated) return flipped;
-
-    // The estimated normals, from the given ones (held) or from each part's extreme point.
+    if (!anyEstimated) return orientGiven();
+    const size_t missing = size_t(std::count(estimated.begin(), estimated.end(), 1));
+    // A few estimated (a file's stray zero normals): the given ones oriented among themselves, then held while the
+    // tree grows from them into the estimated ones. Many (the given ones too sparse to hold together): one tree over
+    // every point, signs of neither telling, and then the whole turned to the side most given normals face.
+    const bool few = missing * 10 <= m;
+    const size_t flippedGiven = few ? orientGiven() : 0;
+    const std::vector<Vector3d> given = few ? std::vector<Vector3d>() : normals;
     std::vector<uint32_t> neighbours(m * kNeighbours, UINT32_MAX);
     parallelChunks(m, 1024, [&](size_t begin, size_t end, size_t) {
         size_t pairs = 0, opposed = 0;
         for (size_t i = begin; i < end; ++i) along(i, false, &neighbours[i * kNeighbours], pairs, opposed);
     });
     std::vector<char> reached(m, 0);
-    for (size_t i = 0; i < m; ++i) reached[i] = !estimated[i];
+    if (few)
+        for (size_t i = 0; i < m; ++i) reached[i] = !estimated[i];
     growOrientation(graph(neighbours), byX, normals, reached);
-    return flipped;
+    if (few) return flippedGiven;
+    size_t agree = 0, differ = 0;
+    for (size_t i = 0; i < m; ++i)
+        if (!estimated[i]) ++(normals[i].dot(given[i]) > 0 ? agree : differ);
+    if (differ > agree) {
+        for (Vector3d& n : normals) n = -n;
+        std::swap(agree, differ);
+    }
+    return differ;
 }
 
 size_t estimateNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals,
@@ -619,8 +632,9 @@ size_t estimateNormals(const std::vector<Eigen::Vector3d>& positions, std::vecto
     for (size_t i = 0; i < m; ++i) missing += estimated[i] = normals[i].squaredNorm() == 0;
     if (missing == 0) return 0;
     if (m < kNormalNeighbours)
-        throw Error(std::to_string(missing) + " of the input's " + std::to_string(m) + " points have no normal, and " +
-                    std::to_string(m) + " points are too few to estimate one from (" +
+        throw Error(std::to_string(missing) + (missing == 1 ? " point" : " points") + " of " + std::to_string(m) +
+                    (missing == 1 ? " has" : " have") + " no normal, and " + std::to_string(m) +
+                    " points are too few to estimate " + (missing == 1 ? "it" : "them") + " from (" +
                     std::to_string(kNormalNeighbours) + " are needed)");
     const PointCloud cloud{positions};
     const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
@@ -640,10 +654,10 @@ size_t estimateNormals(const std::vector<Eigen::Vector3d>& positions, std::vecto
                 covariance += d * d.transpose();
             }
             solver.compute(covariance);
-            // Eigenvalues ascending: the first eigenvector is the direction of least variance. Neighbours all at one
-            // place (a pile of duplicates) leave the covariance zero and any direction; +z then.
+            // Eigenvalues ascending: the first eigenvector is the direction of least variance. (Neighbours at one
+            // place would leave the covariance zero and the solver's first axis; the fit merges duplicates first.)
             const Vector3d n = solver.eigenvectors().col(0);
-            normals[i] = n.allFinite() && n.squaredNorm() > 0.5 ? n.normalized() : Vector3d::UnitZ();
+            normals[i] = n.allFinite() && n.squaredNorm() > 0.5 ? n.normalized() : Vector3d::UnitX();
         }
     });
     return missing;

@@ -35,11 +35,13 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance);
 // part starts again from its own extreme point. Returns the normals flipped (0 when consistent already). Over
 // 40,000 points, every (m / 20,000)-th point is screened first, and the full pass runs only where over 2.5% of
 // its pairs are opposed.
-// With `estimated` (a flag a point, from estimateNormals), those points are left out of that test and tree, and then
-// oriented from the others: a second tree grows from every point whose normal the file gave (held as it is) into the
-// estimated ones, over neighbours within 30° of both tangent planes whatever the normals' signs (an estimate has
-// none), each turned to agree with the one it is reached from; a part with no given normal starts from its extreme
-// point along x, facing +x. The flips of estimated normals are not counted.
+// With `estimated` (a flag a point, from estimateNormals): where they are a tenth of the points or fewer, the given
+// normals are oriented among themselves as above (the estimated points left out), and then a second tree grows from
+// every given point (held as it is) into the estimated ones, over neighbours within 30° of both tangent planes
+// whatever the normals' signs (an estimate has none), each turned to agree with the one it is reached from. Where
+// more are estimated, the given ones are too sparse to hold together: that tree grows over every point from each
+// part's extreme point along x (facing +x), and the whole is then turned to the side most given normals face. The
+// given normals turned are counted; the estimated ones are not.
 size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals,
                      const std::vector<char>& estimated = {});
 
@@ -47,7 +49,8 @@ size_t orientNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<
 // kNormalNeighbours nearest points, as Hoppe et al. (1992) do: the direction of least variance of their covariance
 // about their centroid (the fitted tangent plane's normal, PCA). Its sign is arbitrary until orientNormals orients
 // it. `estimated` gets a flag a point. Returns how many were estimated; throws ink::Error when some are missing
-// and the cloud has fewer than kNormalNeighbours points to estimate them from.
+// and the cloud has fewer than kNormalNeighbours points to estimate them from. Pass normalized positions (the squares
+// of a cloud at 1e200 overflow) without duplicates (a point repeated 16 times would be its own neighbourhood).
 size_t estimateNormals(const std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals,
                        std::vector<char>& estimated);
 constexpr size_t kNormalNeighbours = 16;

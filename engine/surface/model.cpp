@@ -34,7 +34,9 @@ constexpr size_t kFewVertices = 64;
 // sit in close pairs (a crease's split vertices, face samples by vertices). A point cloud that fills little of its
 // box (parts far apart, a scene) takes at most twice the median distance to the sixth nearest point, on up to 4,096
 // of them (a cloud of three unit spheres 30 apart: 9,738 of its 12,000 points merged by the box's spacing, 5,108 so;
-// closed shapes and scans measure 0.5 to 1.9 times that distance by their box, and stay as they were).
+// closed shapes and scans measure 0.5 to 1.9 times that distance by their box, and stay as they were). Points
+// nearer a probe than a twentieth of the box's spacing are not counted: a scan registered several times over puts
+// clusters of near copies everywhere, which are what the merging is for.
 double typicalSpacing(const std::vector<Eigen::Vector3d>& points, bool pointCloud) {
     if (points.size() < 2) return 0;
     Eigen::Vector3d lo = points.front(), hi = points.front();
@@ -45,19 +47,25 @@ double typicalSpacing(const std::vector<Eigen::Vector3d>& points, bool pointClou
     Eigen::Vector3d d = hi - lo;
     double area = d.x() * d.y() + d.y() * d.z() + d.z() * d.x();
     const double box = std::sqrt(area / double(points.size()));
-    constexpr size_t kNearest = 7, kProbes = 4096;  // the point itself and six
+    constexpr size_t kNearest = 64, kSixth = 6, kProbes = 4096;
     if (!pointCloud || points.size() < 2 * kNearest) return box;
     const PointCloud cloud{points};
     const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    const double tooNear = 0.05 * box;
     std::vector<double> sixth;
     const size_t stride = std::max<size_t>(1, points.size() / kProbes);
+    std::array<uint32_t, kNearest> index{};
+    std::array<double, kNearest> squared{};
     for (size_t i = 0; i < points.size(); i += stride) {
-        std::array<uint32_t, kNearest> index{};
-        std::array<double, kNearest> squared{};
-        if (tree.knnSearch(points[i].data(), kNearest, index.data(), squared.data()) == kNearest)
-            sixth.push_back(std::sqrt(squared.back()));
+        const size_t found = tree.knnSearch(points[i].data(), kNearest, index.data(), squared.data());
+        size_t counted = 0;
+        for (size_t k = 0; k < found; ++k)
+            if (squared[k] > tooNear * tooNear && ++counted == kSixth) {
+                sixth.push_back(std::sqrt(squared[k]));
+                break;
+            }
     }
-    if (sixth.empty()) return box;
+    if (sixth.size() * 2 < (points.size() + stride - 1) / stride) return box;  // most probes in clusters: keep the box
     std::nth_element(sixth.begin(), sixth.begin() + std::ptrdiff_t(sixth.size() / 2), sixth.end());
     return std::min(box, 2 * sixth[sixth.size() / 2]);
 }
@@ -169,28 +177,31 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
              " points that stand alone, off the surface their neighbours sample (outliers; --keep-outliers keeps "
              "them)");
     phases.lap("outliers");
-    // A point cloud's points without normals (an .xyz of positions alone, a PLY without nx ny nz, 0 0 0 in the file):
-    // estimated from their neighbours, then oriented with the rest (orientNormals).
-    std::vector<char> estimated;
-    if (points.triangles.empty() &&
-        (model.estimatedNormals = estimateNormals(points.positions, points.normals, estimated))) {
-        const bool all = model.estimatedNormals == points.positions.size();
-        note("estimated the normals of " + (all ? std::string() : std::to_string(model.estimatedNormals) + " of ") +
-             "the input's " + std::to_string(points.positions.size()) + " points, which the file " +
-             (all ? "does not give" : "gives as zero") + ", from their " + std::to_string(kNormalNeighbours) +
-             " nearest neighbours, oriented along the surface");
-        phases.lap("normals");
-    }
     if (model.inputPoints > kMaxPuPoints && options.controlPoints == 0)
         throw Error("the input has " + std::to_string(model.inputPoints) + " points, more than the fit takes (" +
                     std::to_string(kMaxPuPoints) + "): choose fewer with --control-points");
     Frame frame = Frame::unitDiagonal(points.positions);
+    // A point cloud's points without normals (an .xyz of positions alone, a PLY without nx ny nz, 0 0 0 in the file):
+    // estimated from their neighbours below, then oriented with the rest (orientNormals). Duplicates merged first.
+    const bool missing = points.triangles.empty() && std::any_of(points.normals.begin(), points.normals.end(),
+                                                                 [](const Eigen::Vector3d& n) { return n.isZero(0); });
+    if (missing) model.mergedDuplicates = mergeDuplicates(points, 1e-9 / frame.scale);
     OrientedPoints inputs;  // normalized, for the error at every input point
     for (size_t i = 0; i < points.positions.size(); ++i) {
         inputs.positions.push_back(frame.toNormalized(points.positions[i]));
         inputs.normals.push_back(points.normals[i]);
     }
     phases.lap("normalize");
+    std::vector<char> estimated;
+    if (missing) {
+        model.estimatedNormals = estimateNormals(inputs.positions, inputs.normals, estimated);
+        const size_t n = inputs.positions.size(), e = model.estimatedNormals;
+        note("estimated the normals of " +
+             (e == n ? "all " + std::to_string(n) + " points (the file gives none, or zero)"
+                     : std::to_string(e) + " of " + std::to_string(n) + " points (the file gives them as zero)") +
+             " from their " + std::to_string(kNormalNeighbours) + " nearest neighbours, oriented along the surface");
+        phases.lap("normals");
+    }
     if (points.triangles.empty()) {  // a mesh's winding orients its normals; a point cloud's may point every way
         model.flippedNormals = orientNormals(inputs.positions, inputs.normals, estimated);
         if (model.flippedNormals || model.estimatedNormals) points.normals = inputs.normals;
@@ -257,7 +268,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
 
     phases.lap("mesh");
     // Duplicates make the system singular without a NaN to warn (ALGORITHM.md §2): merge them first.
-    model.mergedDuplicates = mergeDuplicates(points, 1e-9 / frame.scale);
+    model.mergedDuplicates += mergeDuplicates(points, 1e-9 / frame.scale);
     if (model.mergedDuplicates)
         note("merged " + std::to_string(model.mergedDuplicates) + " duplicate point" +
              (model.mergedDuplicates == 1 ? "" : "s"));

@@ -86,6 +86,11 @@ static AxisProfile profile(const ViewSamples& samples, int c) {
     return a;
 }
 
+// Standing shapes (detectUpAxis): the longest axis' spread over the middle one's, at least; and the share of the
+// samples facing out at one end of it.
+constexpr float kStanding = 1.8f;
+constexpr double kStandingBase = 0.005;
+
 UpChoice detectUpAxis(const ViewSamples& samples) {
     UpChoice choice;
     const size_t n = samples.positions.size();
@@ -109,10 +114,23 @@ UpChoice detectUpAxis(const ViewSamples& samples) {
     // Flat: the thinnest axis, snapped to a coordinate axis, unless a mirror plane lies across it while y is
     // lopsided (a camel is thin from flank to flank). Otherwise +y: a figure's up and front axes are both
     // lopsided, and nothing in the shape alone told them apart reliably.
-    int thinnest = 0;
+    int thinnest = 0, longest = 0;
     solver.eigenvectors().col(0).cwiseAbs().maxCoeff(&thinnest);
+    solver.eigenvectors().col(2).cwiseAbs().maxCoeff(&longest);
     if (choice.sigma[2] < 0.55f * choice.sigma[1] &&
         !(axes[thinnest].mirrored() && thinnest != 1 && !axes[1].mirrored())) {
+        // Standing, though flat: also much longer along one axis than across, with a base at its low end (flat area
+        // facing down there, not up at the other: feet, a plinth): that axis up. A figure is thin from front to back,
+        // which this test takes for up (CGAL's man.off lay on his back); a plank lying has like faces at both ends.
+        // Only the axis's positive direction: a flat top larger than the feet (a box-shaped body) would otherwise
+        // stand a figure on its head. A shape that is not flat is left alone (a foot's bones stood on their heel).
+        const AxisProfile& along = axes[longest];
+        if (choice.sigma[0] > kStanding * choice.sigma[1] && along.baseBelow >= kStandingBase &&
+            along.baseBelow >= 2 * along.baseAbove) {
+            choice.up = axisOf(longest, false);
+            choice.reason = "standing: its longest axis, a base at its low end";
+            return choice;
+        }
         choice.up = axisOf(thinnest, false);
         choice.reason = "flat: its thinnest axis";
         return choice;

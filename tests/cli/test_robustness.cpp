@@ -113,7 +113,7 @@ std::vector<BadModel> badModels() {
         {"garbage.ply", garbage, ": not a PLY file"},
         {"nan.pts", "0 0 0 0 0 1\n1 0 0 1 0 0\n0 nan 1 0 1 0\n", ": line 3: coordinate is not finite"},
         {"zero-normal.pts", "0 0 0 0 0 1\n1 0 0 0 0 0\n0 1 1 0 1 0\n",
-         ": 1 of the input's 3 points have no normal, and 3 points are too few to estimate one from (16 are needed)"},
+         ": 1 point of 3 has no normal, and 3 points are too few to estimate it from (16 are needed)"},
         {"duplicates.pts", duplicates, ": the points span no volume: all positions coincide"},
         {"huge-box.pts", "1.7e308 0 0 1 0 0\n-1.7e308 0 0 -1 0 0\n0 1 0 0 1 0\n",
          ": the points' bounding box is too large or too small to normalize (diagonal inf)"},

@@ -233,7 +233,7 @@ TEST_CASE("fit: a cloud without normals has them estimated from its neighbours a
             std::vector<char> estimated;
             CHECK(ink::estimateNormals(shape.positions, normals, estimated) == shape.positions.size());
             CHECK(std::count(estimated.begin(), estimated.end(), 1) == std::ptrdiff_t(shape.positions.size()));
-            CHECK(ink::orientNormals(shape.positions, normals, estimated) == 0);  // no normal of the file's turned
+            ink::orientNormals(shape.positions, normals, estimated);
             CHECK_FALSE(ink::normalsPointInward(shape.positions, normals));
             const double worst = worstAngleDeg(normals, shape.normals);
             INFO(shape.positions.size() << " points: worst " << worst << " degrees");
@@ -302,12 +302,52 @@ TEST_CASE("fit: a cloud without normals has them estimated from its neighbours a
         }
         CHECK(outward == torus.positions.size());
     }
+    SUBCASE("most normals missing and some of the given ones turned: one tree, then the side most given ones face") {
+        const ink::OrientedPoints sphere = ink::spherePoints(3000, 0.5);
+        std::vector<Vector3d> normals = sphere.normals;
+        size_t given = 0, turned = 0;
+        for (size_t i = 0; i < normals.size(); ++i) {
+            if (i % 3 != 0) {
+                normals[i] = Vector3d::Zero();
+                continue;
+            }
+            if (++given % 10 == 0) normals[i] = -normals[i], ++turned;
+        }
+        std::vector<char> estimated;
+        CHECK(ink::estimateNormals(sphere.positions, normals, estimated) == 2000);
+        CHECK(ink::orientNormals(sphere.positions, normals, estimated) == turned);
+        CHECK(worstAngleDeg(normals, sphere.normals) < 5);
+    }
+    SUBCASE("through the fit at extreme scales, and with every point repeated: the same outward normals") {
+        for (double scale : {1e-200, 1.0, 1e200})
+            for (int copies : {1, 9}) {
+                CAPTURE(scale);
+                CAPTURE(copies);
+                const ink::OrientedPoints sphere = ink::spherePoints(2000, 0.5);
+                ink::OrientedPoints bare;
+                for (const Vector3d& p : sphere.positions)
+                    for (int c = 0; c < copies; ++c) {
+                        bare.positions.push_back(scale * p);
+                        bare.normals.push_back(Vector3d::Zero());
+                    }
+                const ink::Model model = ink::fitModel(bare, {});
+                CHECK(model.estimatedNormals == 2000);
+                CHECK(model.mergedDuplicates == size_t(copies - 1) * 2000);
+                size_t outward = 0;
+                for (size_t i = 0; i < sphere.positions.size(); ++i) {
+                    Vector3d g;
+                    model.surface.eval(model.surface.frame.toNormalized(scale * sphere.positions[i]), g);
+                    outward += g.normalized().dot(sphere.normals[i]) > std::cos(5 * M_PI / 180);
+                }
+                CHECK(outward == sphere.positions.size());
+            }
+    }
     SUBCASE("too few points to estimate from") {
         ink::OrientedPoints few = ink::spherePoints(10, 0.5);
         few.normals[3] = Vector3d::Zero();
         CHECK_THROWS_WITH_AS(ink::fitModel(few, {}),
-                             "1 of the input's 10 points have no normal, and 10 points are too few to estimate one "
-                             "from (16 are needed)",
+                             "1 point of 10 has no normal, and 10 points are too few to estimate it from (16 are "
+                             "needed)",
                              ink::Error);
     }
 }

@@ -72,6 +72,15 @@ std::vector<Box> figure() {
             {{0.03f, 0.0f, -0.06f}, {0.12f, 0.2f, 0.06f}}};
 }
 
+// A standing figure (CGAL's man.off): a tall body thin from front to back (z), shoulders wide, two feet below whose
+// soles face down, a head on top; y-up.
+std::vector<Box> standing() {
+    return {{{-0.16f, 0.3f, -0.05f}, {0.16f, 0.75f, 0.05f}},  // body
+            {{-0.06f, 0.75f, -0.05f}, {0.06f, 0.9f, 0.05f}},  // head
+            {{-0.12f, 0.0f, -0.04f}, {-0.02f, 0.3f, 0.08f}},  // legs, the feet reaching forward
+            {{0.02f, 0.0f, -0.04f}, {0.12f, 0.3f, 0.08f}}};
+}
+
 }  // namespace
 
 TEST_CASE("viewpoint: the up axis of flat shapes is their thinnest, of others y, whichever axis the file uses" *
@@ -91,6 +100,18 @@ TEST_CASE("viewpoint: the up axis of flat shapes is their thinnest, of others y,
     const ink::UpChoice z = ink::detectUpAxis(turned(boxes(figure()), ink::UpAxis::PosZ));
     CHECK(z.up == ink::UpAxis::PosY);
     CHECK(z.reason == "not flat: y");
+    // A standing figure, tall, thin from front to back (flat by its spreads), its feet a base at the bottom: its long
+    // axis up, whichever axis the file uses; stored upside down it is not taken for standing.
+    for (ink::UpAxis up : {ink::UpAxis::PosX, ink::UpAxis::PosY, ink::UpAxis::PosZ}) {
+        CAPTURE(ink::upAxisName(up));
+        const ink::UpChoice s = ink::detectUpAxis(turned(boxes(standing()), up));
+        CHECK(s.up == up);
+        CHECK(s.reason == "standing: its longest axis, a base at its low end");
+    }
+    CHECK(ink::detectUpAxis(turned(boxes(standing()), ink::UpAxis::NegZ)).reason !=
+          "standing: its longest axis, a base at its low end");
+    // A plank lying (long, narrow, thin, like faces at both ends): flat, its thinnest axis up.
+    CHECK(ink::detectUpAxis(boxes({{{-0.5f, 0.0f, -0.08f}, {0.5f, 0.03f, 0.08f}}})).up == ink::UpAxis::PosY);
     // Too few samples: y.
     CHECK(ink::detectUpAxis({}).up == ink::UpAxis::PosY);
     // The file's convention: glTF is +y by its specification; the other formats have none.
