@@ -5,6 +5,7 @@
 #include "base/random.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace ink {
@@ -21,14 +22,39 @@ double nearestSquaredDistance(const std::vector<Eigen::Vector3d>& points, size_t
     return best;
 }
 
-// Mean distance from a seed to its nearest other seed; at most 2000 seeds are measured, against all.
+// The seeds' spacing: the mean distance from a seed to its nearest other seed; at most 2000 seeds are measured,
+// against all. Seeds at random (a sparse scan's points, which are the seeds when they are few) stand in pairs and
+// clusters: their nearest is about half their spacing, ρ₀ came out half what it is for evenly spread seeds, and the
+// children of four levels, reaching about 1.9 ρ₀, left the gaps between them bare (a random sphere of 1,000 points
+// drew lace, blotches and holes). Their third nearest is about 0.9 of their spacing and 1.8 times their nearest; a
+// mesh's vertices' or farthest-point samples' 1.2 to 1.3 times: where it is over kClustered times the nearest, the
+// median third nearest is the spacing. (Taking it for every model moved the bunny's and the torus's page figures
+// the wrong way: mean NN 0.760 → 0.750 and 0.759 → 0.742, clumping 0.071 → 0.120 and 0.026 → 0.043.)
+constexpr double kClustered = 1.5;
+
 static double meanSpacing(const std::vector<Eigen::Vector3d>& p) {
     if (p.size() < 2) return 0.1;
     size_t stride = std::max<size_t>(1, p.size() / 2000);
     double sum = 0;
     size_t count = 0;
-    for (size_t i = 0; i < p.size(); i += stride, ++count) sum += std::sqrt(nearestSquaredDistance(p, i));
-    return sum / double(count);
+    std::vector<double> third;
+    for (size_t i = 0; i < p.size(); i += stride, ++count) {
+        std::array<double, 3> nearest;
+        nearest.fill(INFINITY);
+        for (size_t j = 0; j < p.size(); ++j) {
+            const double d2 = (p[i] - p[j]).squaredNorm();
+            if (j == i || !(d2 < nearest.back())) continue;
+            nearest.back() = d2;
+            std::sort(nearest.begin(), nearest.end());
+        }
+        sum += std::sqrt(nearest[0]);
+        if (std::isfinite(nearest[2])) third.push_back(std::sqrt(nearest[2]));
+    }
+    const double mean = sum / double(count);
+    if (third.empty()) return mean;
+    std::nth_element(third.begin(), third.begin() + std::ptrdiff_t(third.size() / 2), third.end());
+    const double median = third[third.size() / 2];
+    return median > kClustered * mean ? median : mean;
 }
 
 RefinePlan planRefinement(const Surface& hrbf, const RefineOptions& o, uint64_t maxPoints) {

@@ -216,6 +216,41 @@ TEST_CASE("refine: requests that cannot fit are refused with the numbers" * doct
         ink::Error);
 }
 
+TEST_CASE("refine: seeds at random get the spacing of seeds spread evenly, not their nearest's half" *
+          doctest::test_suite("unit")) {
+    // 900 points on a unit sphere, uniformly at random and on a Fibonacci spiral: the same density, so the same ρ₀
+    // within its estimate's noise. The random ones' nearest distances average half the spiral's: ρ₀ from them alone
+    // left the children of four levels short of the gaps (a sparse scan drew lace and holes).
+    std::vector<Vector3d> random, spiral;
+    uint32_t state = 7;
+    auto normal = [&] {
+        double u = 0, v = 0;
+        while (!(u > 0)) {
+            state = state * 1664525u + 1013904223u;
+            u = double(state >> 8) / double(1u << 24);
+        }
+        state = state * 1664525u + 1013904223u;
+        v = double(state >> 8) / double(1u << 24);
+        return std::sqrt(-2 * std::log(u)) * std::cos(2 * M_PI * v);
+    };
+    for (int i = 0; i < 900; ++i) {
+        random.push_back(Vector3d(normal(), normal(), normal()).normalized());
+        const double y = 1 - 2 * (i + 0.5) / 900, r = std::sqrt(1 - y * y), a = 2.399963229728653 * i;
+        spiral.push_back({r * std::cos(a), y, r * std::sin(a)});
+    }
+    auto rho0 = [](const std::vector<Vector3d>& points) {
+        ink::OrientedPoints cloud;
+        cloud.positions = points;
+        cloud.normals = points;
+        const ink::Model model = ink::fitModel(cloud, {});
+        return ink::planRefinement(model.surface, {}, 1u << 22).rho0;
+    };
+    const double even = rho0(spiral), scattered = rho0(random);
+    INFO("ρ₀ " << scattered << " for random seeds, " << even << " for a spiral's");
+    CHECK(scattered > 0.8 * even);  // 0.62 times before
+    CHECK(scattered < 1.25 * even);
+}
+
 TEST_CASE("refine: the portable CPU kernel (what ARM64 runs) gives the AVX2 kernel's points, to rounding" *
           doctest::test_suite("unit")) {
     ink::Model model = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {150});

@@ -616,6 +616,16 @@ TEST_CASE("features: a point cloud's support holds near its points, not across a
     CHECK(cut[0].points.back().z() < 0.4f);
     CHECK(dropped == meridian.points.size() - cut[0].points.size());
     CHECK(dropped > 10);
+
+    // A scan registered seven times over (each point in seven copies, 1e-4 apart): the same support. Counted as
+    // neighbours, the copies left every reach at their jitter, and the sphere between its points unsupported.
+    std::vector<Vector3d> copies;
+    for (size_t i = 0; i < kept.size(); ++i)
+        for (int c = 0; c < 7; ++c) copies.push_back(kept[i] + 1e-4 * Vector3d(c % 2, c / 2 % 2, c / 4) / 1.7);
+    const ink::Support registered(copies);
+    CHECK(registered.supports(Vector3d(0.5, 0, 0)));
+    CHECK(registered.supports(Vector3d(0, 0, -0.5)));
+    CHECK_FALSE(registered.supports(Vector3d(0, 0, 0.5)));
 }
 
 TEST_CASE("cli: crease and boundary options refuse bad values with one line, writing nothing" *
