@@ -20,9 +20,6 @@ namespace ink {
 // of 10⁶ points some hundreds of MB (the bunny with its face samples, 18,210 points, is 18.8 MB). Larger files
 // are refused unread. docs/hrbf-format.md and docs/robustness.md quote it.
 constexpr size_t kMaxHrbfBytes = size_t(1) << 30;  // 1 GiB
-// The most nodes a patch of a loaded partition of unity may hold: a fit makes 12 to a few dozen (PuOptions::minPatch,
-// maxPatch); every evaluation near a patch visits all of them, so a 65,000-node patch took 78 s to render.
-constexpr size_t kMaxPatchNodes = 1024;
 
 // Binary (version 3) or text (version 1 for the global fit, 2 for the partition of unity).
 enum class HrbfFormat { Binary, Text };

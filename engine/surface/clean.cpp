@@ -451,6 +451,48 @@ size_t removeOutliers(OrientedPoints& points) {
                          (global > 0 && spacing[i] > float(kOutlierGlobal) * global);
         }
     });
+    // Clumps: the points left, in parts linked by their nearest neighbours; a part of fewer than kOutlierClump
+    // points whose nearest point outside it lies over kOutlierGlobal times the cloud's median spacing away floats
+    // alone (a scan's floaters: CGAL's poste_france.xyz had clumps of 7 to 41 points 90 units off, which framed the
+    // drawing so that its body came out 100 pixels wide). Its nearest point outside is among its points' (size + 1)
+    // nearest.
+    std::vector<uint32_t> part(m);
+    for (uint32_t i = 0; i < m; ++i) part[i] = i;
+    const auto root = [&](uint32_t i) {
+        while (part[i] != i) i = part[i] = part[part[i]];
+        return i;
+    };
+    for (uint32_t i = 0; i < m; ++i)
+        for (size_t j = 0; j < k; ++j) {
+            const uint32_t o = neighbours[i * k + j];
+            if (outlier[i] || outlier[o]) continue;
+            const uint32_t a = root(i), b = root(o);
+            if (a != b) part[std::max(a, b)] = std::min(a, b);
+        }
+    std::vector<uint32_t> size(m, 0);
+    for (uint32_t i = 0; i < m; ++i)
+        if (!outlier[i]) ++size[root(i)];
+    std::unordered_map<uint32_t, std::vector<uint32_t>> clumps;
+    for (uint32_t i = 0; i < m; ++i)
+        if (!outlier[i] && size[root(i)] < kOutlierClump) clumps[root(i)].push_back(i);
+    // Distances that overflow (a cloud at 1e200) measure nothing; and clumps are a few stray points, never most.
+    size_t inClumps = 0;
+    for (const auto& [id, members] : clumps) inClumps += members.size();
+    if (!(global > 0 && std::isfinite(global)) || 2 * inClumps >= m) clumps.clear();
+    for (const auto& [id, members] : clumps) {
+        bool near = false;
+        std::vector<uint32_t> index(members.size() + 1);
+        std::vector<double> squared(members.size() + 1);
+        const double reach = double(kOutlierGlobal) * double(global);
+        for (uint32_t i : members) {
+            const size_t found =
+                tree.knnSearch(points.positions[i].data(), members.size() + 1, index.data(), squared.data());
+            for (size_t j = 0; j < found && !near; ++j) near = root(index[j]) != id && squared[j] <= reach * reach;
+            if (near) break;
+        }
+        if (!near)
+            for (uint32_t i : members) outlier[i] = 1;
+    }
     size_t kept = 0;
     for (size_t i = 0; i < m; ++i) {
         if (outlier[i]) continue;
@@ -464,6 +506,7 @@ size_t removeOutliers(OrientedPoints& points) {
 }
 
 bool normalsPointInward(const std::vector<Eigen::Vector3d>& positions, const std::vector<Eigen::Vector3d>& normals) {
+    if (positions.empty()) return false;
     const size_t k = std::clamp<size_t>(positions.size() / 64, 1, kOutermost);
     size_t inward = 0, outward = 0;
     std::vector<std::pair<double, size_t>> along(positions.size());

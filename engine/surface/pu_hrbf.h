@@ -62,6 +62,11 @@ struct PuHrbf {
     double patchWeight(const Eigen::Vector3d& x) const;
 };
 
+// The most nodes a patch may hold, loaded (hrbf_io.h) or grown to minPatch points in a fit: a fit makes 12 to a few
+// dozen (PuOptions::minPatch, maxPatch); every evaluation near a patch visits all of them, so a 65,000-node patch
+// took 78 s to render.
+constexpr size_t kMaxPatchNodes = 1024;
+
 struct PuOptions {
     // Small patches keep the local coefficients small, and so the float evaluation accurate: on the bunny with its
     // face samples the worst distance at the points was 1.0e-6 of the diagonal with these at 6, 1.4, 12, 40 and
