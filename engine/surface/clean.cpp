@@ -452,7 +452,7 @@ size_t removeOutliers(OrientedPoints& points) {
         }
     });
     // Clumps: the points left, in parts linked by their nearest neighbours; a part of fewer than kOutlierClump
-    // points whose nearest point outside it lies over kOutlierGlobal times the cloud's median spacing away floats
+    // points whose nearest point outside it lies over kClumpGap times the cloud's median spacing away floats
     // alone (a scan's floaters: CGAL's poste_france.xyz had clumps of 7 to 41 points 90 units off, which framed the
     // drawing so that its body came out 100 pixels wide). Its nearest point outside is among its points' (size + 1)
     // nearest.
@@ -483,7 +483,7 @@ size_t removeOutliers(OrientedPoints& points) {
         bool near = false;
         std::vector<uint32_t> index(members.size() + 1);
         std::vector<double> squared(members.size() + 1);
-        const double reach = double(kOutlierGlobal) * double(global);
+        const double reach = kClumpGap * double(global);
         for (uint32_t i : members) {
             const size_t found =
                 tree.knnSearch(points.positions[i].data(), members.size() + 1, index.data(), squared.data());

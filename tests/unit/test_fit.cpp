@@ -190,8 +190,8 @@ TEST_CASE("fit: a cloud's outliers are left out, a sparsely sampled region and a
     mesh.triangles.push_back({0, 1, 2});
     CHECK(ink::removeOutliers(mesh) == 0);
 
-    // Clumps (a scan's floaters): 20 points together 1.5 radii off the sphere go; the same 20 beside it, and a
-    // second sphere as far off, stay.
+    // Clumps (a scan's floaters): 20 points together 4 radii off the sphere (some 60 spacings) go; the same 20
+    // beside it or 1.5 radii off (some 20: a scan's fragment across a gap), and a second sphere, stay.
     const auto withClump = [&](const Vector3d& centre, size_t count, double radius) {
         ink::OrientedPoints cloud = sphere;
         const ink::OrientedPoints clump = ink::spherePoints(count, radius);
@@ -201,7 +201,8 @@ TEST_CASE("fit: a cloud's outliers are left out, a sparsely sampled region and a
         }
         return ink::removeOutliers(cloud);
     };
-    CHECK(withClump({0, 0, 1.25}, 20, 0.01) == 20);
+    CHECK(withClump({0, 0, 2.5}, 20, 0.01) == 20);
+    CHECK(withClump({0, 0, 1.25}, 20, 0.01) == 0);
     CHECK(withClump({0, 0, 0.53}, 20, 0.01) == 0);
     CHECK(withClump({0, 0, 2.0}, 4000, 0.5) == 0);
 }
