@@ -33,10 +33,10 @@ constexpr size_t kFewVertices = 64;
 // bounding box: sqrt(box surface / 2 / count) (a closed surface fills about half of it); robust to how many points
 // sit in close pairs (a crease's split vertices, face samples by vertices). A point cloud that fills little of its
 // box (parts far apart, a scene) takes at most twice the median distance to the sixth nearest point, on up to 4,096
-// of them (a cloud of three unit spheres 30 apart: 9,738 of its 12,000 points merged by the box's spacing, 5,108 so;
+// of them (a cloud of three unit spheres 30 apart: 9,738 of its 12,000 points merged by the box's spacing, 5,272 so;
 // closed shapes and scans measure 0.5 to 1.9 times that distance by their box, and stay as they were). Points
-// nearer a probe than a twentieth of the box's spacing are not counted: a scan registered several times over puts
-// clusters of near copies everywhere, which are what the merging is for.
+// nearer a probe than kNearCopy box spacings are not counted, as Support does not count them: a scan registered
+// several times over puts clusters of near copies everywhere, which are what the merging is for.
 double typicalSpacing(const std::vector<Eigen::Vector3d>& points, bool pointCloud) {
     if (points.size() < 2) return 0;
     Eigen::Vector3d lo = points.front(), hi = points.front();
@@ -51,7 +51,7 @@ double typicalSpacing(const std::vector<Eigen::Vector3d>& points, bool pointClou
     if (!pointCloud || points.size() < 2 * kNearest) return box;
     const PointCloud cloud{points};
     const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-    const double tooNear = 0.05 * box;
+    const double tooNear = kNearCopy * box;
     std::vector<double> sixth;
     const size_t stride = std::max<size_t>(1, points.size() / kProbes);
     std::array<uint32_t, kNearest> index{};

@@ -21,7 +21,8 @@ namespace ink {
 // across a hole it ends the surface about this far past the rim.
 constexpr double kSupportReach = 2.0;
 constexpr int kSupportNeighbours = 4;
-// Neighbours nearer than this many typical spacings are copies of the point, not its neighbours (Support).
+// Neighbours nearer than this many typical spacings are copies of the point, not its neighbours (Support, and the
+// fit's merging spacing, model.cpp's typicalSpacing).
 constexpr double kNearCopy = 0.05;
 // A mesh supports the points within this of a triangle (normalized units): three times the 0.1% of the
 // diagonal within which the fit follows every face sample it was given (model.cpp), and less than the inradius of
