@@ -140,7 +140,7 @@ Scene::TracedLines Scene::traceLines(const Sets& from, const LineOptions& l) con
         double deviceMs = 0;
         CrossFieldSolution solved = device && fits ? solveCrossFieldOnDevice(ctx, first, t.samples, graph, f, &deviceMs)
                                                    : solveCrossField(model.surface, t.samples, graph, f);
-        const CrossField field(t.samples, graph, std::move(solved));
+        const CrossField field(t.samples, graph, std::move(solved), f.featureSize);
         const double fieldSeconds = secondsSince(fieldStart);
         t.hatching = trimStrokes(traceHatching(model.surface, field, l.hatch, &t.hatchStats), model);
         t.hatchStats.fieldSeconds = fieldSeconds;

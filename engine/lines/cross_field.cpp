@@ -265,11 +265,11 @@ CrossFieldSolution solveCrossField(const Surface& surface, const std::vector<Sur
 CrossField::CrossField(const Surface& surface, const std::vector<SurfaceSample>& samples,
                        const CrossFieldOptions& options) {
     const CrossFieldGraph graph = buildCrossFieldGraph(samples, options.neighbours, options.threads);
-    *this = CrossField(samples, graph, solveCrossField(surface, samples, graph, options));
+    *this = CrossField(samples, graph, solveCrossField(surface, samples, graph, options), options.featureSize);
 }
 
 CrossField::CrossField(const std::vector<SurfaceSample>& samples, const CrossFieldGraph& graph,
-                       CrossFieldSolution solution)
+                       CrossFieldSolution solution, double featureSize)
     : normals_(std::move(solution.normals)),
       directions_(std::move(solution.directions)),
       principal_(std::move(solution.principal)),
@@ -288,6 +288,19 @@ CrossField::CrossField(const std::vector<SurfaceSample>& samples, const CrossFie
     // that a device's float and the CPU's double make the same one. The rest is reached over the neighbour graph
     // from those anchors (or, in a part with none, from its most confident point), most confident first (ties by
     // index: deterministic), each point matched to the one it was reached from.
+    // Flat ground (flat()): the normal's largest turn to a neighbour, per unit distance (a curvature), against
+    // kFlatBend / featureSize.
+    flat_.assign(m, 0);
+    for (uint32_t i = 0; i < m; ++i) {
+        double bend = 0;
+        for (uint32_t j = 0; j < k; ++j) {
+            const uint32_t o = graph.neighbours[size_t(i) * k + j];
+            if (o == CrossFieldGraph::kNone) continue;
+            const double d = (positions_[o] - positions_[i]).norm();
+            if (d > 0) bend = std::max(bend, (normals_[o] - normals_[i]).norm() / d);
+        }
+        flat_[i] = bend * featureSize < kFlatBend;
+    }
     combed_.assign(m, Vector3d::Zero());
     std::vector<char> reached(m, 0);
     using Item = std::pair<float, uint32_t>;
@@ -295,11 +308,15 @@ CrossField::CrossField(const std::vector<SurfaceSample>& samples, const CrossFie
         return a.first < b.first || (a.first == b.first && a.second > b.second);
     };
     std::priority_queue<Item, std::vector<Item>, decltype(lower)> queue(lower);
-    auto anchor = [&](uint32_t i) {
-        reached[i] = 1;
-        combed_[i] = normals_[i].cross(principal_[i]);  // the smaller principal curvature's direction
+    // Of i's four directions, the one nearest `reference` (or its own where that is along the normal).
+    auto comb = [&](uint32_t i, const Vector3d& reference) {
+        combed_[i] = directions_[i];
         Vector3d matched;
-        if (CrossField::nearestOf(directions_[i], normals_[i], combed_[i], matched)) combed_[i] = matched;
+        if (CrossField::nearestOf(directions_[i], normals_[i], reference, matched)) combed_[i] = matched;
+    };
+    auto anchor = [&](uint32_t i) {  // the smaller principal curvature's direction
+        reached[i] = 1;
+        comb(i, normals_[i].cross(principal_[i]));
         queue.push({confidence_[i], i});
     };
     auto grow = [&] {
@@ -310,15 +327,57 @@ CrossField::CrossField(const std::vector<SurfaceSample>& samples, const CrossFie
                 const uint32_t o = graph.neighbours[size_t(i) * k + j];
                 if (o == CrossFieldGraph::kNone || reached[o]) continue;
                 reached[o] = 1;
-                combed_[o] = directions_[o];
-                Vector3d matched;
-                if (CrossField::nearestOf(directions_[o], normals_[o], combed_[i], matched)) combed_[o] = matched;
+                comb(o, combed_[i]);
                 queue.push({confidence_[o], o});
             }
         }
     };
+    // The curved parts first, grown from their clear curvature without crossing flat ground.
+    for (uint32_t i = 0; i < m; ++i) reached[i] = flat_[i];
     for (uint32_t i = 0; i < m; ++i)
-        if (confidence_[i] >= kAnchorConfidence) anchor(i);
+        if (confidence_[i] >= kAnchorConfidence && !flat_[i]) anchor(i);
+    grow();
+    // Then each piece of flat ground (linked by neighbours) in one direction, its field and comb alike: the way the
+    // curved points beside it are combed (their e^{2iθ} average in its mean tangent plane: a plate's long fillets
+    // outweigh its short ones), or, where they agree on none (|average| < kFramed), the tangent of the fixed axis
+    // the field started from. Grown from its edges instead, a flat face framed by fillets was split along its
+    // diagonals.
+    std::vector<char> done(m, 0);
+    std::vector<uint32_t> piece;
+    for (uint32_t seed = 0; seed < m; ++seed) {
+        if (!flat_[seed] || done[seed]) continue;
+        piece.assign(1, seed);
+        done[seed] = 1;
+        Vector3d normal = Vector3d::Zero();
+        for (size_t q = 0; q < piece.size(); ++q) {
+            const uint32_t i = piece[q];
+            normal += normals_[i];
+            for (uint32_t j = 0; j < k; ++j) {
+                const uint32_t o = graph.neighbours[size_t(i) * k + j];
+                if (o != CrossFieldGraph::kNone && flat_[o] && !done[o]) done[o] = 1, piece.push_back(o);
+            }
+        }
+        const Vector3d t1 = anyTangent(normal.normalized()), t2 = normal.normalized().cross(t1);
+        Vector2d around = Vector2d::Zero();
+        double contacts = 0;
+        for (const uint32_t i : piece)
+            for (uint32_t j = 0; j < k; ++j) {
+                const uint32_t o = graph.neighbours[size_t(i) * k + j];
+                if (o == CrossFieldGraph::kNone || flat_[o] || combed_[o].isZero()) continue;
+                const double x = combed_[o].dot(t1), y = combed_[o].dot(t2), r2 = x * x + y * y;
+                if (r2 > 1e-12) around += Vector2d(x * x - y * y, 2 * x * y) / r2, contacts += 1;
+            }
+        // A square face's edges cancel: the axis rather than a direction their noise picks.
+        const bool framed = around.norm() > kFramed * contacts;
+        const Vector3d way = atAngle(t1, normal.normalized(), 0.5 * std::atan2(around.y(), around.x()));
+        for (const uint32_t i : piece) {
+            const Vector3d target = framed ? way : axisTangent(normals_[i]);
+            const Vector3d t = target - target.dot(normals_[i]) * normals_[i];
+            if (t.norm() > 1e-6) directions_[i] = t.normalized();
+            comb(i, target);
+            queue.push({confidence_[i], i});
+        }
+    }
     grow();
     std::vector<uint32_t> order(m);
     for (uint32_t i = 0; i < m; ++i) order[i] = i;
@@ -351,14 +410,14 @@ bool CrossField::nearestOf(const Vector3d& d, const Vector3d& n, const Vector3d&
 }
 
 bool CrossField::lookup(const Vector3d& x, const Vector3d& n, const Vector3d& reference, Vector3d& direction,
-                        double* coherence) const {
+                        double* coherence, Vector2d* flatComb) const {
     Vector3d t1 = reference - reference.dot(n) * n;
     if (!(t1.norm() > 1e-9) || cells_.empty()) return false;
     t1.normalize();
     const Vector3d t2 = n.cross(t1);
     const Eigen::Array3i c = (x.array() * inverseCell_).floor().cast<int>();
     const double r2 = radius_ * radius_;
-    Vector2d z = Vector2d::Zero();
+    Vector2d z = Vector2d::Zero(), comb = Vector2d::Zero();
     double total = 0;
     for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)
@@ -373,10 +432,15 @@ bool CrossField::lookup(const Vector3d& x, const Vector3d& n, const Vector3d& re
                     const double w = (1 - d2 / r2) * (1 - d2 / r2);
                     z += w * fourthPower(directions_[j], t1, t2);
                     total += w;
+                    if (flatComb && flat_[j]) {
+                        const double cx = combed_[j].dot(t1), cy = combed_[j].dot(t2), c2 = cx * cx + cy * cy;
+                        if (c2 > 0) comb += (w / c2) * Vector2d(cx * cx - cy * cy, 2 * cx * cy);
+                    }
                 }
             }
     if (!(total > 0)) return false;
     if (coherence) *coherence = z.norm() / total;
+    if (flatComb) *flatComb = comb / total;
     direction = atAngle(t1, n, 0.25 * std::atan2(z.y(), z.x()));
     return true;
 }

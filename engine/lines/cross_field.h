@@ -73,8 +73,9 @@ public:
     // The graph built and the field solved on the CPU.
     CrossField(const Surface& surface, const std::vector<SurfaceSample>& samples,
                const CrossFieldOptions& options = {});
-    // From a solution on `graph` (either solve's): the comb and the look-up grid.
-    CrossField(const std::vector<SurfaceSample>& samples, const CrossFieldGraph& graph, CrossFieldSolution solution);
+    // From a solution on `graph` (either solve's): the comb and the look-up grid; `featureSize` as the solve's.
+    CrossField(const std::vector<SurfaceSample>& samples, const CrossFieldGraph& graph, CrossFieldSolution solution,
+               double featureSize = CrossFieldOptions{}.featureSize);
 
     size_t size() const { return positions_.size(); }
     const std::vector<Eigen::Vector3d>& positions() const { return positions_; }
@@ -88,14 +89,25 @@ public:
     // singularities cannot be combed everywhere).
     static constexpr float kAnchorConfidence = 0.5f;  // |k1 − k2| · featureSize ≥ 1
     const std::vector<Eigen::Vector3d>& combed() const { return combed_; }
+    // Flat ground: points whose normal turns by less than kFlatBend · |Δx| / featureSize to any neighbour's (a
+    // plane, or a bend wider than 20 feature sizes). Each piece of it is given one direction, field and comb: the
+    // way the curved points around it are combed where they agree on one (|Σ e^{2iθ}| ≥ kFramed a point), else
+    // the tangent of a fixed axis (the model's y, its x where the normal is near ±y). Grown from the curved parts
+    // around it, a flat face framed by fillets was split along its diagonals; following the smoothed field, its
+    // strokes bent with it.
+    static constexpr double kFlatBend = 0.05, kFramed = 0.25;
+    const std::vector<char>& flat() const { return flat_; }
     const std::vector<float>& confidence() const { return confidence_; }
     double radius() const { return radius_; }  // of an interpolation (lookup)
 
     // The field at x (unit normal n) as the one of its four directions nearest `reference` (a tangent): the
     // neighbours' crosses within radius() averaged as e^{4iθ} in x's tangent plane. `coherence` (0..1): |Σ w z| / Σ w,
     // near 0 beside a singularity where the neighbours' crosses cancel. False without neighbours.
+    // `flatComb`, when given: the combed directions c of the neighbours on flat ground (flat()) as seen from the
+    // reference, Σ w e^{2iφ} over them / Σ w over all, φ the angle from the reference to c: (1, 0) where all are
+    // flat and the reference runs along their comb, (−1, 0) across it, 0 away from flat ground.
     bool lookup(const Eigen::Vector3d& x, const Eigen::Vector3d& n, const Eigen::Vector3d& reference,
-                Eigen::Vector3d& direction, double* coherence = nullptr) const;
+                Eigen::Vector3d& direction, double* coherence = nullptr, Eigen::Vector2d* flatComb = nullptr) const;
 
     // Of the cross {±d, ±n × d}, the direction nearest `reference`; false when reference ∥ n.
     static bool nearestOf(const Eigen::Vector3d& d, const Eigen::Vector3d& n, const Eigen::Vector3d& reference,
@@ -104,6 +116,7 @@ public:
 private:
     std::vector<Eigen::Vector3d> positions_, normals_, directions_, principal_, combed_;
     std::vector<float> confidence_;
+    std::vector<char> flat_;
     double radius_ = 0;
     double inverseCell_ = 0;
     std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;

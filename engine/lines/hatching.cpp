@@ -16,6 +16,9 @@ using Eigen::Vector3d;
 
 namespace {
 
+// A stroke ends where this much of its neighbourhood is flat ground combed the other way (CrossField::flat()).
+constexpr double kFlatAgainst = 0.25;
+
 // Newton steps along ∇f onto f = 0; n is the unit normal there.
 bool projectToSurface(const Surface& hrbf, Vector3d& x, Vector3d& n) {
     for (int i = 0; i < 8; ++i) {
@@ -77,10 +80,13 @@ private:
     // field's four directions, and the match turned forward.
     bool field(const Vector3d& x, const Vector3d& n, const Vector3d& reference, Vector3d& d) const {
         double coherence = 0;
-        if (family_ < 2) return field_.lookup(x, n, reference, d, &coherence) && coherence >= o_.minCoherence;
-        const Vector3d back = turned(reference - reference.dot(n) * n, n, -1.0);
-        if (!field_.lookup(x, n, back, d, &coherence) || coherence < o_.minCoherence) return false;
-        d = turned(d, n, 1.0);
+        Eigen::Vector2d comb;
+        const Vector3d ref = reference - reference.dot(n) * n, back = family_ < 2 ? ref : turned(ref, n, -1.0);
+        if (!field_.lookup(x, n, back, d, &coherence, &comb) || coherence < o_.minCoherence) return false;
+        // On flat ground a stroke keeps to its family's direction there (`comb`: (1, 0) along the flat comb, (−1, 0)
+        // across it): one coming off a curved part in the other family's direction ends at its edge.
+        if ((family_ == 1 ? -comb.x() : comb.x()) < -kFlatAgainst) return false;
+        if (family_ == 2) d = turned(d, n, 1.0);
         return true;
     }
 
