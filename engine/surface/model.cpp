@@ -345,7 +345,8 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
 
     // The partition of unity of every point fits a mesh's vertices first, then, in rounds, the face samples its
     // surface misses by more than kFaceSampleTolerance of the diagonal (a thin part between distant vertices, a
-    // long flat triangle), until it misses none. A mesh of a few vertices takes all its samples at once.
+    // long flat triangle), or its patches do not carry (the far field's, trimmed), until it misses none. A mesh of a
+    // few vertices takes all its samples at once.
     std::string sampled;
     if (adaptive && chosen.positions.size() >= kFewVertices) {
         // An open rim is where the fit extrapolates: sampled densely, its patches are small and the surface stops
@@ -366,7 +367,12 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
                 if (used[i]) continue;
                 Eigen::Vector3d g;
                 const double f = surface.eval(samples.positions[i], g), gn = g.norm();
-                if (gn > 0 && std::abs(f) / gn <= kFaceSampleTolerance && g.dot(samples.normals[i]) > 0) continue;
+                // Followed, and by the patches: where their weights fade between the sparse vertices of large
+                // faces the far field draws the surface, and the drawing drops it there (Model::holds).
+                const bool covered =
+                    global || surface.pu.patchWeight(samples.positions[i]) >= kFarFieldTrim * surface.pu.tau;
+                if (gn > 0 && std::abs(f) / gn <= kFaceSampleTolerance && g.dot(samples.normals[i]) > 0 && covered)
+                    continue;
                 used[i] = true;
                 chosen.positions.push_back(samples.positions[i]);
                 chosen.normals.push_back(samples.normals[i]);
