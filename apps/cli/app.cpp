@@ -26,9 +26,9 @@ inkwell::ModelOptions modelOptions(const Options& o) {
     m.creaseAngleDeg = o.creaseAngle;
     m.trim = o.trim;
     m.removeOutliers = o.removeOutliers;
-    // The feature lines only where they may be drawn: by the style's pen lines, or in the viewer, whose panel
-    // turns them on (fit, sample and a render of dots alone skip them).
-    m.features = o.drawing.creases || o.drawing.boundaries || (o.command && o.command->get_name() == "view");
+    // A point cloud's creases only where they may be drawn: by the style's pen lines, or in the viewer, whose panel
+    // turns them on (fit, sample and a render of dots alone skip them). A mesh's lines are always found.
+    m.features = o.drawing.creases || (o.command && o.command->get_name() == "view");
     return m;
 }
 
@@ -130,7 +130,8 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
         ->check(CLI::IsMember({"auto", "on", "off"}))
         ->capture_default_str();
     cmd->add_option("--boundaries", o.boundaries,
-                    "A mesh's boundary lines (open edges, holes' rims), on their own pen: auto as --creases")
+                    "A mesh's boundary lines (open edges, holes' rims), on their own pen: auto draws them in every "
+                    "style")
         ->check(CLI::IsMember({"auto", "on", "off"}))
         ->capture_default_str();
     cmd->add_option("--crease-width", s.creaseWidth, "Crease pen width in pixels")->capture_default_str();
@@ -304,13 +305,14 @@ static void parseStyle(Options& o) {
     d.style = dots == "direction" ? inkwell::Style::Direction
               : dots == "both"    ? inkwell::Style::Both
                                   : inkwell::Style::Stipple;
-    // A mesh's creases and boundaries go with the pen lines unless asked for or against.
+    // Creases go with the pen lines, a mesh's boundaries (its rims, its holes' edges) with every style: dots alone
+    // do not show where an open surface ends. Either unless asked for or against.
     const bool pen = d.contours || d.hatching;
-    for (auto [setting, on, option] :
-         {std::tuple{&o.creases, &d.creases, "--creases"}, std::tuple{&o.boundaries, &d.boundaries, "--boundaries"}}) {
+    for (auto [setting, on, option, always] : {std::tuple{&o.creases, &d.creases, "--creases", false},
+                                               std::tuple{&o.boundaries, &d.boundaries, "--boundaries", true}}) {
         if (*setting != "auto" && *setting != "on" && *setting != "off")
             throw inkwell::Error(std::string(option) + " '" + *setting + "' is not auto, on or off");
-        *on = *setting == "on" || (*setting == "auto" && pen);
+        *on = *setting == "on" || (*setting == "auto" && (pen || always));
     }
     o.look.dots = !dots.empty();
 }

@@ -221,7 +221,9 @@ bool sameHatching(const DrawingOptions& a, const DrawingOptions& b) {
 
 Drawing::Work Drawing::work(const DrawingOptions& options) const {
     if (!sameSets(options, impl_->options)) return Work::Sets;
-    const bool lines = options.contours || options.hatching || options.creases || options.boundaries;
+    const ink::FeatureLines& features = impl_->scene.model.features;
+    const bool lines = options.contours || options.hatching || (options.creases && !features.creases.empty()) ||
+                       (options.boundaries && !features.boundaries.empty());
     return sameHatching(options, impl_->options) && (impl_->scene.lines.any() || !lines) ? Work::None : Work::Lines;
 }
 

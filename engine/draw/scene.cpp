@@ -112,7 +112,10 @@ void Scene::replace(Sets newSets, double seconds, TracedLines traced) {
 Scene::TracedLines Scene::traceLines(const Sets& from, const LineOptions& l) const {
     TracedLines t;
     t.options = l;
-    if (!l.any() || from.empty()) return t;
+    // Lines the model has none of are no pen lines' work (a closed mesh's boundaries, on in every style).
+    t.options.creases = l.creases && !model.features.creases.empty();
+    t.options.boundaries = l.boundaries && !model.features.boundaries.empty();
+    if (!t.options.any() || from.empty()) return t;
     auto start = std::chrono::steady_clock::now();
     for (const PointRecord& p : readDrawnPoints(ctx, from.front()->gpu()))
         t.samples.push_back({Eigen::Vector3d(p.position[0], p.position[1], p.position[2]),

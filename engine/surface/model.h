@@ -25,7 +25,8 @@ struct ModelOptions {
     double creaseAngleDeg = kCreaseAngleDeg;  // the feature lines' creases (feature_lines.h), in (0, 180)
     bool trim = true;            // drop what the input does not support (support.h): an open scan's extrapolated caps
     bool removeOutliers = true;  // a point cloud's points that stand alone, off its surface (clean.h)
-    // Find the feature lines (Model::features; a 10⁶-point scan's creases take 2 s): off where none will be drawn.
+    // Find a point cloud's crease lines (Model::features; a 10⁶-point scan's take 2 s): off where none will be
+    // drawn. A mesh's crease and boundary lines, one pass over its edges, are always found.
     bool features = true;
 };
 

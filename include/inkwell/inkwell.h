@@ -55,8 +55,8 @@ struct ModelOptions {
     // Leaves out a point cloud's outliers: points that stand alone, off the surface their neighbours sample (a scan's
     // stray returns), each of which the fit would otherwise draw as a floating blob (docs/file-formats.md).
     bool removeOutliers = true;
-    // Looks for the crease and boundary lines (Drawing::creases; a 10⁶-point scan's creases take 2 s): off where
-    // none will be drawn.
+    // Looks for a point cloud's crease lines (Drawing::creases; a 10⁶-point scan's take 2 s): off where none will
+    // be drawn. A mesh's crease and boundary lines, one pass over its edges, are always found.
     bool features = true;
 };
 

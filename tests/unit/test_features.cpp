@@ -705,8 +705,8 @@ TEST_CASE("cli: a cube's SVG has its creases on a pen of their own, an open hemi
 }
 
 TEST_CASE("cli: the feature lines are found where they are drawn, not for dots alone" * doctest::test_suite("cli")) {
-    // A 10⁶-point scan's creases take seconds to find: a render of dots does not look for them (nor do fit and
-    // sample), and its stats say so instead of counting none.
+    // A 10⁶-point scan's creases take seconds to find: a render of dots does not look for a point cloud's (nor do
+    // fit and sample) nor draws a mesh's, and its stats say so instead of counting none.
     TempDir dir;
     const std::string cube = dir / "cube.obj";
     writeObj(cube, cubeMesh(6));
@@ -723,6 +723,27 @@ TEST_CASE("cli: the feature lines are found where they are drawn, not for dots a
     CHECK(lines["drawn"] == true);
     CHECK(lines["strokes"].get<size_t>() >= 1);
     CHECK(lines["length"].get<double>() > 0.9 * 12 / std::sqrt(3.0));  // the twelve edges, in diagonals
+}
+
+// Dots alone do not show where an open surface ends: its rim went ragged, a hole through it unseen (CGAL's
+// mech-holes-shark.off, elephant-with-holes.off). A mesh's boundaries are drawn in every style unless turned off.
+TEST_CASE("cli: an open mesh's rim is drawn with dots alone, unless --boundaries off" * doctest::test_suite("cli")) {
+    TempDir dir;
+    const std::string hemisphere = std::string(INKWELL_SOURCE_DIR) + "/tests/models/hemisphere.obj";
+    auto render = [&](const std::string& name, const std::string& extra) {
+        const std::string stats = dir / (name + ".json");
+        Run r = runInkwell("render " + hemisphere + " --size 256 256 --stats " + stats + " -o " +
+                           dir / (name + ".png") + extra);
+        REQUIRE_MESSAGE(r.status == 0, r.output);
+        std::ifstream in(stats);
+        return nlohmann::json::parse(in)["lines"]["boundaries"];
+    };
+    const nlohmann::json on = render("on", ""), off = render("off", " --boundaries off");
+    CHECK(on["drawn"] == true);
+    CHECK(on["strokes"].get<size_t>() >= 1);
+    // The rim, a circle of radius 1 in a box of 2 × 2 × 1 (diagonal 3): 2π / 3 diagonals.
+    CHECK(std::abs(on["length"].get<double>() - 2 * M_PI / 3) < 0.05 * 2 * M_PI / 3);  // 2.11 of 2.09
+    CHECK(off == nlohmann::json{{"drawn", false}});
 }
 
 // A fit of few control points misses its mesh by far more than a triangle's reach: it is not trimmed (its
