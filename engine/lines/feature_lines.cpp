@@ -116,9 +116,18 @@ SmoothChain smoothChain(const Chain& chain, const std::vector<Eigen::Vector3d>& 
     for (size_t i = 0; i < n; ++i) turns[i] = turn(i);
     std::vector<bool> fixed(n, false);
     if (!chain.closed) fixed.front() = fixed.back() = true;
-    constexpr double kCorner = 60 * M_PI / 180, kStraight = 20 * M_PI / 180;
+    constexpr double kCorner = 60 * M_PI / 180, kStraight = 20 * M_PI / 180, kSquare = 120 * M_PI / 180;
+    // A corner: a sharp turn between straight stretches, or one of at most 120° beside another such turning the
+    // same way (a low-poly box's rim, a square of four edges, which smoothing shrank to its centre). Sharp turns
+    // either way in a row are a jagged edge's zigzag, and a turn past 120° beside another a hook doubling back
+    // (the bunny's ear rims): smoothed.
+    auto sense = [&](size_t i) { return Eigen::Vector3d((x[i] - x[(i + n - 1) % n]).cross(x[(i + 1) % n] - x[i])); };
+    auto square = [&](size_t i) { return turns[i] > kCorner && turns[i] <= kSquare; };
+    auto calm = [&](size_t i, size_t j) {  // j beside i: straight, or the same square turn
+        return turns[j] < kStraight || (square(i) && square(j) && sense(i).dot(sense(j)) > 0);
+    };
     for (size_t i = 0; i < n; ++i)
-        if (turns[i] > kCorner && turns[(i + n - 1) % n] < kStraight && turns[(i + 1) % n] < kStraight) fixed[i] = true;
+        if (turns[i] > kCorner && calm(i, (i + n - 1) % n) && calm(i, (i + 1) % n)) fixed[i] = true;
     taubinSmooth(x, fixed, chain.closed);
     if (!chain.closed) fixed.front() = fixed.back() = true;
     return {x, fixed};

@@ -1040,3 +1040,25 @@ TEST_CASE("features: a low-poly mesh's own faces are carried by the patches, not
     CHECK(onMesh > points.size() * 9 / 10);
     CHECK(dropped * 1000 <= onMesh);  // 552 of 84,781 before, 10 now
 }
+
+// A low-poly box open at the top (CGAL's cube-ouvert.off: 8 vertices, 10 triangles): its rim is a loop of four
+// edges, each turning 90° beside another that does. A corner had to stand between straight stretches, so none was
+// kept and the smoothing shrank the square to its centre, where nothing lay on the surface: no boundary line.
+TEST_CASE("features: the square rim of a low-poly open box is one closed boundary line of its four sides" *
+          doctest::test_suite("unit")) {
+    TempDir dir;
+    const std::string path = dir / "open-box.off";
+    {
+        std::ofstream out(path);
+        out << "OFF\n8 10 0\n-1 -1 -1\n-1 1 -1\n1 1 -1\n1 -1 -1\n-1 -1 1\n-1 1 1\n1 1 1\n1 -1 1\n"
+               "3 0 1 3\n3 3 1 2\n3 0 4 1\n3 1 4 5\n3 3 2 7\n3 7 2 6\n3 4 0 3\n3 7 4 3\n3 6 4 7\n3 6 5 4\n";
+    }
+    const ink::Model model = ink::fitModel(ink::loadPoints(path), {});
+    const std::vector<ink::PenStroke>& rim = model.features.boundaries;
+    REQUIRE(rim.size() == 1);
+    CHECK(rim[0].closed);
+    // The four sides of the face y = 1 left out, each of length 2 in a box of diagonal 2√3.
+    CHECK(rim[0].length() == doctest::Approx(4 / std::sqrt(3.0)).epsilon(0.02));
+    for (const Eigen::Vector3f& p : rim[0].points)
+        CHECK(model.surface.frame.toInput(p.cast<double>()).y() == doctest::Approx(1).epsilon(0.01));
+}
