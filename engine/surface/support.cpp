@@ -118,11 +118,20 @@ Support::Support(const OrientedPoints& mesh, double slack) {
         const uint32_t index = uint32_t(triangles_.size());
         triangles_.push_back(t);
         reach2_.push_back(float(reach * reach));
+        rims_.push_back(0);
         for (int z = lo.z; z <= hi.z; ++z)
             for (int y = lo.y; y <= hi.y; ++y)
                 for (int x = lo.x; x <= hi.x; ++x) grid_[{x, y, z}].push_back(index);
     }
     if (triangles_.empty()) points_.clear();
+    // The open rim: edges of one face among those kept.
+    std::unordered_map<uint64_t, uint32_t> uses;
+    auto key = [](uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32 | b) : (uint64_t(b) << 32 | a); };
+    for (const Triangle& t : triangles_)
+        for (int k = 0; k < 3; ++k) ++uses[key(t[k], t[(k + 1) % 3])];
+    for (size_t j = 0; j < triangles_.size(); ++j)
+        for (int k = 0; k < 3; ++k)
+            if (uses[key(triangles_[j][k], triangles_[j][(k + 1) % 3])] == 1) rims_[j] |= uint8_t(1u << k);
 }
 
 bool Support::supports(const Eigen::Vector3d& x) const {
@@ -132,11 +141,27 @@ bool Support::supports(const Eigen::Vector3d& x) const {
     if (!triangles_.empty()) {
         auto it = grid_.find(c);
         if (it == grid_.end()) return false;
+        // The nearest triangle within reach; past its rim edge's line (in its plane), not supported.
+        uint32_t nearest = UINT32_MAX;
+        float best = INFINITY;
         for (uint32_t j : it->second) {
             const Triangle& t = triangles_[j];
-            if (distance2(xf, points_[t[0]], points_[t[1]], points_[t[2]]) <= reach2_[j]) return true;
+            const float d2 = distance2(xf, points_[t[0]], points_[t[1]], points_[t[2]]);
+            if (d2 <= reach2_[j] && d2 < best) best = d2, nearest = j;
         }
-        return false;
+        if (nearest == UINT32_MAX) return false;
+        if (rims_[nearest] == 0) return true;
+        const Triangle& t = triangles_[nearest];
+        const Eigen::Vector3f normal = (points_[t[1]] - points_[t[0]]).cross(points_[t[2]] - points_[t[0]]);
+        for (int k = 0; k < 3; ++k) {
+            if (!(rims_[nearest] >> k & 1)) continue;
+            const Eigen::Vector3f &p = points_[t[k]], &q = points_[t[(k + 1) % 3]], &r = points_[t[(k + 2) % 3]];
+            Eigen::Vector3f out = (q - p).cross(normal);
+            if (out.dot(r - p) > 0) out = -out;
+            const float length = out.norm();
+            if (length > 0 && (xf - p).dot(out) > float(kRimSlack) * length) return false;
+        }
+        return true;
     }
     for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)

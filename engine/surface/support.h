@@ -34,6 +34,10 @@ constexpr double kMeshSupport = 0.003;
 // control points) is not trimmed: its surface lies away from the mesh everywhere, and the grid of reaches would
 // grow with the cube of the miss (a 64-point fit of the bunny: 100 million cells, minutes).
 constexpr double kMaxMeshSupport = 0.03;
+// A mesh's open rim cuts its support: a point whose nearest triangle in reach has a boundary edge, and which lies
+// past that edge's line in the triangle's plane by more than this (normalized units), is not supported, though
+// within the triangle's reach (the fit carries on past an open rim, and its dots stood beyond the rim's line).
+constexpr double kRimSlack = 0.001;
 
 class Support {
 public:
@@ -61,6 +65,7 @@ private:
 
     std::vector<Eigen::Vector3f> points_;
     std::vector<Triangle> triangles_;  // a mesh's: points_ are its vertices, the grid holds triangles
+    std::vector<uint8_t> rims_;        // per triangle, its edges (k: t[k] to t[k + 1]) that no other face shares
     std::vector<float> reach2_;        // squared reach of each point, or of each triangle of a mesh
     std::unordered_map<Cell, std::vector<uint32_t>, CellHash> grid_;
     double cell_ = 1;
