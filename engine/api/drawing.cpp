@@ -221,9 +221,7 @@ bool sameHatching(const DrawingOptions& a, const DrawingOptions& b) {
 
 Drawing::Work Drawing::work(const DrawingOptions& options) const {
     if (!sameSets(options, impl_->options)) return Work::Sets;
-    const ink::FeatureLines& features = impl_->scene.model.features;
-    const bool lines = options.contours || options.hatching || (options.creases && !features.creases.empty()) ||
-                       (options.boundaries && !features.boundaries.empty());
+    const bool lines = impl_->scene.drawable(api::toLines(options)).any();
     return sameHatching(options, impl_->options) && (impl_->scene.lines.any() || !lines) ? Work::None : Work::Lines;
 }
 
@@ -241,7 +239,8 @@ Drawing::Pending Drawing::prepare(const DrawingOptions& options, const Reporter&
     const Work work = this->work(options);
     p.refine = work == Work::Sets;
     if (work == Work::None) {
-        p.lines = {lines, scene.samples, scene.hatching, scene.hatchStats, scene.hatchSeconds};  // which lines only
+        p.lines = {scene.drawable(lines), scene.samples, scene.hatching, scene.hatchStats,
+                   scene.hatchSeconds};  // which lines only
         return pending;
     }
     if (p.refine) {

@@ -109,12 +109,15 @@ void Scene::replace(Sets newSets, double seconds, TracedLines traced) {
     setLines(std::move(traced));
 }
 
+LineOptions Scene::drawable(LineOptions l) const {
+    l.creases = l.creases && !model.features.creases.empty();
+    l.boundaries = l.boundaries && !model.features.boundaries.empty();
+    return l;
+}
+
 Scene::TracedLines Scene::traceLines(const Sets& from, const LineOptions& l) const {
     TracedLines t;
-    t.options = l;
-    // Lines the model has none of are no pen lines' work (a closed mesh's boundaries, on in every style).
-    t.options.creases = l.creases && !model.features.creases.empty();
-    t.options.boundaries = l.boundaries && !model.features.boundaries.empty();
+    t.options = drawable(l);
     if (!t.options.any() || from.empty()) return t;
     auto start = std::chrono::steady_clock::now();
     for (const PointRecord& p : readDrawnPoints(ctx, from.front()->gpu()))

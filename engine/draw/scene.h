@@ -74,6 +74,9 @@ public:
         double seconds = 0;  // wall clock
     };
     TracedLines traceLines(const Sets& from, const LineOptions& lines) const;
+    // `lines` less the model's lines it has none of (a closed mesh's boundaries, on in every style): no pen lines'
+    // work for them.
+    LineOptions drawable(LineOptions lines) const;
     void replace(Sets newSets, double seconds, TracedLines traced);
     void setLines(TracedLines traced);
     // Traces the occluding contour seen from `camera` (nothing without LineOptions::contours), on the device

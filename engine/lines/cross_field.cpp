@@ -293,13 +293,14 @@ CrossField::CrossField(const std::vector<SurfaceSample>& samples, const CrossFie
     flat_.assign(m, 0);
     for (uint32_t i = 0; i < m; ++i) {
         double bend = 0;
+        uint32_t measured = 0;  // a point with fewer neighbours than this says nothing of its ground
         for (uint32_t j = 0; j < k; ++j) {
             const uint32_t o = graph.neighbours[size_t(i) * k + j];
             if (o == CrossFieldGraph::kNone) continue;
             const double d = (positions_[o] - positions_[i]).norm();
-            if (d > 0) bend = std::max(bend, (normals_[o] - normals_[i]).norm() / d);
+            if (d > 0) bend = std::max(bend, (normals_[o] - normals_[i]).norm() / d), ++measured;
         }
-        flat_[i] = bend * featureSize < kFlatBend;
+        flat_[i] = measured >= 3 && bend * featureSize < kFlatBend;
     }
     combed_.assign(m, Vector3d::Zero());
     std::vector<char> reached(m, 0);
@@ -369,12 +370,14 @@ CrossField::CrossField(const std::vector<SurfaceSample>& samples, const CrossFie
             }
         // A square face's edges cancel: the axis rather than a direction their noise picks.
         const bool framed = around.norm() > kFramed * contacts;
-        const Vector3d way = atAngle(t1, normal.normalized(), 0.5 * std::atan2(around.y(), around.x()));
+        // The fixed axis chosen once for the piece, from its mean normal (chosen per point, a plane tilted about
+        // 18° from y took x at some points and y at others).
+        const Vector3d way = framed ? atAngle(t1, normal.normalized(), 0.5 * std::atan2(around.y(), around.x()))
+                                    : axisTangent(normal.normalized());
         for (const uint32_t i : piece) {
-            const Vector3d target = framed ? way : axisTangent(normals_[i]);
-            const Vector3d t = target - target.dot(normals_[i]) * normals_[i];
+            const Vector3d t = way - way.dot(normals_[i]) * normals_[i];
             if (t.norm() > 1e-6) directions_[i] = t.normalized();
-            comb(i, target);
+            comb(i, way);
             queue.push({confidence_[i], i});
         }
     }

@@ -122,7 +122,9 @@ SmoothChain smoothChain(const Chain& chain, const std::vector<Eigen::Vector3d>& 
     // either way in a row are a jagged edge's zigzag, and a turn past 120° beside another a hook doubling back
     // (the bunny's ear rims): smoothed.
     auto sense = [&](size_t i) { return Eigen::Vector3d((x[i] - x[(i + n - 1) % n]).cross(x[(i + 1) % n] - x[i])); };
-    auto square = [&](size_t i) { return turns[i] > kCorner && turns[i] <= kSquare; };
+    auto square = [&](size_t i) {  // (an open chain's ends turn towards each other: no turn)
+        return (chain.closed || (i > 0 && i + 1 < n)) && turns[i] > kCorner && turns[i] <= kSquare;
+    };
     auto calm = [&](size_t i, size_t j) {  // j beside i: straight, or the same square turn
         return turns[j] < kStraight || (square(i) && square(j) && sense(i).dot(sense(j)) > 0);
     };

@@ -369,8 +369,8 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
                 const double f = surface.eval(samples.positions[i], g), gn = g.norm();
                 // Followed, and by the patches: where their weights fade between the sparse vertices of large
                 // faces the far field draws the surface, and the drawing drops it there (Model::holds).
-                const bool covered =
-                    global || surface.pu.patchWeight(samples.positions[i]) >= kFarFieldTrim * surface.pu.tau;
+                const bool covered = global || !options.trim ||
+                                     surface.pu.patchWeight(samples.positions[i]) >= kFarFieldTrim * surface.pu.tau;
                 if (gn > 0 && std::abs(f) / gn <= kFaceSampleTolerance && g.dot(samples.normals[i]) > 0 && covered)
                     continue;
                 used[i] = true;

@@ -132,6 +132,12 @@ Support::Support(const OrientedPoints& mesh, double slack) {
     for (size_t j = 0; j < triangles_.size(); ++j)
         for (int k = 0; k < 3; ++k)
             if (uses[key(triangles_[j][k], triangles_[j][(k + 1) % 3])] == 1) rims_[j] |= uint8_t(1u << k);
+    for (const auto& [cell, list] : grid_)
+        for (uint32_t j : list)
+            if (rims_[j]) {
+                rimCells_[cell] = 1;
+                break;
+            }
 }
 
 bool Support::supports(const Eigen::Vector3d& x) const {
@@ -141,25 +147,35 @@ bool Support::supports(const Eigen::Vector3d& x) const {
     if (!triangles_.empty()) {
         auto it = grid_.find(c);
         if (it == grid_.end()) return false;
-        // The nearest triangle within reach; past its rim edge's line (in its plane), not supported.
-        uint32_t nearest = UINT32_MAX;
+        if (!rimCells_.count(c)) {  // no rim here: any triangle in reach
+            for (uint32_t j : it->second) {
+                const Triangle& t = triangles_[j];
+                if (distance2(xf, points_[t[0]], points_[t[1]], points_[t[2]]) <= reach2_[j]) return true;
+            }
+            return false;
+        }
+        // The nearest triangles within reach (ties: past a rim vertex every triangle round it is as near); past the
+        // rim edge's line of any of them (in its plane), not supported.
+        std::vector<std::pair<float, uint32_t>> near;
         float best = INFINITY;
         for (uint32_t j : it->second) {
             const Triangle& t = triangles_[j];
             const float d2 = distance2(xf, points_[t[0]], points_[t[1]], points_[t[2]]);
-            if (d2 <= reach2_[j] && d2 < best) best = d2, nearest = j;
+            if (d2 <= reach2_[j]) near.push_back({d2, j}), best = std::min(best, d2);
         }
-        if (nearest == UINT32_MAX) return false;
-        if (rims_[nearest] == 0) return true;
-        const Triangle& t = triangles_[nearest];
-        const Eigen::Vector3f normal = (points_[t[1]] - points_[t[0]]).cross(points_[t[2]] - points_[t[0]]);
-        for (int k = 0; k < 3; ++k) {
-            if (!(rims_[nearest] >> k & 1)) continue;
-            const Eigen::Vector3f &p = points_[t[k]], &q = points_[t[(k + 1) % 3]], &r = points_[t[(k + 2) % 3]];
-            Eigen::Vector3f out = (q - p).cross(normal);
-            if (out.dot(r - p) > 0) out = -out;
-            const float length = out.norm();
-            if (length > 0 && (xf - p).dot(out) > float(kRimSlack) * length) return false;
+        if (near.empty()) return false;
+        for (const auto& [d2, j] : near) {
+            if (rims_[j] == 0 || d2 > best * 1.0001f + 1e-12f) continue;
+            const Triangle& t = triangles_[j];
+            const Eigen::Vector3f normal = (points_[t[1]] - points_[t[0]]).cross(points_[t[2]] - points_[t[0]]);
+            for (int k = 0; k < 3; ++k) {
+                if (!(rims_[j] >> k & 1)) continue;
+                const Eigen::Vector3f &p = points_[t[k]], &q = points_[t[(k + 1) % 3]], &r = points_[t[(k + 2) % 3]];
+                Eigen::Vector3f out = (q - p).cross(normal);
+                if (out.dot(r - p) > 0) out = -out;
+                const float length = out.norm();
+                if (length > 0 && (xf - p).dot(out) > float(kRimSlack) * length) return false;
+            }
         }
         return true;
     }

@@ -68,6 +68,7 @@ private:
     std::vector<uint8_t> rims_;        // per triangle, its edges (k: t[k] to t[k + 1]) that no other face shares
     std::vector<float> reach2_;        // squared reach of each point, or of each triangle of a mesh
     std::unordered_map<Cell, std::vector<uint32_t>, CellHash> grid_;
+    std::unordered_map<Cell, char, CellHash> rimCells_;  // the cells holding a triangle with a rim edge
     double cell_ = 1;
 };
 
