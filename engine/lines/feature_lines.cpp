@@ -3,6 +3,7 @@
 #include "base/parallel.h"
 #include "base/point_hash.h"
 #include "base/point_tree.h"
+#include "base/triangle.h"
 #include "surface/surface_sampling.h"
 
 #include <Eigen/Geometry>
@@ -16,8 +17,6 @@ namespace ink {
 namespace {
 
 using Edge = std::array<uint32_t, 2>;
-
-uint64_t edgeKey(uint32_t a, uint32_t b) { return uint64_t(std::min(a, b)) << 32 | std::max(a, b); }
 
 // How far a mesh point may move onto the fitted surface (normalized units): the fit rounds a crease, and the
 // sharp edge lies off the rounded surface by about a tenth of the face samples' spacing (a cube's edges: 0.002).

@@ -2,6 +2,7 @@
 
 #include "base/common.h"
 #include "base/point_tree.h"
+#include "base/triangle.h"
 #include "io/hrbf_io.h"
 #include "io/normals.h"
 #include "surface/clean.h"
@@ -237,8 +238,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         for (Eigen::Vector3d& x : mesh.positions) x = frame.toNormalized(x);
         std::unordered_map<uint64_t, uint32_t> edges;
         for (const Triangle& t : mesh.triangles)
-            for (size_t e = 0; e < 3; ++e)
-                ++edges[uint64_t(std::min(t[e], t[(e + 1) % 3])) << 32 | std::max(t[e], t[(e + 1) % 3])];
+            for (size_t e = 0; e < 3; ++e) ++edges[edgeKey(t[e], t[(e + 1) % 3])];
         // The vertices of open edges, and the samples of the triangles that touch one.
         std::vector<bool> rimVertex(mesh.positions.size(), false);
         for (const auto& [edge, uses] : edges)

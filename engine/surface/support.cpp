@@ -1,6 +1,7 @@
 #include "surface/support.h"
 
 #include "base/parallel.h"
+#include "base/triangle.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -126,12 +127,11 @@ Support::Support(const OrientedPoints& mesh, double slack) {
     if (triangles_.empty()) points_.clear();
     // The open rim: edges of one face among those kept.
     std::unordered_map<uint64_t, uint32_t> uses;
-    auto key = [](uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32 | b) : (uint64_t(b) << 32 | a); };
     for (const Triangle& t : triangles_)
-        for (int k = 0; k < 3; ++k) ++uses[key(t[k], t[(k + 1) % 3])];
+        for (int k = 0; k < 3; ++k) ++uses[edgeKey(t[k], t[(k + 1) % 3])];
     for (size_t j = 0; j < triangles_.size(); ++j)
         for (int k = 0; k < 3; ++k)
-            if (uses[key(triangles_[j][k], triangles_[j][(k + 1) % 3])] == 1) rims_[j] |= uint8_t(1u << k);
+            if (uses[edgeKey(triangles_[j][k], triangles_[j][(k + 1) % 3])] == 1) rims_[j] |= uint8_t(1u << k);
     for (const auto& [cell, list] : grid_)
         for (uint32_t j : list)
             if (rims_[j]) {

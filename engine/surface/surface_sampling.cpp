@@ -2,6 +2,7 @@
 #include "surface/surface_sampling.h"
 
 #include "base/random.h"
+#include "base/triangle.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -272,7 +273,7 @@ size_t faceSampleCount(const OrientedPoints& mesh) {
             const uint32_t a = tri[e], b = tri[(e + 1) % 3];
             const double length = (mesh.positions[a] - mesh.positions[b]).norm();
             if (length < spacing) continue;  // its ends are within a spacing of all of it
-            double& h = tallest[uint64_t(std::min(a, b)) << 32 | std::max(a, b)];
+            double& h = tallest[edgeKey(a, b)];
             h = std::max(h, 2 * areas[t] / length);
         }
     }

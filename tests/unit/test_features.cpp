@@ -1066,7 +1066,8 @@ TEST_CASE("features: the square rim of a low-poly open box is one closed boundar
 
 // Past a rim vertex every triangle round it is as near (the vertex itself), to rounding: the cut is tested on all
 // the nearest, not the first found, else it held or not with the order of the triangles (a review's flattened
-// hemisphere kept points 3% outside 15 of its 16 rim vertices; this disk happens to hold either way).
+// hemisphere kept points outside 15 of its 16 rim vertices; this disk's rounding favours a rim triangle either
+// way, so it checks the cut itself, in both orders).
 TEST_CASE("features: a flat disk's support ends at its rim, past its vertices too, in any order of its triangles" *
           doctest::test_suite("unit")) {
     for (const bool reversed : {false, true}) {
@@ -1093,9 +1094,14 @@ TEST_CASE("features: a flat disk's support ends at its rim, past its vertices to
         const ink::Support support(disk);
         for (int k = 0; k < rim; ++k) {
             const Vector3d& v = disk.positions[outer(k)];
-            CHECK_FALSE(support.supports(1.03 * v));  // past the vertex
-            CHECK_FALSE(support.supports(v + 0.01 * v.normalized()));
-            CHECK(support.supports(0.95 * v + Vector3d(0, 0.002, 0)));  // on the disk, a little off its plane
+            // Past the rim by 0.002: beyond kRimSlack (0.001) but within the flat triangles' reach (kMeshSupport,
+            // 0.003), so only the rim's cut drops it: past the vertex, and past the middle of the edge after it.
+            const Vector3d& w = disk.positions[outer(k + 1)];
+            const Vector3d middle = 0.5 * (v + w);
+            CHECK_FALSE(support.supports(v + 0.002 * v.normalized()));
+            CHECK_FALSE(support.supports(middle + 0.002 * middle.normalized()));
+            CHECK(support.supports(middle - 0.0005 * middle.normalized()));  // just inside it
+            CHECK(support.supports(0.95 * v + Vector3d(0, 0.002, 0)));       // on the disk, a little off its plane
         }
     }
 }
