@@ -267,6 +267,8 @@ std::string vetJson(std::string_view text, const std::string& name, bool binary,
     auto asset = doc.find("asset");
     if (asset == doc.end() || !asset->is_object()) fail(name, "glTF: no 'asset' object");
     auto version = asset->find("version");
+    if (version != asset->end() && version->is_number())  // glTF 1.0's exporters wrote it as a number
+        fail(name, "glTF: asset version " + version->dump() + " (glTF 1.0); this reader reads glTF 2.0");
     if (version == asset->end() || !version->is_string())
         fail(name, "glTF: no asset version (this reader reads glTF 2.0)");
     std::string v = version->get<std::string>();

@@ -384,6 +384,8 @@ TEST_CASE("readers: glTF and glb" * doctest::test_suite("unit")) {
         bad("glTF", "glb", "not a binary glTF file");
         bad("{", "gltf", "glTF JSON: [json.exception.parse_error.101]");
         bad(R"({"asset": {"version": "1.0"}})", "gltf", "glTF: asset version '1.0'; this reader reads glTF 2.0");
+        bad(R"({"asset": {"version": 1}})", "gltf", "glTF: asset version 1 (glTF 1.0); this reader reads glTF 2.0");
+        bad(R"({"asset": {}})", "gltf", "glTF: no asset version (this reader reads glTF 2.0)");
         bad(R"({"asset": {"version": "2.0"}})", "gltf", "glTF: the scene has no triangles");
         bad(R"({"asset": {"version": "2.0"}, "extensionsRequired": ["KHR_draco_mesh_compression"]})", "gltf",
             "glTF: requires the extension 'KHR_draco_mesh_compression', which is not supported");
