@@ -14,6 +14,7 @@
 #include <limits>
 #include <map>
 #include <queue>
+#include <set>
 #include <tuple>
 #include <unordered_map>
 
@@ -452,10 +453,11 @@ size_t removeOutliers(OrientedPoints& points) {
         }
     });
     // Clumps: the points left, in parts linked by their nearest neighbours; a part of fewer than kOutlierClump
-    // points whose nearest point outside it lies over kClumpGap times the cloud's median spacing away floats
-    // alone (a scan's floaters: CGAL's poste_france.xyz had clumps of 7 to 41 points 90 units off, which framed the
-    // drawing so that its body came out 100 pixels wide). Its nearest point outside is among its points' (size + 1)
-    // nearest.
+    // points floats alone (a scan's floaters: CGAL's poste_france.xyz had clumps of 7 to 41 points 90 units off,
+    // which framed the drawing so that its body came out 100 pixels wide) unless it lies within kClumpGap times
+    // the cloud's median spacing of the body (the parts of kOutlierClump points and more) or of a clump kept so: a
+    // scan's fragments across a gap stay, floaters beside floaters go (poste_france's pair of 24 and 17 points,
+    // 2.6 units apart, each kept the other).
     std::vector<uint32_t> part(m);
     for (uint32_t i = 0; i < m; ++i) part[i] = i;
     const auto root = [&](uint32_t i) {
@@ -472,27 +474,48 @@ size_t removeOutliers(OrientedPoints& points) {
     std::vector<uint32_t> size(m, 0);
     for (uint32_t i = 0; i < m; ++i)
         if (!outlier[i]) ++size[root(i)];
-    std::unordered_map<uint32_t, std::vector<uint32_t>> clumps;
+    std::map<uint32_t, std::vector<uint32_t>> clumps;
+    constexpr uint32_t kBody = std::numeric_limits<uint32_t>::max();
     for (uint32_t i = 0; i < m; ++i)
         if (!outlier[i] && size[root(i)] < kOutlierClump) clumps[root(i)].push_back(i);
     // Distances that overflow (a cloud at 1e200) measure nothing; and clumps are a few stray points, never most.
     size_t inClumps = 0;
     for (const auto& [id, members] : clumps) inClumps += members.size();
     if (!(global > 0 && std::isfinite(global)) || 2 * inClumps >= m) clumps.clear();
+    // Each clump's neighbouring parts within reach (the body's nearest points first: one is enough).
+    const double reach = kClumpGap * double(global);
+    std::map<uint32_t, std::vector<uint32_t>> near;  // by part id: ordered, so the rounds below are deterministic
+    bool byBody = false;
     for (const auto& [id, members] : clumps) {
-        bool near = false;
-        std::vector<uint32_t> index(members.size() + 1);
-        std::vector<double> squared(members.size() + 1);
-        const double reach = kClumpGap * double(global);
+        std::vector<uint32_t>& parts = near[id];
+        std::vector<std::pair<uint32_t, double>> hits;
         for (uint32_t i : members) {
-            const size_t found =
-                tree.knnSearch(points.positions[i].data(), members.size() + 1, index.data(), squared.data());
-            for (size_t j = 0; j < found && !near; ++j) near = root(index[j]) != id && squared[j] <= reach * reach;
-            if (near) break;
+            tree.radiusSearch(points.positions[i].data(), reach * reach, hits, nanoflann::SearchParams());
+            for (const auto& hit : hits) {
+                const uint32_t other = hit.first;
+                if (outlier[other] || root(other) == id) continue;
+                if (size[root(other)] >= kOutlierClump) {
+                    parts.assign(1, kBody);
+                    byBody = true;
+                    break;
+                }
+                if (std::find(parts.begin(), parts.end(), root(other)) == parts.end()) parts.push_back(root(other));
+            }
+            if (!parts.empty() && parts[0] == kBody) break;
         }
-        if (!near)
-            for (uint32_t i : members) outlier[i] = 1;
     }
+    // Kept: by the body, or by a kept clump, in rounds until none is added.
+    std::set<uint32_t> keptClumps;
+    for (bool grew = byBody; grew;) {
+        grew = false;
+        for (const auto& [id, parts] : near)
+            if (!keptClumps.count(id) && std::any_of(parts.begin(), parts.end(),
+                                                     [&](uint32_t o) { return o == kBody || keptClumps.count(o) > 0; }))
+                grew = keptClumps.insert(id).second;
+    }
+    for (const auto& [id, members] : clumps)
+        if (!keptClumps.count(id))
+            for (uint32_t i : members) outlier[i] = 1;
     size_t kept = 0;
     for (size_t i = 0; i < m; ++i) {
         if (outlier[i]) continue;

@@ -192,19 +192,29 @@ TEST_CASE("fit: a cloud's outliers are left out, a sparsely sampled region and a
 
     // Clumps (a scan's floaters): 20 points together 4 radii off the sphere (some 60 spacings) go; the same 20
     // beside it or 1.5 radii off (some 20: a scan's fragment across a gap), and a second sphere, stay.
-    const auto withClump = [&](const Vector3d& centre, size_t count, double radius) {
+    const auto withClumps = [&](const std::vector<Vector3d>& centres, size_t count, double radius) {
         ink::OrientedPoints cloud = sphere;
         const ink::OrientedPoints clump = ink::spherePoints(count, radius);
-        for (size_t i = 0; i < clump.positions.size(); ++i) {
-            cloud.positions.push_back(clump.positions[i] + centre);
-            cloud.normals.push_back(clump.normals[i]);
-        }
+        for (const Vector3d& centre : centres)
+            for (size_t i = 0; i < clump.positions.size(); ++i) {
+                cloud.positions.push_back(clump.positions[i] + centre);
+                cloud.normals.push_back(clump.normals[i]);
+            }
         return ink::removeOutliers(cloud);
+    };
+    const auto withClump = [&](const Vector3d& centre, size_t count, double radius) {
+        return withClumps({centre}, count, radius);
     };
     CHECK(withClump({0, 0, 2.5}, 20, 0.01) == 20);
     CHECK(withClump({0, 0, 1.25}, 20, 0.01) == 0);
     CHECK(withClump({0, 0, 0.53}, 20, 0.01) == 0);
     CHECK(withClump({0, 0, 2.0}, 4000, 0.5) == 0);
+    // Floaters beside floaters go (CGAL's poste_france.xyz: a pair of 24 and 17 points, 2.6 units apart, 90 off
+    // its body, each kept the other): two clumps 0.1 apart, 4 radii off. A chain of fragments reaching the body
+    // stays: one 1.5 radii off the sphere (by the body), one 1.5 radii further (by that one only).
+    CHECK(withClumps({{0, 0, 2.5}, {0, 0.1, 2.5}}, 20, 0.01) == 40);
+    CHECK(withClumps({{0, 0, 1.25}, {0, 0, 2.0}}, 20, 0.01) == 0);
+    CHECK(withClumps({{0, 0, 1.25}, {0, 0, 3.5}}, 20, 0.01) == 20);
 }
 
 TEST_CASE("fit: a few points far from a dense part grow no patch past what a model file holds" *
