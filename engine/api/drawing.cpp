@@ -78,7 +78,10 @@ void checkAspect(float aspect) {
 
 // The first set's points as the first view samples them (at most 20,000, read back once).
 ink::ViewSamples firstSamples(ink::Scene& scene) {
-    return scene.sets.empty() ? ink::ViewSamples{} : ink::viewSamples(ink::readPoints(scene.ctx, scene.sets[0]->gpu()));
+    if (scene.sets.empty()) return {};
+    ink::ViewSamples samples = ink::viewSamples(ink::readPoints(scene.ctx, scene.sets[0]->gpu()));
+    samples.twoSided = scene.model.twoSided;
+    return samples;
 }
 
 Up upOf(const std::optional<ink::UpAxis>& convention, const std::optional<ink::UpAxis>& base,

@@ -203,14 +203,16 @@ ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye, con
     size_t front = 0, hidden = 0;
     std::vector<float> projected;
     projected.reserve(n);
+    // A surface drawn two-sided is seen facing either way (a sheet, a terrain, a map from whichever side the
+    // orbit reaches: CGAL's poste_france.xyz, its normals pointing down, was shown edge-on); what hides itself
+    // (ViewScore::hidden, the front's cue) still counts the front-facing samples only.
     for (size_t i = 0; i < n; ++i) {
-        const float c = glm::dot(samples.normals[i], towardsEye);
+        const float toward = glm::dot(samples.normals[i], towardsEye);
+        const float c = samples.twoSided ? std::abs(toward) : toward;
         if (c <= 0) continue;
-        ++front;
-        if (glm::dot(samples.positions[i], towardsEye) < nearest[cell[i]] - 2 * pixel) {
-            ++hidden;
-            continue;
-        }
+        const bool behind = glm::dot(samples.positions[i], towardsEye) < nearest[cell[i]] - 2 * pixel;
+        if (toward > 0) ++front, hidden += behind;
+        if (behind) continue;
         projected.push_back(c);
         facing += c;
         if (detail) seen += (*detail)[i];
@@ -220,7 +222,8 @@ ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye, con
     for (size_t i : blockSample) {
         if (i == n) continue;
         ++blocks;
-        blocksFacing += glm::dot(samples.normals[i], towardsEye) > 0;
+        const float toward = glm::dot(samples.normals[i], towardsEye);
+        blocksFacing += (samples.twoSided ? std::abs(toward) : toward) > 0;
     }
     if (facing <= 0) return {};
     // Areas relative to the image square's: the covered part split over the visible samples, the rest
@@ -233,7 +236,28 @@ ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye, con
     }
     const double background = 1.0 - double(covered) / total;
     if (background > 0) h -= background * std::log2(background);
-    return {float(h), float(double(hidden) / double(front)), float(seen), float(double(blocksFacing) / double(blocks))};
+    return {float(h), front > 0 ? float(double(hidden) / double(front)) : 0.0f, float(seen),
+            float(double(blocksFacing) / double(blocks))};
+}
+
+// A sheet: its thinnest principal spread under this fraction of the middle one (a quarter: a map, a terrain, a relief;
+// not a spider, which detectUpAxis's 0.55 calls flat and whose front a view should show).
+constexpr double kSheet = 0.25;
+// Whether the samples are a sheet (kSheet).
+static bool isSheet(const ViewSamples& samples) {
+    const size_t n = samples.positions.size();
+    if (n < 16) return false;
+    glm::dvec3 mean(0.0);
+    for (const glm::vec3& p : samples.positions) mean += glm::dvec3(p);
+    mean /= double(n);
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (const glm::vec3& p : samples.positions) {
+        const Eigen::Vector3d d(p.x - mean.x, p.y - mean.y, p.z - mean.z);
+        covariance += d * d.transpose();
+    }
+    const Eigen::Vector3d values =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues();  // ascending
+    return std::sqrt(std::max(values[0], 0.0)) < kSheet * std::sqrt(std::max(values[1], 0.0));
 }
 
 static float candidateAzimuth(int k) { return std::fmod(30.0f + 360.0f * float(k) / kViewAzimuths, 360.0f); }
@@ -244,6 +268,13 @@ ViewChoice chooseView(const ViewSamples& samples, UpAxis up) {
     const glm::mat3 basis = upBasis(up);
     // The samples in the y-up frame the orbit is written in (the basis is a rotation: its transpose inverts).
     ViewSamples local;
+    // A sheet drawn two-sided (a terrain, a map, a relief: an open surface much thinner than it is wide) is seen
+    // from either side alike, and has no front: what it hides of itself seen edge-on is its own curl. Drawn
+    // one-sided only its normals' side counted, and the three-quarter rule kept CGAL's poste_france.xyz (a map of
+    // France, its estimated normals pointing down) to views along it. Other open surfaces (a mask, an open box)
+    // keep their normals' side: seen two-sided the views chose a mask's inside.
+    const bool sheet = samples.twoSided && isSheet(samples);
+    local.twoSided = sheet;
     local.positions.reserve(samples.positions.size());
     local.normals.reserve(samples.normals.size());
     const glm::mat3 toLocal = glm::transpose(basis);
@@ -278,13 +309,14 @@ ViewChoice chooseView(const ViewSamples& samples, UpAxis up) {
     const float mean = float(detailSum / (E * kViewAzimuths));  // a candidate's visible detail, on average
     const float contrast = mean > 0 ? glm::length(detailed) / mean : 0.0f;
     const float clear = 0.02f * kViewAzimuths;
-    const bool hiddenSided = glm::length(front) > clear;
+    // A sheet: entropy alone chooses, the view that sees most of it.
+    const bool hiddenSided = !sheet && glm::length(front) > clear;
     // Whether detail found (or helped find) the front, and so also chooses between its three-quarter views.
     bool faced = false;
     if (hiddenSided && contrast > 1.0f && glm::dot(front, detailed) > 0) {
         front = glm::normalize(front) + glm::normalize(detailed);
         faced = true;
-    } else if (glm::length(front) < 0.5f * clear && contrast > 3.0f) {
+    } else if (!sheet && glm::length(front) < 0.5f * clear && contrast > 3.0f) {
         // No side hides itself (a head, a bust: nearly convex), but one clearly shows the detail.
         front = detailed;
         faced = true;

@@ -17,6 +17,10 @@ namespace ink {
 // Points spread evenly over the surface (equal area each) with unit outward normals, normalized coordinates.
 struct ViewSamples {
     std::vector<glm::vec3> positions, normals;
+    // A surface that may be open (Model::twoSided), drawn from either side. scoreView then sees it facing either
+    // way; chooseView passes it on for a sheet only (its thinnest spread under a quarter of the middle one: a map,
+    // a terrain), which has no front either.
+    bool twoSided = false;
 };
 // At most `maxCount` of the refined `points` of levels up to `maxLevel`, taken at an even stride (the refined
 // points are spread evenly: so are these). The first levels are the same whatever the style and the number of

@@ -267,3 +267,32 @@ TEST_CASE("viewpoint: framing puts the projected extent at 85% of the frame, cen
         CHECK(std::abs(hi.y + lo.y) < 0.01f);
     }
 }
+
+TEST_CASE("viewpoint: a sheet drawn two-sided is seen face-on, from either side its normals face" *
+          doctest::test_suite("unit")) {
+    // A slightly rippled disk (a map, a terrain) tilted 45° about x, its normals facing down and towards -z (a
+    // scan's estimated normals have either sign). Drawn one-sided only grazing views from above see its front;
+    // two-sided, the view that sees most of it: face-on from above, within the candidates' 15° steps.
+    ink::ViewSamples sheet;
+    const glm::vec3 normal = glm::normalize(glm::vec3(0.0f, -1.0f, -1.0f));
+    const glm::vec3 u(1.0f, 0.0f, 0.0f), w = glm::cross(normal, u);
+    for (int i = 0; i < 6000; ++i) {  // a Fibonacci disk: even spacing
+        const float r = 0.5f * std::sqrt((float(i) + 0.5f) / 6000.0f), a = 2.39996323f * float(i);
+        const float bump = 0.004f * std::sin(30.0f * r * std::cos(a)) * std::sin(30.0f * r * std::sin(a));
+        sheet.positions.push_back(r * std::cos(a) * u + r * std::sin(a) * w + bump * normal);
+        sheet.normals.push_back(normal);
+    }
+    const auto seen = [&](const ink::ViewChoice& v) {  // |n·v| of the chosen view
+        const float a = glm::radians(v.azimuthDeg), e = glm::radians(v.elevationDeg);
+        return std::abs(glm::dot(normal, glm::vec3(std::cos(e) * std::sin(a), std::sin(e), std::cos(e) * std::cos(a))));
+    };
+    const ink::ViewChoice one = ink::chooseView(sheet, ink::UpAxis::PosY);
+    CAPTURE(one.azimuthDeg);
+    CHECK(seen(one) < 0.5f);  // 60° or more off face-on: along it
+    sheet.twoSided = true;
+    const ink::ViewChoice two = ink::chooseView(sheet, ink::UpAxis::PosY);
+    CAPTURE(two.azimuthDeg);
+    CAPTURE(two.elevationDeg);
+    CHECK(seen(two) > 0.95f);  // face-on, its back: azimuth 0°, 30° above, 15° off its normal
+    CHECK(two.frontDeg == -1.0f);
+}
