@@ -482,12 +482,29 @@ size_t removeOutliers(OrientedPoints& points) {
     size_t inClumps = 0;
     for (const auto& [id, members] : clumps) inClumps += members.size();
     if (!(global > 0 && std::isfinite(global)) || 2 * inClumps >= m) clumps.clear();
-    // Each clump's neighbouring parts within reach (the body's nearest points first: one is enough).
+    // Each clump's neighbouring parts within reach (kBody for the body: then no other matters). Its nearest point
+    // outside is among its points' (size + 1) nearest: where that is the body's, within reach, no radius search
+    // (which may gather thousands of the body's points) is needed.
     const double reach = kClumpGap * double(global);
     std::map<uint32_t, std::vector<uint32_t>> near;  // by part id: ordered, so the rounds below are deterministic
     bool byBody = false;
     for (const auto& [id, members] : clumps) {
         std::vector<uint32_t>& parts = near[id];
+        std::vector<uint32_t> index(members.size() + 1);
+        std::vector<double> squared(members.size() + 1);
+        for (uint32_t i : members) {
+            const size_t found =
+                tree.knnSearch(points.positions[i].data(), members.size() + 1, index.data(), squared.data());
+            for (size_t j = 0; j < found && parts.empty(); ++j)
+                if (!outlier[index[j]] && root(index[j]) != id && squared[j] <= reach * reach &&
+                    size[root(index[j])] >= kOutlierClump)
+                    parts.assign(1, kBody);
+            if (!parts.empty()) break;
+        }
+        if (!parts.empty()) {
+            byBody = true;
+            continue;
+        }
         std::vector<std::pair<uint32_t, double>> hits;
         for (uint32_t i : members) {
             tree.radiusSearch(points.positions[i].data(), reach * reach, hits, nanoflann::SearchParams());

@@ -211,7 +211,10 @@ ViewScore scoreView(const ViewSamples& samples, const glm::vec3& towardsEye, con
         const float c = samples.twoSided ? std::abs(toward) : toward;
         if (c <= 0) continue;
         const bool behind = glm::dot(samples.positions[i], towardsEye) < nearest[cell[i]] - 2 * pixel;
-        if (toward > 0) ++front, hidden += behind;
+        if (toward > 0) {
+            ++front;
+            hidden += behind;
+        }
         if (behind) continue;
         projected.push_back(c);
         facing += c;
