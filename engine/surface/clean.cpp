@@ -457,7 +457,7 @@ size_t removeOutliers(OrientedPoints& points) {
     // which framed the drawing so that its body came out 100 pixels wide) unless it lies within kClumpGap times
     // the cloud's median spacing of the body (the parts of kOutlierClump points and more) or of a clump kept so: a
     // scan's fragments across a gap stay, floaters beside floaters go (poste_france's pair of 24 and 17 points,
-    // 2.6 units apart, each kept the other).
+    // 1.8 units apart, each kept the other).
     std::vector<uint32_t> part(m);
     for (uint32_t i = 0; i < m; ++i) part[i] = i;
     const auto root = [&](uint32_t i) {

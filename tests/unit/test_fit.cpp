@@ -209,7 +209,7 @@ TEST_CASE("fit: a cloud's outliers are left out, a sparsely sampled region and a
     CHECK(withClump({0, 0, 1.25}, 20, 0.01) == 0);
     CHECK(withClump({0, 0, 0.53}, 20, 0.01) == 0);
     CHECK(withClump({0, 0, 2.0}, 4000, 0.5) == 0);
-    // Floaters beside floaters go (CGAL's poste_france.xyz: a pair of 24 and 17 points, 2.6 units apart, 90 off
+    // Floaters beside floaters go (CGAL's poste_france.xyz: a pair of 24 and 17 points, 1.8 units apart, 90 off
     // its body, each kept the other): two clumps 0.1 apart, 4 radii off. A chain of fragments reaching the body
     // stays: one 1.5 radii off the sphere (by the body), one 1.5 radii further (by that one only).
     CHECK(withClumps({{0, 0, 2.5}, {0, 0.1, 2.5}}, 20, 0.01) == 40);
