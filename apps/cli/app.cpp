@@ -26,6 +26,7 @@ inkwell::ModelOptions modelOptions(const Options& o) {
     m.creaseAngleDeg = o.creaseAngle;
     m.trim = o.trim;
     m.removeOutliers = o.removeOutliers;
+    m.smoothNoise = o.smoothNoise;
     // A point cloud's creases only where they may be drawn: by the style's pen lines, or in the viewer, whose panel
     // turns them on (fit, sample and a render of dots alone skip them). A mesh's lines are always found.
     m.features = o.drawing.creases || (o.command && o.command->get_name() == "view");
@@ -50,6 +51,9 @@ void addModelOptions(CLI::App* cmd, Options& o) {
     cmd->add_flag("!--keep-outliers", o.removeOutliers,
                   "Fit every point of a point cloud (by default points that stand alone, off the surface their "
                   "neighbours sample, are left out: a scan's stray returns, each drawn as a floating blob)");
+    cmd->add_flag("!--keep-noise", o.smoothNoise,
+                  "Fit a noisy point cloud's points as they are (by default a cloud whose noise is over 0.15 of its "
+                  "point spacing is smoothed first: the fit interpolates every point, and drew the noise as relief)");
     cmd->add_option("--fit", o.fit,
                     "pu: local HRBFs blended by a partition of unity (any size, float on the device); global: the "
                     "report's single dense HRBF (at most 4000 points, needs shaderFloat64)")

@@ -48,6 +48,7 @@ struct Options {
     double creaseAngle = 60;
     bool trim = true;
     bool removeOutliers = true;
+    bool smoothNoise = true;
     std::vector<float> camera;  // azimuth, elevation, distance
     std::vector<uint32_t> size{1024, 1024};
     std::string ink = "#000000", paper = "#ffffff", preset;

@@ -148,7 +148,8 @@ using api::toVec3;
 ink::ModelOptions api::toInk(const ModelOptions& o) {
     return {o.controlPoints,  o.method == FitMethod::Global ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity,
             o.creaseAngleDeg, o.trim,
-            o.removeOutliers, o.features};
+            o.removeOutliers, o.smoothNoise,
+            o.features};
 }
 
 void checkModelOptions(const ModelOptions& options) { ink::checkModelOptions(api::toInk(options)); }

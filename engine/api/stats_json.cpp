@@ -23,6 +23,8 @@ json fitJson(const ink::Model& m) {
               {"two_sided", m.twoSided},
               {"turned_outward", m.turnedOutward},
               {"outliers", m.outliers},
+              {"noise", m.noise},
+              {"smoothed_by", m.smoothedBy},
               {"estimated_normals", m.estimatedNormals}};
     if (!m.fit.phases.ms.empty()) {  // a fitted model: where its fit's time went
         json phases = json::object();

@@ -5,6 +5,7 @@
 #include "base/parallel.h"
 #include "base/point_tree.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
@@ -13,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <optional>
 #include <queue>
 #include <set>
 #include <tuple>
@@ -543,6 +545,150 @@ size_t removeOutliers(OrientedPoints& points) {
     points.positions.resize(kept);
     points.normals.resize(kept);
     return m - kept;
+}
+
+namespace {
+
+// The quadric z = a x² + b xy + c y² + d x + e y + f over `points` (weights `w`) in the frame (origin, u, v, n):
+// its six coefficients, or none where the points do not hold it (too few, all on a line).
+std::optional<Eigen::Matrix<double, 6, 1>> fitQuadric(const std::vector<Eigen::Vector3d>& points,
+                                                      const std::vector<double>& w, const Eigen::Vector3d& origin,
+                                                      const Eigen::Vector3d& u, const Eigen::Vector3d& v,
+                                                      const Eigen::Vector3d& n) {
+    Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
+    for (size_t k = 0; k < points.size(); ++k) {
+        const Eigen::Vector3d d = points[k] - origin;
+        const double x = d.dot(u), y = d.dot(v), z = d.dot(n);
+        Eigen::Matrix<double, 6, 1> row;
+        row << x * x, x * y, y * y, x, y, 1.0;
+        normal += w[k] * row * row.transpose();
+        rhs += w[k] * z * row;
+    }
+    const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> solver(normal);
+    if (solver.info() != Eigen::Success || !(solver.rcond() > 1e-12)) return std::nullopt;
+    const Eigen::Matrix<double, 6, 1> c = solver.solve(rhs);
+    if (!c.allFinite()) return std::nullopt;
+    return c;
+}
+
+// The weighted centroid and tangent frame (u, v along the two largest spreads, n across) of `points`.
+void tangentFrame(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& w, Eigen::Vector3d& centroid,
+                  Eigen::Vector3d& u, Eigen::Vector3d& v, Eigen::Vector3d& n) {
+    double total = 0;
+    centroid.setZero();
+    for (size_t k = 0; k < points.size(); ++k) centroid += w[k] * points[k], total += w[k];
+    centroid /= total;
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (size_t k = 0; k < points.size(); ++k) {
+        const Eigen::Vector3d d = points[k] - centroid;
+        covariance += w[k] * d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);  // ascending
+    n = solver.eigenvectors().col(0);
+    v = solver.eigenvectors().col(1);
+    u = solver.eigenvectors().col(2);
+}
+
+}  // namespace
+
+// Whether neighbour j lies on point i's side: their normals turn by at most 90° (a normal not known, zero, agrees).
+static bool sameSide(const std::vector<Eigen::Vector3d>& normals, size_t i, size_t j) {
+    return normals[i].dot(normals[j]) >= 0;
+}
+
+double scanNoise(const std::vector<Eigen::Vector3d>& positions, const std::vector<Eigen::Vector3d>& normals) {
+    const size_t m = positions.size(), k = kNoiseNeighbours + 1;
+    if (m <= 2 * k) return 0.0;
+    const PointCloud cloud{positions};
+    const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    const size_t step = std::max<size_t>(1, m / kNoiseSamples), count = (m + step - 1) / step;
+    std::vector<double> ratio(count, -1.0);
+    parallelChunks(count, 256, [&](size_t begin, size_t end, size_t) {
+        std::vector<uint32_t> index(k);
+        std::vector<double> squared(k);
+        std::vector<Eigen::Vector3d> around;
+        std::vector<double> ones;
+        for (size_t s = begin; s < end; ++s) {
+            const size_t i = s * step;
+            const size_t found = tree.knnSearch(positions[i].data(), k, index.data(), squared.data());
+            if (found < k) continue;
+            around.clear();
+            double spacing = 0;
+            size_t near = 0;
+            for (size_t j = 0; j < found; ++j) {
+                if (index[j] == i || !sameSide(normals, i, index[j])) continue;
+                around.push_back(positions[index[j]]);
+                if (near < 8) spacing += std::sqrt(squared[j]), ++near;
+            }
+            spacing /= double(std::max<size_t>(near, 1));
+            if (!(spacing > 0) || around.size() < kNoiseNeighbours / 2) continue;
+            ones.assign(around.size(), 1.0);
+            Eigen::Vector3d centroid, u, v, n;
+            tangentFrame(around, ones, centroid, u, v, n);
+            const auto c = fitQuadric(around, ones, centroid, u, v, n);
+            if (!c) continue;
+            const Eigen::Vector3d d = positions[i] - centroid;
+            const double x = d.dot(u), y = d.dot(v);
+            const double z = (*c)[0] * x * x + (*c)[1] * x * y + (*c)[2] * y * y + (*c)[3] * x + (*c)[4] * y + (*c)[5];
+            ratio[s] = std::abs(d.dot(n) - z) / spacing;
+        }
+    });
+    ratio.erase(std::remove(ratio.begin(), ratio.end(), -1.0), ratio.end());
+    if (ratio.empty()) return 0.0;
+    std::nth_element(ratio.begin(), ratio.begin() + std::ptrdiff_t(ratio.size() / 2), ratio.end());
+    return ratio[ratio.size() / 2];
+}
+
+size_t smoothNeighbours(double noise) { return size_t(std::clamp(std::round(64.0 * noise / 0.28), 64.0, 128.0)); }
+
+double smoothScan(std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals, size_t neighbours) {
+    const size_t m = positions.size(), k = neighbours;
+    if (m <= k) return 0.0;
+    const std::vector<Eigen::Vector3d> original = positions;
+    for (size_t round = 0; round < kSmoothRounds; ++round) {
+        const std::vector<Eigen::Vector3d> from = positions, facing = normals;
+        const PointCloud cloud{from};
+        const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+        parallelChunks(m, 1024, [&](size_t begin, size_t end, size_t) {
+            std::vector<uint32_t> index(k);
+            std::vector<double> squared(k), w;
+            std::vector<Eigen::Vector3d> around;
+            for (size_t i = begin; i < end; ++i) {
+                const size_t found = tree.knnSearch(from[i].data(), k, index.data(), squared.data());
+                if (found < k) continue;
+                const double h2 = squared[found - 1];
+                if (!(h2 > 0)) continue;
+                around.clear();
+                w.clear();
+                for (size_t j = 0; j < found; ++j) {
+                    if (!sameSide(facing, i, index[j])) continue;
+                    around.push_back(from[index[j]]);
+                    w.push_back(std::exp(-2.0 * squared[j] / h2));
+                }
+                if (around.size() < k / 2) continue;
+                Eigen::Vector3d centroid, u, v, n;
+                tangentFrame(around, w, centroid, u, v, n);
+                const auto c = fitQuadric(around, w, centroid, u, v, n);
+                if (!c) continue;
+                const Eigen::Vector3d d = from[i] - centroid;
+                const double x = d.dot(u), y = d.dot(v);
+                const double z =
+                    (*c)[0] * x * x + (*c)[1] * x * y + (*c)[2] * y * y + (*c)[3] * x + (*c)[4] * y + (*c)[5];
+                const Eigen::Vector3d moved = centroid + x * u + y * v + z * n;
+                Eigen::Vector3d g =
+                    n - (2 * (*c)[0] * x + (*c)[1] * y + (*c)[3]) * u - ((*c)[1] * x + 2 * (*c)[2] * y + (*c)[4]) * v;
+                if (!moved.allFinite() || !(g.norm() > 0)) continue;
+                g.normalize();
+                positions[i] = moved;
+                normals[i] = g.dot(facing[i]) < 0 ? -g : g;
+            }
+        });
+    }
+    std::vector<double> moved(m);
+    for (size_t i = 0; i < m; ++i) moved[i] = (positions[i] - original[i]).norm();
+    std::nth_element(moved.begin(), moved.begin() + std::ptrdiff_t(m / 2), moved.end());
+    return moved[m / 2];
 }
 
 bool normalsPointInward(const std::vector<Eigen::Vector3d>& positions, const std::vector<Eigen::Vector3d>& normals) {

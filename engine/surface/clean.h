@@ -71,6 +71,34 @@ constexpr double kOutlierLocal = 4.0, kOutlierGlobal = 10.0;
 constexpr size_t kOutlierClump = 64;
 constexpr double kClumpGap = 40.0;
 
+// A point cloud's noise, as a fraction of its point spacing: over up to kNoiseSamples points spread through it, the
+// median distance from a point to the quadric fitted (least squares, in the frame of their tangent plane) to its
+// kNoiseNeighbours nearest without it, over its spacing (the mean distance to its 8 nearest). Neighbours whose
+// oriented normal turns from the point's by more than 90° are the other side of a thin part, not noise: left out
+// (here and in smoothScan). A quadric follows a
+// smooth surface's curvature, which a plane's residual mistakes for noise (CGAL's half.xyz, 325 points of a
+// hemisphere: 0.17 from a plane, 0.003 from a quadric): a cleanly sampled surface gives a few hundredths (CGAL's
+// kitten.xyz 0.009, ball.ply 0.022, hippo1.ply 0.066, the sparse oni.ply 0.072, building.ply 0.084), a noisy scan
+// more (a torus of 60,000 points with Gaussian noise of 0.15% of its diagonal 0.175, CGAL's
+// fin90_with_PCA_normals.xyz 0.28, sphere_20k.xyz 0.49). Normalized positions.
+double scanNoise(const std::vector<Eigen::Vector3d>& positions, const std::vector<Eigen::Vector3d>& normals);
+constexpr size_t kNoiseSamples = 5000, kNoiseNeighbours = 24;
+// A cloud noisier than this is smoothed before it is fitted (ModelOptions::smoothNoise): the fit interpolates every
+// point, and the noise became the surface's relief (fin90 drawn as cottage cheese, sphere_20k as a fuzzy blob, the
+// noisy torus's contour as 942 cusps of scribble). Smoothed as well, the oni scan lost its horns and its face.
+constexpr double kNoisy = 0.15;
+// Moving-least-squares smoothing (after Levin 2003 and Alexa et al. 2003): each point moves onto the quadric fitted
+// to its `neighbours` nearest, weighted by a Gaussian of their distance (exp(−2 d²/h²), h the farthest one's), in
+// the frame of their weighted tangent plane, and takes the quadric's normal there, turned to its own side;
+// kSmoothRounds rounds, each from the previous round's points (deterministic, on all threads). Returns the median
+// distance a point moved. Normals estimated on the noise should be estimated again on the smoothed points (fitModel
+// does): orienting them on the noise left opposed neighbours, which tore holes in CGAL's sphere_20k.xyz.
+double smoothScan(std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Vector3d>& normals, size_t neighbours);
+constexpr size_t kSmoothRounds = 2;
+// The neighbourhood grows with the noise: 64 points up to 0.28 of the spacing (fin90 smooth), in proportion to 128
+// at 0.56 (sphere_20k: with 64 its surface kept a grain of specks), at most 128.
+size_t smoothNeighbours(double noise);
+
 // Whether consistently oriented normals point into the shape (a mesh wound inside out, a scan's normals estimated
 // facing inward): the points farthest along each of ±x, ±y, ±z (a 64th of them, 1 to kOutermost) vote, each by the sign
 // of its normal along that direction where it leans along it (|n·d| > 0.3: a rim's or a flat sheet's edge says

@@ -211,6 +211,39 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
                  std::to_string(points.normals.size()) +
                  " normals to agree with their neighbours' (they were not consistently oriented)");
         }
+        // A noisy scan: the fit interpolates every point, and the noise became the surface's relief. Smoothed where
+        // it is noisier than kNoisy (clean.h), each point among its neighbours on its own side (where the file gives
+        // normals, oriented, they agree: a thin plate's two sides are not noise); normals estimated on the noise are
+        // estimated again on the smoothed points, and oriented again.
+        // Only the file's normals tell the sides: estimated on the noise, neighbours' disagree (zero: any side).
+        std::vector<Eigen::Vector3d> sides = inputs.normals;
+        for (size_t i = 0; i < estimated.size(); ++i)
+            if (estimated[i]) sides[i].setZero();
+        model.noise = scanNoise(inputs.positions, sides);
+        if (options.smoothNoise && model.noise > kNoisy) {
+            model.smoothedBy = smoothScan(inputs.positions, sides, smoothNeighbours(model.noise));
+            inputs.normals = sides;
+            if (model.estimatedNormals) {
+                for (size_t i = 0; i < estimated.size(); ++i)
+                    if (estimated[i]) inputs.normals[i].setZero();
+                estimateNormals(inputs.positions, inputs.normals, estimated);
+                orientNormals(inputs.positions, inputs.normals, estimated);
+            }
+            for (size_t i = 0; i < points.positions.size(); ++i) {
+                points.positions[i] = frame.center + inputs.positions[i] / frame.scale;
+                points.normals[i] = inputs.normals[i];
+            }
+            char text[320];
+            if (model.smoothedBy > 0)  // not where a cloud has too few points to smooth
+                std::snprintf(
+                    text, sizeof text,
+                    "smoothed the points: their noise is %.2f of their spacing (over %.2f: a noisy scan); each "
+                    "moved onto the quadric of its %zu nearest, by %.2g of the diagonal (median; --keep-noise "
+                    "fits them as they are)",
+                    model.noise, kNoisy, smoothNeighbours(model.noise), model.smoothedBy);
+            if (model.smoothedBy > 0) note(text);
+        }
+        phases.lap("noise");
     }
     // Inside out (a mesh wound so, a scan's normals estimated inward): turned outward, the winding with them. Drawn
     // as it was, its "front" was the inside of its far side (CGAL's head.off showed the inside of its face), its

@@ -25,6 +25,7 @@ struct ModelOptions {
     double creaseAngleDeg = kCreaseAngleDeg;  // the feature lines' creases (feature_lines.h), in (0, 180)
     bool trim = true;            // drop what the input does not support (support.h): an open scan's extrapolated caps
     bool removeOutliers = true;  // a point cloud's points that stand alone, off its surface (clean.h)
+    bool smoothNoise = true;     // a point cloud noisier than kNoisy moved onto its local quadrics (smoothScan)
     // Find a point cloud's crease lines (Model::features; a 10⁶-point scan's take 2 s): off where none will be
     // drawn. A mesh's crease and boundary lines, one pass over its edges, are always found.
     bool features = true;
@@ -45,6 +46,9 @@ struct Model {
     // the shape's, docs/usage.md). None for other models.
     std::optional<UpAxis> baseUp;
     size_t outliers = 0;  // a point cloud's points left out, standing alone off its surface (removeOutliers)
+    // A point cloud's noise over its spacing (scanNoise; 0 for a mesh or a .hrbf model), and where it was smoothed
+    // (over kNoisy, ModelOptions::smoothNoise) the median distance its points moved, normalized units.
+    double noise = 0, smoothedBy = 0;
     double loadSeconds = 0;
     // The error at every point the fit was given (all input points, not only the control points), normalized
     // units (fractions of the diagonal), evaluated as the device evaluates.

@@ -55,6 +55,9 @@ struct ModelOptions {
     // Leaves out a point cloud's outliers: points that stand alone, off the surface their neighbours sample (a scan's
     // stray returns), each of which the fit would otherwise draw as a floating blob (docs/file-formats.md).
     bool removeOutliers = true;
+    // Smooths a noisy point cloud before it is fitted (its noise over 0.15 of its point spacing): each point
+    // moved onto the quadric of its 64 nearest, twice (docs/fitting.md). Off: every point fitted as it is.
+    bool smoothNoise = true;
     // Looks for a point cloud's crease lines (Drawing::creases; a 10⁶-point scan's take 2 s): off where none will
     // be drawn. A mesh's crease and boundary lines, one pass over its edges, are always found.
     bool features = true;

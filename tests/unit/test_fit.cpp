@@ -633,3 +633,60 @@ TEST_CASE("fit: a singular system is refused with a message, not NaNs" * doctest
     p.pop_back();
     CHECK_THROWS_WITH_AS(ink::fitHrbf(p, n), Contains("40 points but 41 normals"), ink::Error);
 }
+
+TEST_CASE("fit: a noisy point cloud is smoothed before it is fitted, a clean one left as it is" *
+          doctest::test_suite("unit")) {
+    // A sphere of 8,000 points (spacing about 0.02) moved along its normals by uniform noise of ±0.016 (scanNoise
+    // 0.32 of its spacing; CGAL's sphere_20k.xyz 0.56), against the same points clean (0.0001).
+    const ink::OrientedPoints clean = ink::spherePoints(8000, 0.5);
+    ink::OrientedPoints noisy = clean;
+    uint32_t state = 777;
+    auto uniform = [&] {
+        state = state * 1664525u + 1013904223u;
+        return double(state >> 8) / double(1u << 24);
+    };
+    for (size_t i = 0; i < noisy.positions.size(); ++i) noisy.positions[i] *= 1.0 + 0.032 * (uniform() - 0.5) / 0.5;
+    const double cleanNoise = ink::scanNoise(clean.positions, clean.normals),
+                 noise = ink::scanNoise(noisy.positions, noisy.normals);
+    INFO("noise: clean " << cleanNoise << ", noisy " << noise);
+    CHECK(cleanNoise < 0.05);
+    CHECK(noise > ink::kNoisy);
+    // Smoothed: the radial deviation falls to a small part of the noise's (0.0091 to 0.0019), and the normals turn to
+    // the sphere's.
+    const auto spread = [](const std::vector<Vector3d>& p) {
+        double sum = 0;
+        for (const Vector3d& x : p) sum += (x.norm() - 0.5) * (x.norm() - 0.5);
+        return std::sqrt(sum / double(p.size()));
+    };
+    std::vector<Vector3d> positions = noisy.positions, normals = noisy.normals;
+    for (Vector3d& n : normals) n = (n + Vector3d(0.3, -0.2, 0.1)).normalized();  // off the sphere's by about 20°
+    const double moved = ink::smoothScan(positions, normals, ink::smoothNeighbours(noise));
+    INFO("radial spread " << spread(noisy.positions) << " -> " << spread(positions) << ", moved " << moved);
+    CHECK(spread(positions) < 0.25 * spread(noisy.positions));
+    CHECK(moved > 0.002);
+    size_t radial = 0;
+    for (size_t i = 0; i < positions.size(); ++i) radial += normals[i].dot(positions[i].normalized()) > std::cos(0.1);
+    CHECK(radial >= positions.size() * 99 / 100);
+    // A thin plate's two sides (0.02 apart, their points 0.05 apart, normals outward) are not noise.
+    ink::OrientedPoints plate;
+    for (int i = 0; i < 40; ++i)
+        for (int j = 0; j < 40; ++j)
+            for (double side : {-1.0, 1.0}) {
+                plate.positions.push_back({i * 0.05, j * 0.05, 0.01 * side});
+                plate.normals.push_back({0, 0, side});
+            }
+    CHECK(ink::scanNoise(plate.positions, plate.normals) < 0.01);
+    CHECK(ink::scanNoise(plate.positions, std::vector<Vector3d>(plate.positions.size(), Vector3d::Zero())) > 0.15);
+    // Through the fit: smoothed by default, as they are with --keep-noise; a clean cloud is not touched.
+    const ink::Model smoothed = ink::fitModel(noisy, {});
+    CHECK(smoothed.noise > ink::kNoisy);
+    CHECK(smoothed.smoothedBy > 0.0);
+    ink::ModelOptions keep;
+    keep.smoothNoise = false;
+    const ink::Model kept = ink::fitModel(noisy, keep);
+    CHECK(kept.smoothedBy == 0.0);
+    CHECK(kept.noise == smoothed.noise);
+    const ink::Model untouched = ink::fitModel(clean, {});
+    CHECK(untouched.noise < 0.05);
+    CHECK(untouched.smoothedBy == 0.0);
+}
