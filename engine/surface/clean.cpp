@@ -549,45 +549,59 @@ size_t removeOutliers(OrientedPoints& points) {
 
 namespace {
 
-// The quadric z = a x² + b xy + c y² + d x + e y + f over `points` (weights `w`) in the frame (origin, u, v, n):
-// its six coefficients, or none where the points do not hold it (too few, all on a line).
-std::optional<Eigen::Matrix<double, 6, 1>> fitQuadric(const std::vector<Eigen::Vector3d>& points,
-                                                      const std::vector<double>& w, const Eigen::Vector3d& origin,
-                                                      const Eigen::Vector3d& u, const Eigen::Vector3d& v,
-                                                      const Eigen::Vector3d& n) {
+// The quadric z = a x² + b xy + c y² + d x + e y + f fitted (weighted least squares) to points in the frame of their
+// weighted tangent plane: the centroid, u and v along the two largest spreads, n across.
+struct LocalQuadric {
+    Eigen::Vector3d centroid, u, v, n;
+    Eigen::Matrix<double, 6, 1> c;
+    double height(double x, double y) const {
+        return c[0] * x * x + c[1] * x * y + c[2] * y * y + c[3] * x + c[4] * y + c[5];
+    }
+    // How far p lies off the quadric, along n.
+    double offset(const Eigen::Vector3d& p) const {
+        const Eigen::Vector3d d = p - centroid;
+        return d.dot(n) - height(d.dot(u), d.dot(v));
+    }
+    // p moved along n onto the quadric; `normal` gets the quadric's unit normal there.
+    Eigen::Vector3d onto(const Eigen::Vector3d& p, Eigen::Vector3d& normal) const {
+        const Eigen::Vector3d d = p - centroid;
+        const double x = d.dot(u), y = d.dot(v);
+        normal = (n - (2 * c[0] * x + c[1] * y + c[3]) * u - (c[1] * x + 2 * c[2] * y + c[4]) * v).normalized();
+        return centroid + x * u + y * v + height(x, y) * n;
+    }
+};
+
+// None where the points do not hold a quadric (too few, all on a line).
+std::optional<LocalQuadric> fitLocalQuadric(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& w) {
+    LocalQuadric q;
+    double total = 0;
+    q.centroid.setZero();
+    for (size_t k = 0; k < points.size(); ++k) q.centroid += w[k] * points[k], total += w[k];
+    q.centroid /= total;
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (size_t k = 0; k < points.size(); ++k) {
+        const Eigen::Vector3d d = points[k] - q.centroid;
+        covariance += w[k] * d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> frame(covariance);  // ascending
+    q.n = frame.eigenvectors().col(0);
+    q.v = frame.eigenvectors().col(1);
+    q.u = frame.eigenvectors().col(2);
     Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
     for (size_t k = 0; k < points.size(); ++k) {
-        const Eigen::Vector3d d = points[k] - origin;
-        const double x = d.dot(u), y = d.dot(v), z = d.dot(n);
+        const Eigen::Vector3d d = points[k] - q.centroid;
+        const double x = d.dot(q.u), y = d.dot(q.v);
         Eigen::Matrix<double, 6, 1> row;
         row << x * x, x * y, y * y, x, y, 1.0;
         normal += w[k] * row * row.transpose();
-        rhs += w[k] * z * row;
+        rhs += w[k] * d.dot(q.n) * row;
     }
     const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> solver(normal);
     if (solver.info() != Eigen::Success || !(solver.rcond() > 1e-12)) return std::nullopt;
-    const Eigen::Matrix<double, 6, 1> c = solver.solve(rhs);
-    if (!c.allFinite()) return std::nullopt;
-    return c;
-}
-
-// The weighted centroid and tangent frame (u, v along the two largest spreads, n across) of `points`.
-void tangentFrame(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& w, Eigen::Vector3d& centroid,
-                  Eigen::Vector3d& u, Eigen::Vector3d& v, Eigen::Vector3d& n) {
-    double total = 0;
-    centroid.setZero();
-    for (size_t k = 0; k < points.size(); ++k) centroid += w[k] * points[k], total += w[k];
-    centroid /= total;
-    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-    for (size_t k = 0; k < points.size(); ++k) {
-        const Eigen::Vector3d d = points[k] - centroid;
-        covariance += w[k] * d * d.transpose();
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);  // ascending
-    n = solver.eigenvectors().col(0);
-    v = solver.eigenvectors().col(1);
-    u = solver.eigenvectors().col(2);
+    q.c = solver.solve(rhs);
+    if (!q.c.allFinite()) return std::nullopt;
+    return q;
 }
 
 }  // namespace
@@ -624,14 +638,7 @@ double scanNoise(const std::vector<Eigen::Vector3d>& positions, const std::vecto
             spacing /= double(std::max<size_t>(near, 1));
             if (!(spacing > 0) || around.size() < kNoiseNeighbours / 2) continue;
             ones.assign(around.size(), 1.0);
-            Eigen::Vector3d centroid, u, v, n;
-            tangentFrame(around, ones, centroid, u, v, n);
-            const auto c = fitQuadric(around, ones, centroid, u, v, n);
-            if (!c) continue;
-            const Eigen::Vector3d d = positions[i] - centroid;
-            const double x = d.dot(u), y = d.dot(v);
-            const double z = (*c)[0] * x * x + (*c)[1] * x * y + (*c)[2] * y * y + (*c)[3] * x + (*c)[4] * y + (*c)[5];
-            ratio[s] = std::abs(d.dot(n) - z) / spacing;
+            if (const auto q = fitLocalQuadric(around, ones)) ratio[s] = std::abs(q->offset(positions[i])) / spacing;
         }
     });
     ratio.erase(std::remove(ratio.begin(), ratio.end(), -1.0), ratio.end());
@@ -667,19 +674,11 @@ double smoothScan(std::vector<Eigen::Vector3d>& positions, std::vector<Eigen::Ve
                     w.push_back(std::exp(-2.0 * squared[j] / h2));
                 }
                 if (around.size() < k / 2) continue;
-                Eigen::Vector3d centroid, u, v, n;
-                tangentFrame(around, w, centroid, u, v, n);
-                const auto c = fitQuadric(around, w, centroid, u, v, n);
-                if (!c) continue;
-                const Eigen::Vector3d d = from[i] - centroid;
-                const double x = d.dot(u), y = d.dot(v);
-                const double z =
-                    (*c)[0] * x * x + (*c)[1] * x * y + (*c)[2] * y * y + (*c)[3] * x + (*c)[4] * y + (*c)[5];
-                const Eigen::Vector3d moved = centroid + x * u + y * v + z * n;
-                Eigen::Vector3d g =
-                    n - (2 * (*c)[0] * x + (*c)[1] * y + (*c)[3]) * u - ((*c)[1] * x + 2 * (*c)[2] * y + (*c)[4]) * v;
-                if (!moved.allFinite() || !(g.norm() > 0)) continue;
-                g.normalize();
+                const auto q = fitLocalQuadric(around, w);
+                if (!q) continue;
+                Eigen::Vector3d g;
+                const Eigen::Vector3d moved = q->onto(from[i], g);
+                if (!moved.allFinite() || !g.allFinite()) continue;
                 positions[i] = moved;
                 normals[i] = g.dot(facing[i]) < 0 ? -g : g;
             }

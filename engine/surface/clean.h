@@ -80,7 +80,7 @@ constexpr double kClumpGap = 40.0;
 // hemisphere: 0.17 from a plane, 0.003 from a quadric): a cleanly sampled surface gives a few hundredths (CGAL's
 // kitten.xyz 0.009, ball.ply 0.022, hippo1.ply 0.066, the sparse oni.ply 0.072, building.ply 0.084), a noisy scan
 // more (a torus of 60,000 points with Gaussian noise of 0.15% of its diagonal 0.175, CGAL's
-// fin90_with_PCA_normals.xyz 0.28, sphere_20k.xyz 0.49). Normalized positions.
+// fin90_with_PCA_normals.xyz 0.28, sphere_20k.xyz 0.56). Normalized positions.
 double scanNoise(const std::vector<Eigen::Vector3d>& positions, const std::vector<Eigen::Vector3d>& normals);
 constexpr size_t kNoiseSamples = 5000, kNoiseNeighbours = 24;
 // A cloud noisier than this is smoothed before it is fitted (ModelOptions::smoothNoise): the fit interpolates every

@@ -21,6 +21,15 @@ using Eigen::Vector3d;
 
 namespace {
 
+// A uniform sequence in [0, 1) from a linear congruential generator: the same on every machine.
+struct Uniform {
+    uint32_t state;
+    double operator()() {
+        state = state * 1664525u + 1013904223u;
+        return double(state >> 8) / double(1u << 24);
+    }
+};
+
 const char* const kBunny = INKWELL_SOURCE_DIR "/assets/bunny.obj";
 
 // The bunny's first `count` farthest-point samples, in input units: fitModel then uses all of them.
@@ -153,11 +162,7 @@ TEST_CASE("fit: a cloud's outliers are left out, a sparsely sampled region and a
     // spacings: nearer, the fit takes a stray as a bump, and the test cannot tell it from a scan's sparse stretch).
     const ink::OrientedPoints sphere = ink::spherePoints(4000, 0.5);
     ink::OrientedPoints noisy = sphere;
-    uint32_t state = 12345;
-    auto uniform = [&] {
-        state = state * 1664525u + 1013904223u;
-        return double(state >> 8) / double(1u << 24);
-    };
+    Uniform uniform{12345};
     size_t strays = 0;
     while (strays < 40) {
         const Vector3d p(1.4 * uniform() - 0.7, 1.4 * uniform() - 0.7, 1.4 * uniform() - 0.7);
@@ -640,11 +645,7 @@ TEST_CASE("fit: a noisy point cloud is smoothed before it is fitted, a clean one
     // 0.32 of its spacing; CGAL's sphere_20k.xyz 0.56), against the same points clean (0.0001).
     const ink::OrientedPoints clean = ink::spherePoints(8000, 0.5);
     ink::OrientedPoints noisy = clean;
-    uint32_t state = 777;
-    auto uniform = [&] {
-        state = state * 1664525u + 1013904223u;
-        return double(state >> 8) / double(1u << 24);
-    };
+    Uniform uniform{777};
     for (size_t i = 0; i < noisy.positions.size(); ++i) noisy.positions[i] *= 1.0 + 0.032 * (uniform() - 0.5) / 0.5;
     const double cleanNoise = ink::scanNoise(clean.positions, clean.normals),
                  noise = ink::scanNoise(noisy.positions, noisy.normals);
