@@ -233,15 +233,16 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
                 points.positions[i] = frame.center + inputs.positions[i] / frame.scale;
                 points.normals[i] = inputs.normals[i];
             }
-            char text[320];
-            if (model.smoothedBy > 0)  // not where a cloud has too few points to smooth
+            if (model.smoothedBy > 0) {  // not where a cloud has too few points to smooth
+                char text[320];
                 std::snprintf(
                     text, sizeof text,
                     "smoothed the points: their noise is %.2f of their spacing (over %.2f: a noisy scan); each "
                     "moved onto the quadric of its %zu nearest, by %.2g of the diagonal (median; --keep-noise "
                     "fits them as they are)",
                     model.noise, kNoisy, smoothNeighbours(model.noise), model.smoothedBy);
-            if (model.smoothedBy > 0) note(text);
+                note(text);
+            }
         }
         phases.lap("noise");
     }

@@ -21,6 +21,18 @@ using Eigen::Vector3d;
 
 namespace {
 
+// A thin plate, n × n points 0.05 apart on each of its two sides 0.02 apart, each side's normals outward.
+ink::OrientedPoints thinPlate(int n) {
+    ink::OrientedPoints plate;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j)
+            for (double side : {-1.0, 1.0}) {
+                plate.positions.push_back({i * 0.05, j * 0.05, 0.01 * side});
+                plate.normals.push_back({0, 0, side});
+            }
+    return plate;
+}
+
 // A uniform sequence in [0, 1) from a linear congruential generator: the same on every machine.
 struct Uniform {
     uint32_t state;
@@ -102,13 +114,7 @@ TEST_CASE("fit: a point cloud's normals pointing every way are oriented; consist
     // Consistent already: nothing turned.
     CHECK(ink::fitModel(cloud, {}).flippedNormals == 0);
     // A thin plate's two sides face apart rightly: 0.02 thick, points 0.05 apart, each side's normals outward.
-    ink::OrientedPoints plate;
-    for (int i = 0; i < 30; ++i)
-        for (int j = 0; j < 30; ++j)
-            for (double side : {-1.0, 1.0}) {
-                plate.positions.push_back({i * 0.05, j * 0.05, 0.01 * side});
-                plate.normals.push_back({0, 0, side});
-            }
+    const ink::OrientedPoints plate = thinPlate(30);
     CHECK(ink::fitModel(plate, {}).flippedNormals == 0);
 }
 
@@ -669,13 +675,7 @@ TEST_CASE("fit: a noisy point cloud is smoothed before it is fitted, a clean one
     for (size_t i = 0; i < positions.size(); ++i) radial += normals[i].dot(positions[i].normalized()) > std::cos(0.1);
     CHECK(radial >= positions.size() * 99 / 100);
     // A thin plate's two sides (0.02 apart, their points 0.05 apart, normals outward) are not noise.
-    ink::OrientedPoints plate;
-    for (int i = 0; i < 40; ++i)
-        for (int j = 0; j < 40; ++j)
-            for (double side : {-1.0, 1.0}) {
-                plate.positions.push_back({i * 0.05, j * 0.05, 0.01 * side});
-                plate.normals.push_back({0, 0, side});
-            }
+    const ink::OrientedPoints plate = thinPlate(40);
     CHECK(ink::scanNoise(plate.positions, plate.normals) < 0.01);
     CHECK(ink::scanNoise(plate.positions, std::vector<Vector3d>(plate.positions.size(), Vector3d::Zero())) > 0.15);
     // Through the fit: smoothed by default, as they are with --keep-noise; a clean cloud is not touched.
