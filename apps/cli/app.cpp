@@ -351,11 +351,12 @@ void finishOptions(Options& o) {
     if (d.grid < 2 || d.grid > 512)
         throw inkwell::Error("--grid " + std::to_string(d.grid) + " must be between 2 and 512 cells");
     parseStyle(o);
-    // A drawing of pen lines alone needs the refined points only for the lines' seeds and the splats' depth: two
-    // levels do (the bunny: 21,000 points, refined in a fifth of the four levels' time). The viewer keeps four, for
-    // the dots its panel can turn on.
+    // A drawing of pen lines alone needs the refined points only for the lines' seeds and the splats' depth: three
+    // levels do. Two (the bunny: 21,000 points) gave disks so large that a line's depth test reached past thin walls:
+    // CGAL's cheese drew its inner holes' creases across its faces, 2,882 stray ink pixels of 1024², now 703. The
+    // viewer keeps four, for the dots its panel can turn on.
     const bool levelsGiven = o.presetLevels || (o.command && o.command->count("--levels") > 0);
-    if (!o.look.dots && !levelsGiven && o.command && o.command->get_name() != "view") d.levels = std::min(d.levels, 2u);
+    if (!o.look.dots && !levelsGiven && o.command && o.command->get_name() != "view") d.levels = std::min(d.levels, 3u);
     if (o.direction == "axis")
         d.direction = inkwell::DirectionField::Axis;
     else if (o.direction == "curvature-min")

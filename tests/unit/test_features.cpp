@@ -119,7 +119,8 @@ double totalLength(const std::vector<ink::PenStroke>& strokes) {
     return l;
 }
 
-// A cube's crease lines alone, refined to two levels (a drawing of lines alone: large splat disks).
+// A cube's crease lines alone, refined to two levels: larger splat disks than a drawing of lines alone gets by default
+// (three), the harder case for the depth test.
 std::unique_ptr<ink::Scene> cubeCreases(GpuFixture& gpu) {
     ink::LineOptions lines;
     lines.creases = true;
