@@ -440,9 +440,7 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
     std::vector<PenStroke> pieces;
     uint32_t curveId = 0;
     for (const ChainedCurve& c : curves) {
-        double length = 0;
-        for (size_t i = 1; i < c.points.size(); ++i) length += (c.points[i] - c.points[i - 1]).norm();
-        if (c.points.size() < 4 || (c.closed && length < options_.minLoopLength)) {
+        if (droppedLoop(c.points, c.closed, eye, options_)) {
             s.smallLoops += c.points.size() >= 4;
             continue;
         }

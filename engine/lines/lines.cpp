@@ -77,6 +77,22 @@ bool projectToContour(const Surface& hrbf, const Vector3d& eye, Vector3d& x) {
     return contourNewton(hrbf, eye, x, 0.05);
 }
 
+double viewAngle(const std::vector<Vector3d>& curve, const Vector3d& eye, bool closed) {
+    const size_t m = curve.size();
+    double angle = 0;
+    for (size_t i = 0; i + (closed ? 0 : 1) < m; ++i)
+        angle += ((curve[(i + 1) % m] - eye).normalized() - (curve[i] - eye).normalized()).norm();
+    return angle;
+}
+
+bool droppedLoop(const std::vector<Vector3d>& curve, bool closed, const Vector3d& eye, const ContourOptions& options) {
+    if (curve.size() < 4) return true;
+    if (!closed) return false;
+    double length = 0;
+    for (size_t i = 1; i < curve.size(); ++i) length += (curve[i] - curve[i - 1]).norm();
+    return length < options.minLoopLength || viewAngle(curve, eye, true) < options.minLoopAngle;
+}
+
 // Swallowtails too small to see: a pair of cusps whose retrograde piece between them spans less than
 // `threshold` of view angle (a ripple of the normal field, not the shape) is no cusp at all. The pair goes,
 // smallest first, and the pieces either side join: their view angles add. A heap and a linked list keep it
@@ -380,9 +396,7 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Vector3d& eye, c
         // its start, and the closing segment bridged them (CGAL's elephant-with-holes from behind: across the paper
         // from the trunk to the rump).
         closed = closed && (curve.back() - curve.front()).norm() <= 5 * step;
-        double loop = 0;
-        for (size_t i = 1; i < curve.size(); ++i) loop += (curve[i] - curve[i - 1]).norm();
-        if (curve.size() < 4 || (closed && loop < options.minLoopLength)) {
+        if (droppedLoop(curve, closed, eye, options)) {
             s.smallLoops += curve.size() >= 4;
             traced.truncate(hashStart);
             continue;

@@ -64,6 +64,10 @@ struct ContourOptions {
     // Closed curves shorter than this (normalized units; about 10 pixels at the default view) are dropped: the
     // contour of a bump too small to read, which the pen would draw as a blot.
     double minLoopLength = 0.012;
+    // Closed curves whose image is smaller than this, as the view angle along them (radians; about 20 pixels of
+    // perimeter at the default 1024² view: a loop under 6 pixels across), are dropped too: a lips loop, long along
+    // the view but thin in the image, which the pen draws as a dash or a blot (the bunny beside its front foot).
+    double minLoopAngle = 0.015;
     // A pair of cusps whose retrograde piece spans less than this view angle (radians; about 4 pixels, two widths
     // of the default contour pen, at the default 1024² view) is a swallowtail too small to see, made by a ripple
     // of the surface's normals: both go and the pieces either side join.
@@ -72,7 +76,7 @@ struct ContourOptions {
 
 struct ContourStats {
     size_t seedsTried = 0, curves = 0, closedCurves = 0, pieces = 0, cusps = 0, vertices = 0;
-    size_t smallLoops = 0;    // closed curves under minLoopLength, dropped
+    size_t smallLoops = 0;    // closed curves under minLoopLength or minLoopAngle, dropped
     size_t swallowtails = 0;  // cusp pairs under minSwallowtail, merged away (not in `cusps`)
     size_t occluded = 0;      // pieces their own surface hides (markOccluded)
     double seconds = 0;
@@ -99,6 +103,15 @@ std::vector<PenStroke> traceContours(const Surface& hrbf, const Eigen::Vector3d&
 void splitAtCusps(const std::vector<Eigen::Vector3d>& curve, const std::vector<Eigen::Vector3d>& normals, bool closed,
                   const Eigen::Vector3d& eye, const ContourOptions& options, uint32_t curveId,
                   std::vector<PenStroke>& pieces, ContourStats& stats);
+
+// The view angle a polyline sweeps as seen from `eye` (the length of its image on the unit sphere about the eye),
+// with the closing segment when `closed`.
+double viewAngle(const std::vector<Eigen::Vector3d>& curve, const Eigen::Vector3d& eye, bool closed);
+
+// Whether both tracers drop a traced curve: under 4 points, or closed and shorter than minLoopLength or than
+// minLoopAngle in the image.
+bool droppedLoop(const std::vector<Eigen::Vector3d>& curve, bool closed, const Eigen::Vector3d& eye,
+                 const ContourOptions& options);
 
 // Marks the pieces their own surface hides, and returns how many. Where the surface is concave along the view (its
 // radial curvature κ_r = rᵀHr / |∇f| below zero, r the view ray's direction in the tangent plane), the contour

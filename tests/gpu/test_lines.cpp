@@ -203,9 +203,13 @@ TEST_CASE("contours: a march the corrector holds in place stops there, without p
     const Vector3d eye(e.x, e.y, e.z), x(-0.191884, -0.198829, 0.0388608);
     Vector3d gradient;
     bunny.surface.eval(x, gradient);
+    // The curve from this seed is a small loop in the image, which the tracer drops (minLoopAngle): kept here, to
+    // see its vertices.
+    ink::ContourOptions options;
+    options.minLoopAngle = 0;
     ink::ContourStats stats;
     const std::vector<ink::PenStroke> pieces =
-        ink::traceContours(bunny.surface, eye, {{x, gradient.normalized()}}, {}, &stats);
+        ink::traceContours(bunny.surface, eye, {{x, gradient.normalized()}}, options, &stats);
     CHECK(stats.curves == 1);
     CHECK(stats.vertices < 2000);
     double shortest = 1;
@@ -251,6 +255,65 @@ TEST_CASE("contours: swallowtails smaller than the pen are no cusps; the pieces 
     for (const ink::PenStroke& p : pieces) points += p.points.size();
     CHECK(points < rawPoints);  // a piece shares its end point with the next: fewer pieces, fewer shared points
     CHECK(points + 2 * merged.swallowtails + merged.curves >= rawPoints);
+}
+
+TEST_CASE("contours: closed curves too small in the image to read are dropped, the rest kept" *
+          doctest::test_suite("unit")) {
+    // The bunny's fit makes small lips here and there: closed contour curves long along the view but a few pixels
+    // across in the image (beside its front foot at the default view), which the pen drew as dashes and blots.
+    const ink::Model bunny = ink::loadModel(INKWELL_SOURCE_DIR "/assets/bunny.obj", {});
+    const std::vector<ink::SurfaceSample> seeds = seedsOf(bunny);
+    const double minAngle = ink::ContourOptions{}.minLoopAngle;
+    size_t smallRaw = 0, droppedMore = 0;
+    for (float azimuth : {0.0f, 30.0f, 90.0f, 150.0f, 210.0f, 270.0f, 330.0f}) {
+        CAPTURE(azimuth);
+        ink::Camera camera;
+        camera.azimuthDeg = azimuth;
+        const glm::vec3 e = camera.eye();
+        const Vector3d eye(e.x, e.y, e.z);
+        // The view angle each curve sweeps (its pieces' together, in order), by curve, and whether it is closed (its
+        // last piece ends where its first begins).
+        struct Curve {
+            double angle = 0;
+            bool closed = false;
+            Eigen::Vector3f start;
+        };
+        auto curvesOf = [&](double minLoopAngle, ink::ContourStats& stats) {
+            ink::ContourOptions options;
+            options.minLoopAngle = minLoopAngle;
+            const std::vector<ink::PenStroke> pieces = ink::traceContours(bunny.surface, eye, seeds, options, &stats);
+            std::map<uint32_t, Curve> curves;
+            for (const ink::PenStroke& p : pieces) {
+                std::vector<Vector3d> points;
+                for (const Eigen::Vector3f& q : p.points) points.push_back(q.cast<double>());
+                auto [it, first] = curves.try_emplace(p.curve);
+                if (first) it->second.start = p.points.front();
+                it->second.angle += ink::viewAngle(points, eye, p.closed);
+                it->second.closed = p.closed || p.points.back() == it->second.start;
+            }
+            return curves;
+        };
+        ink::ContourStats rawStats, stats;
+        const std::map<uint32_t, Curve> raw = curvesOf(0.0, rawStats), kept = curvesOf(minAngle, stats);
+        double rawLarge = 0, keptLarge = 0, smallest = 1e9;
+        for (const auto& [id, c] : raw) {
+            smallRaw += c.closed && c.angle < minAngle;
+            if (c.angle >= 2 * minAngle) rawLarge += c.angle;
+        }
+        for (const auto& [id, c] : kept) {
+            if (c.closed) smallest = std::min(smallest, c.angle);
+            if (c.angle >= 2 * minAngle) keptLarge += c.angle;
+        }
+        MESSAGE("azimuth " << azimuth << ": " << rawStats.curves << " curves, " << stats.curves << " kept ("
+                           << stats.smallLoops - rawStats.smallLoops << " more dropped), the smallest closed one kept "
+                           << smallest << " rad; the larger curves sweep " << rawLarge << " and " << keptLarge);
+        droppedMore += stats.smallLoops - rawStats.smallLoops;
+        CHECK(smallest >= minAngle);
+        CHECK(stats.curves <= rawStats.curves);
+        CHECK(keptLarge == doctest::Approx(rawLarge).epsilon(0.01));
+    }
+    CHECK(smallRaw > 0);
+    CHECK(droppedMore >= smallRaw);
 }
 
 TEST_CASE("contours: the torus's traced outer silhouette lies within a pixel of the analytic one, in few pieces" *
