@@ -132,11 +132,12 @@ size_t mergeDuplicates(OrientedPoints& points, double tolerance) {
     return merged;
 }
 
-NearMerge mergeNearPoints(OrientedPoints& points, double tolerance) {
+NearMerge mergeNearPoints(OrientedPoints& points, double tolerance, double opposedTolerance) {
     std::vector<Vector3d>& pos = points.positions;
     std::vector<Vector3d>& nor = points.normals;
     const size_t n = pos.size();
-    const double t2 = tolerance * tolerance;
+    const double t2 = tolerance * tolerance,
+                 o2 = std::min(opposedTolerance, tolerance) * std::min(opposedTolerance, tolerance);
     std::vector<size_t> cluster(n);
     for (size_t i = 0; i < n; ++i) cluster[i] = i;
     // Each point joins the cluster of the first earlier point within the tolerance that heads a cluster (single
@@ -220,8 +221,11 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance) {
     for (size_t c = 0; c < chunks; ++c)
         for (size_t k = 0; k < near[c].size();) {
             const uint32_t i = near[c][k].first;
-            for (; k < near[c].size() && near[c][k].first == i; ++k)
-                if (cluster[i] == i && cluster[near[c][k].second] == near[c][k].second) cluster[i] = near[c][k].second;
+            for (; k < near[c].size() && near[c][k].first == i; ++k) {
+                const uint32_t j = near[c][k].second;
+                if (nor[i].dot(nor[j]) < 0 && (pos[i] - pos[j]).squaredNorm() > o2) continue;  // a thin part's sides
+                if (cluster[i] == i && cluster[j] == j) cluster[i] = j;
+            }
         }
     std::vector<Vector3d> sum(n, Vector3d::Zero());
     std::vector<size_t> size(n, 0);

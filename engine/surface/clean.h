@@ -22,7 +22,12 @@ struct NearMerge {
     size_t merged = 0;   // points folded into another
     size_t dropped = 0;  // points of clusters whose normals cancel
 };
-NearMerge mergeNearPoints(OrientedPoints& points, double tolerance);
+// Points whose normals oppose (n·n' < 0) join only within `opposedTolerance`: farther apart they are the two sides of
+// a thin part (a plate, a coin a hundredth as thick as it is wide), which merging would drop.
+NearMerge mergeNearPoints(OrientedPoints& points, double tolerance, double opposedTolerance);
+inline NearMerge mergeNearPoints(OrientedPoints& points, double tolerance) {
+    return mergeNearPoints(points, tolerance, tolerance);
+}
 
 // Points whose normals are not consistently oriented (a scan's normals estimated without a viewpoint: some point
 // in, some out) give a fit that turns inside out in places. Neighbours along the surface are those of each point's

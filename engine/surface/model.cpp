@@ -350,8 +350,8 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         // neighbours (a face sample beside a vertex) gives it coefficients large enough (Σ|α| ~ 10⁴) for float
         // evaluation to miss the surface: on the bunny with face samples, 2.6e-5 of the diagonal merging within
         // 1%, 1.9e-6 within 10%, 3.7e-7 within 25%.
-        near =
-            mergeNearPoints(fitted, (global ? 0.01 : 0.25) * typicalSpacing(fitted.positions, mesh.positions.empty()));
+        const double spacing = typicalSpacing(fitted.positions, mesh.positions.empty());
+        near = mergeNearPoints(fitted, (global ? 0.01 : 0.25) * spacing, 0.01 * spacing);
         phases.lap("merge_near");
         if (fitted.positions.size() < 2)
             throw Error("too few distinct points to fit a surface: " + std::to_string(fitted.positions.size()) +

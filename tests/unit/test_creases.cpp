@@ -88,11 +88,21 @@ TEST_CASE("creases: points far apart are left alone; normals that cancel are dro
     }
     sheet.positions.emplace_back(0, 5, 0);
     sheet.normals.emplace_back(0, 1, 1);
+    ink::OrientedPoints plate = sheet;
     ink::NearMerge result = ink::mergeNearPoints(sheet, 1e-6);
     CHECK(result.dropped == 12);
     CHECK(result.merged == 0);
     REQUIRE(sheet.positions.size() == 1);
     CHECK(sheet.positions[0] == Vector3d(0, 5, 0));
+    // The two sides of a thin plate, opposed farther apart than opposedTolerance, are no pair: both stay.
+    for (size_t i = 1; i < plate.positions.size(); i += 2) plate.positions[i].y() = 1e-7;
+    result = ink::mergeNearPoints(plate, 1e-6, 1e-8);
+    CHECK(result.dropped == 0);
+    CHECK(result.merged == 0);
+    CHECK(plate.positions.size() == 13);
+    // Within it they are one place, as before.
+    result = ink::mergeNearPoints(plate, 1e-6, 1e-6);
+    CHECK(result.dropped == 12);
 
     // Three normals 90° apart (a cube's corner) average to the diagonal.
     ink::OrientedPoints corner;

@@ -118,6 +118,42 @@ TEST_CASE("fit: a point cloud's normals pointing every way are oriented; consist
     CHECK(ink::fitModel(plate, {}).flippedNormals == 0);
 }
 
+TEST_CASE("fit: a coin a hundredth as thick as it is wide keeps both its faces" * doctest::test_suite("unit")) {
+    // 132 sides, radius 1, 0.02 thick: its rim's vertices pair up 0.02 apart with opposed normals, within a quarter of
+    // its mesh's typical spacing, where near control points merge. Merged, each pair's normals cancelled and the pair
+    // was dropped, every one of them: "too few distinct points to fit a surface: 0".
+    const std::string path = tempPath("coin.obj");
+    {
+        std::ofstream obj(path);
+        const int n = 132;
+        for (int k = 0; k < n; ++k)
+            for (double z : {0.01, -0.01})
+                obj << "v " << std::cos(2 * M_PI * k / n) << " " << std::sin(2 * M_PI * k / n) << " " << z << "\n";
+        obj << "v 0 0 0.01\nv 0 0 -0.01\n";
+        for (int k = 0; k < n; ++k) {
+            const int a = 2 * k + 1, b = 2 * ((k + 1) % n) + 1, top = 2 * n + 1, bottom = 2 * n + 2;
+            obj << "f " << top << " " << a << " " << b << "\nf " << bottom << " " << b + 1 << " " << a + 1 << "\n";
+            obj << "f " << a << " " << a + 1 << " " << b + 1 << "\nf " << a << " " << b + 1 << " " << b << "\n";
+        }
+    }
+    const ink::Model coin = ink::loadModel(path, {});
+    std::filesystem::remove(path);
+    const ink::Surface& s = coin.surface;
+    MESSAGE("coin: " << s.size() << " control points, the mesh's vertices within " << coin.inputMaxDistance);
+    CHECK(coin.inputMaxDistance < 1e-4);
+    // Both faces are there (within the 0.1% of the diagonal the face samples are fitted to), the inside between
+    // them, the outside beyond.
+    Vector3d g;
+    for (double z : {0.01, -0.01}) {
+        const Vector3d x = s.frame.toNormalized(Vector3d(0.3, 0.2, z));
+        CHECK(std::abs(s.eval(x, g)) / g.norm() < 1e-3);
+        CHECK(g.normalized().dot(Vector3d(0, 0, z > 0 ? 1 : -1)) > 0.99);
+    }
+    CHECK(s.eval(s.frame.toNormalized(Vector3d(0.3, 0.2, 0)), g) < 0);
+    CHECK(s.eval(s.frame.toNormalized(Vector3d(0.3, 0.2, 0.03)), g) > 0);
+    CHECK(s.eval(s.frame.toNormalized(Vector3d(0.3, 0.2, -0.03)), g) > 0);
+}
+
 TEST_CASE("fit: a shape whose normals all point inward is turned outward, its winding with them; a sheet is left" *
           doctest::test_suite("unit")) {
     // An octahedron's mesh wound inside out (CGAL's head.off is: its face was drawn from inside), and the same
