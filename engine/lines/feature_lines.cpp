@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace ink {
 
@@ -407,6 +408,41 @@ MeshParts meshParts(const OrientedPoints& mesh) {
     return parts;
 }
 
+// The longest run of sharp edges where the fit does not turn that is bridged between two creases.
+constexpr size_t kBridgeEdges = 16;
+
+std::vector<std::array<uint32_t, 2>> creaseEdges(const std::vector<std::array<uint32_t, 2>>& sharp,
+                                                 const std::vector<bool>& agrees, size_t maxRun) {
+    std::unordered_map<uint64_t, bool> agreesAt;
+    for (size_t i = 0; i < sharp.size(); ++i) agreesAt[edgeKey(sharp[i][0], sharp[i][1])] = agrees[i];
+    std::unordered_set<uint64_t> bridged;
+    for (const Chain& c : chainEdges(sharp)) {
+        const size_t n = c.vertices.size(), m = c.closed ? n : n - 1;
+        auto key = [&](size_t i) { return edgeKey(c.vertices[i % n], c.vertices[(i + 1) % n]); };
+        size_t first = m;  // the first edge where the fit turns: runs are looked for from there on
+        for (size_t i = 0; i < m && first == m; ++i)
+            if (agreesAt[key(i)]) first = i;
+        if (first == m) continue;
+        // Edges first + 1 … first + span − 1; a closed chain's last run ends at `first` again.
+        const size_t span = c.closed ? m : m - first;
+        for (size_t k = 1; k < span;) {
+            if (agreesAt[key(first + k)]) {
+                ++k;
+                continue;
+            }
+            size_t end = k;
+            while (end < span && !agreesAt[key(first + end)]) ++end;
+            if ((end < span || c.closed) && end - k <= maxRun)  // a crease on both sides
+                for (size_t j = k; j < end; ++j) bridged.insert(key(first + j));
+            k = end;
+        }
+    }
+    std::vector<std::array<uint32_t, 2>> creases;
+    for (size_t i = 0; i < sharp.size(); ++i)
+        if (agrees[i] || bridged.count(edgeKey(sharp[i][0], sharp[i][1]))) creases.push_back(sharp[i]);
+    return creases;
+}
+
 FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, const FeatureOptions& options) {
     FeatureLines lines;
     if (mesh.triangles.empty()) return lines;
@@ -450,18 +486,21 @@ FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, co
         }
         return n[0].dot(n[1]) < fitCos;
     };
-    std::vector<Edge> creases, boundaries;
+    std::vector<Edge> sharp, boundaries;
+    std::vector<bool> agrees;  // per sharp edge: whether the fit turns there too
     for (const Edge& e : order) {
         const Uses& u = uses[edgeKey(e[0], e[1])];
         if (u.count == 1) {
             boundaries.push_back(e);
         } else if (u.count == 2) {
             const Eigen::Vector3d &n0 = normals[u.faces[0]], &n1 = normals[u.faces[1]];
-            if (n0.squaredNorm() > 0 && n1.squaredNorm() > 0 && n0.dot(n1) < creaseCos &&
-                fitAgrees(u.faces[0], u.faces[1]))
-                creases.push_back(e);
+            if (n0.squaredNorm() > 0 && n1.squaredNorm() > 0 && n0.dot(n1) < creaseCos) {
+                sharp.push_back(e);
+                agrees.push_back(fitAgrees(u.faces[0], u.faces[1]));
+            }
         }
     }
+    const std::vector<Edge> creases = creaseEdges(sharp, agrees, kBridgeEdges);
     const MeshParts parts = meshParts(mesh);
     for (const Chain& c : chainEdges(creases)) {
         const size_t n = c.vertices.size();

@@ -9,6 +9,7 @@
 #include "lines/lines.h"
 #include "surface/surface.h"
 
+#include <array>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -41,6 +42,14 @@ struct FeatureOptions {
 // a point that does not reach f = 0 within a few Newton steps, or moves farther than `step` getting there, breaks
 // the line.
 FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, const FeatureOptions& options = {});
+
+// Which of a mesh's sharp edges (vertex pairs, faces turning past the crease angle) its crease lines follow: those
+// where the fit turns too (`agrees`, per edge: a coarse scan's stray sharp edges, where the fit is smooth, stay out),
+// and a run of at most `maxRun` where it does not between two that do along the same chain: the same crease, where
+// the fit rounds a thin face away (CGAL's turbine: its flange's 90° rim had three gaps of 40-50 pixels). In
+// `sharp`'s order.
+std::vector<std::array<uint32_t, 2>> creaseEdges(const std::vector<std::array<uint32_t, 2>>& sharp,
+                                                 const std::vector<bool>& agrees, size_t maxRun);
 
 // The parts of a mesh (triangles joined across edges of two faces) and which are open: a part with an edge of one
 // face, or of three and more (a rim, a hole, a fin on a body). An open part is seen from both sides: its faces do

@@ -185,6 +185,42 @@ void writeObj(const std::string& path, const ink::OrientedPoints& m) {
 
 }  // namespace
 
+TEST_CASE("creases: a short run of sharp edges the fit rounds away, between creases along one chain, is bridged" *
+          doctest::test_suite("unit")) {
+    using Edges = std::vector<std::array<uint32_t, 2>>;
+    // A closed chain of 40 edges (a rim), the fit turning with it except along `off` edges from the 11th.
+    auto ring = [](size_t off, Edges& sharp, std::vector<bool>& agrees) {
+        sharp.clear();
+        agrees.clear();
+        for (uint32_t i = 0; i < 40; ++i) {
+            sharp.push_back({i, (i + 1) % 40});
+            agrees.push_back(i < 10 || i >= 10 + off);
+        }
+    };
+    Edges sharp;
+    std::vector<bool> agrees;
+    ring(5, sharp, agrees);
+    CHECK(ink::creaseEdges(sharp, agrees, 16) == sharp);  // bridged: the whole rim
+    CHECK(ink::creaseEdges(sharp, agrees, 4).size() == 35);
+    ring(20, sharp, agrees);
+    CHECK(ink::creaseEdges(sharp, agrees, 16).size() == 20);  // too long: left as the fit has it
+    // A run across a closed chain's first edge is bridged too.
+    for (size_t i = 0; i < 40; ++i) agrees[i] = i >= 3 && i < 37;
+    CHECK(ink::creaseEdges(sharp, agrees, 16) == sharp);
+    // Nowhere a crease of the fit: nothing (a coarse scan's sharp edges).
+    CHECK(ink::creaseEdges(sharp, std::vector<bool>(40, false), 16).empty());
+
+    // An open chain of 29 edges: runs at its ends have a crease on one side only and stay out; one between stays in.
+    sharp.clear();
+    agrees.clear();
+    for (uint32_t i = 0; i < 29; ++i) {
+        sharp.push_back({100 + i, 101 + i});
+        agrees.push_back(!(i < 4 || i >= 25 || (i >= 10 && i < 13)));
+    }
+    const Edges creases = ink::creaseEdges(sharp, agrees, 16);
+    CHECK(creases == Edges(sharp.begin() + 4, sharp.begin() + 25));
+}
+
 TEST_CASE("features: a cube's twelve edges are crease lines on the surface, with its normals" *
           doctest::test_suite("unit")) {
     const ink::Model model = ink::fitModel(cubeMesh(8), {});
