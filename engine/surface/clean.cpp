@@ -136,8 +136,7 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance, double oppos
     std::vector<Vector3d>& pos = points.positions;
     std::vector<Vector3d>& nor = points.normals;
     const size_t n = pos.size();
-    const double t2 = tolerance * tolerance,
-                 o2 = std::min(opposedTolerance, tolerance) * std::min(opposedTolerance, tolerance);
+    const double opposed = std::min(opposedTolerance, tolerance), t2 = tolerance * tolerance, o2 = opposed * opposed;
     std::vector<size_t> cluster(n);
     for (size_t i = 0; i < n; ++i) cluster[i] = i;
     // Each point joins the cluster of the first earlier point within the tolerance that heads a cluster (single
