@@ -77,11 +77,15 @@ bool projectToContour(const Surface& hrbf, const Vector3d& eye, Vector3d& x) {
     return contourNewton(hrbf, eye, x, 0.05);
 }
 
+// The view angle of one segment: the chord between its ends' directions from the eye.
+static double segmentAngle(const Vector3d& a, const Vector3d& b, const Vector3d& eye) {
+    return ((b - eye).normalized() - (a - eye).normalized()).norm();
+}
+
 double viewAngle(const std::vector<Vector3d>& curve, const Vector3d& eye, bool closed) {
     const size_t m = curve.size();
     double angle = 0;
-    for (size_t i = 0; i + (closed ? 0 : 1) < m; ++i)
-        angle += ((curve[(i + 1) % m] - eye).normalized() - (curve[i] - eye).normalized()).norm();
+    for (size_t i = 0; i + (closed ? 0 : 1) < m; ++i) angle += segmentAngle(curve[i], curve[(i + 1) % m], eye);
     return angle;
 }
 
@@ -112,7 +116,7 @@ static size_t mergeSwallowtails(const std::vector<Vector3d>& curve, const Vector
         next[k] = k + 1 < c ? k + 1 : (closed ? 0 : kNone);
         if (next[k] == kNone) continue;
         for (size_t i = cusps[k]; i != cusps[next[k]]; i = (i + 1) % m)
-            angle[k] += ((curve[(i + 1) % m] - eye).normalized() - (curve[i] - eye).normalized()).norm();
+            angle[k] += segmentAngle(curve[i], curve[(i + 1) % m], eye);
     }
     using Entry = std::tuple<double, size_t, uint32_t>;  // angle, cusp, version
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
