@@ -13,25 +13,15 @@
 # as CI's), with aarch64-linux-gnu-g++ as the compiler. The host's arch-independent headers (Eigen, glm, Vulkan,
 # nlohmann/json, tinyobjloader, stb) come from /usr/include, searched after the cross compiler's own headers.
 #
-# Installs the cross compiler (g++-aarch64-linux-gnu) if it is missing: that needs root (apt-get); run it with
-# sudo, or as root. The host build's dependencies are scripts/install-deps.sh's.
+# Installs the cross compiler (g++-aarch64-linux-gnu) with the host build's dependencies if they are missing
+# (scripts/install-deps.sh; that needs root: run it with sudo, or as root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 out=$root/build-arm64
 cxx=aarch64-linux-gnu-g++
 
-if ! dpkg-query -W -f='${Status}' g++-aarch64-linux-gnu 2>/dev/null | grep -q "install ok installed"; then
-  if [ "$(id -u)" -ne 0 ]; then
-    echo "build-arm64: missing package: g++-aarch64-linux-gnu" >&2
-    echo "build-arm64: run as root to install it: sudo $0" >&2
-    exit 1
-  fi
-  echo "build-arm64: installing g++-aarch64-linux-gnu"
-  export DEBIAN_FRONTEND=noninteractive
-  apt-get update -qq
-  apt-get install -y -qq --no-install-recommends g++-aarch64-linux-gnu
-fi
+scripts/install-deps.sh g++-aarch64-linux-gnu >/dev/null
 
 # The host configure: the shader headers, and the compile commands to reuse (a command a source: no unity build,
 # so that each source is also checked to compile on its own).

@@ -5,18 +5,7 @@
 # under build-fuzz/findings/. Longer runs: FUZZ_SECONDS=600 scripts/fuzz-smoke.sh (docs/robustness.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-packages=(clang-14 libclang-rt-14-dev)
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  if [ "$(id -u)" -ne 0 ]; then
-    echo "fuzz-smoke: missing packages: ${missing[*]} (run as root to install them)" >&2
-    exit 1
-  fi
-  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+scripts/install-deps.sh clang-14 libclang-rt-14-dev >/dev/null
 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Release -DINKWELL_FUZZ=ON -DCMAKE_CXX_COMPILER=clang++-14 >/dev/null
 cmake --build build-fuzz -j"$(nproc)" --target fuzz >/dev/null
 seconds="${FUZZ_SECONDS:-20}"

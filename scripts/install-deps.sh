@@ -3,6 +3,8 @@
 # missing. Needs root (apt-get); run it with sudo, or as root. What the tests run besides the build: xvfb-run,
 # xauth and xdotool (the viewer tests), rsvg-convert (librsvg2-bin) and pdftoppm (poppler-utils) (the vector
 # tests), the validation layers (every gpu test), python3 (scripts/check-layering.py, test-gpu.sh, test-install.sh).
+# Packages named as arguments are wanted too: CI's other builds ask for theirs this way (clang-14 and
+# libclang-rt-14-dev for the sanitizer and fuzzing builds, g++-aarch64-linux-gnu for the ARM64 one).
 set -euo pipefail
 
 packages=(
@@ -11,6 +13,7 @@ packages=(
   libeigen3-dev libglm-dev libglfw3-dev doctest-dev libstb-dev libcli11-dev nlohmann-json3-dev
   libopenblas-dev libtinygltf-dev libnanoflann-dev libimgui-dev xvfb xauth xdotool imagemagick clang-format
   librsvg2-bin poppler-utils python3
+  "$@"
 )
 
 missing=()

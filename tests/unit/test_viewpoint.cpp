@@ -227,8 +227,10 @@ TEST_CASE("viewpoint: a one-sided scan is seen from the side it was scanned from
         ball.positions.push_back(0.4f * p);
         ball.normals.push_back(p);
     }
-    for (const auto& [name, samples] :
+    for (const auto& entry :
          {std::pair{std::string("figure"), scanned(boxes(figure()))}, std::pair{std::string("ball"), scanned(ball)}}) {
+        const std::string& name = entry.first;  // CAPTURE's lambda cannot capture a structured binding before clang 16
+        const ink::ViewSamples& samples = entry.second;
         CAPTURE(name);
         const ink::ViewChoice v = ink::chooseView(samples, ink::UpAxis::PosY);
         CAPTURE(v.azimuthDeg);
