@@ -35,6 +35,7 @@ else
     "fit: a cloud without normals" "contours: the pieces a hole.s own wall" "features: a low-poly mesh.s own faces"
     "contours: fitted meshes have their true cusps" "hatching: a flat face is hatched"
     "pu: the bunny and a torus interpolate" "contours: swallowtails smaller" "features: an open hemisphere.s rim"
+    "cli: render refines a level more"
   )
   skip="^(capture|vector|fidelity):|^cli: a cube"
   for name in "${heavy[@]}"; do skip+="|^$name"; done

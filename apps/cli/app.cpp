@@ -333,6 +333,20 @@ const CLI::Validator& nonNegativeInteger() {
     return validator;
 }
 
+uint32_t defaultLevels(bool dots, uint32_t width, uint32_t height) {
+    // A drawing of pen lines alone needs the refined points only for the lines' seeds and the splats' depth: three
+    // levels do. Two (the bunny: 21,000 points) gave disks so large that a line's depth test reached past thin walls:
+    // CGAL's cheese drew its inner holes' creases across its faces, 2,882 stray ink pixels of 1024², now 703.
+    if (!dots) return 3;
+    // Dots: 4 levels (341,000 points from the fit's 1,000 seeds), and 5 (1,365,000) from 2²¹ pixels, halfway to 2048²
+    // on a log scale, where they give the tone's ink in dots of the intended size: at 2048² the bunny's 4 levels
+    // drew 17,878 dots, 98% of them enlarged for too few points, covering 0.03-0.27 of the page where the light asks
+    // for 0.03-0.5; 5 draw 36,541 finer dots covering 0.03-0.48 (docs/algorithm.md §3). 6 would pass the 4,194,304
+    // points the device and the CPU refine. Fewer for smaller images would not pay: at 512² three levels drew coarse
+    // dots and lost the silhouette.
+    return uint64_t(width) * height >= (uint64_t(1) << 21) ? 5 : 4;
+}
+
 void finishOptions(Options& o) {
     inkwell::checkModelOptions(modelOptions(o));
     if (!o.preset.empty()) applyPreset(o);
@@ -351,12 +365,6 @@ void finishOptions(Options& o) {
     if (d.grid < 2 || d.grid > 512)
         throw inkwell::Error("--grid " + std::to_string(d.grid) + " must be between 2 and 512 cells");
     parseStyle(o);
-    // A drawing of pen lines alone needs the refined points only for the lines' seeds and the splats' depth: three
-    // levels do. Two (the bunny: 21,000 points) gave disks so large that a line's depth test reached past thin walls:
-    // CGAL's cheese drew its inner holes' creases across its faces, 2,882 stray ink pixels of 1024², now 703. The
-    // viewer keeps four, for the dots its panel can turn on.
-    const bool levelsGiven = o.presetLevels || (o.command && o.command->count("--levels") > 0);
-    if (!o.look.dots && !levelsGiven && o.command && o.command->get_name() != "view") d.levels = std::min(d.levels, 3u);
     if (o.direction == "axis")
         d.direction = inkwell::DirectionField::Axis;
     else if (o.direction == "curvature-min")
@@ -409,6 +417,10 @@ void finishOptions(Options& o) {
     if (o.size.size() == 2 && (o.size[0] < 1 || o.size[1] < 1 || o.size[0] > 8192 || o.size[1] > 8192))
         throw inkwell::Error("--size " + std::to_string(o.size[0]) + " " + std::to_string(o.size[1]) +
                              " is outside 1..8192 pixels a side");
+    const bool levelsGiven = o.presetLevels || (o.command && o.command->count("--levels") > 0);
+    if (!levelsGiven && o.command && o.size.size() == 2 &&
+        (o.command->get_name() == "render" || o.command->get_name() == "capture"))
+        d.levels = defaultLevels(o.look.dots, o.size[0], o.size[1]);
     const inkwell::Page named = inkwell::Page::named(o.pageName);
     o.page.widthMm = named.widthMm;
     o.page.heightMm = named.heightMm;

@@ -413,3 +413,34 @@ TEST_CASE("cli: the hidden lines' dot size, contour width and opacity take effec
     CAPTURE(beyond.pixels);
     CHECK(beyond.pixels > 50);
 }
+
+TEST_CASE("cli: render refines a level more for an image of 2^21 pixels or more, unless --levels says otherwise" *
+          doctest::test_suite("cli")) {
+    // A sphere of 200 points (its 200 seeds): the levels `render --stats` reports, by image size and style.
+    TempDir tmp;
+    std::string xyzn;
+    for (int i = 0; i < 200; ++i) {
+        const double z = 1 - 2 * (i + 0.5) / 200, r = std::sqrt(1 - z * z), a = i * 2.399963;
+        char line[120];
+        std::snprintf(line, sizeof line, "%.9g %.9g %.9g %.9g %.9g %.9g\n", r * std::cos(a), r * std::sin(a), z,
+                      r * std::cos(a), r * std::sin(a), z);
+        xyzn += line;
+    }
+    const std::string model = tmp.write("sphere.xyzn", xyzn);
+    const auto levels = [&](const std::string& options) {
+        const std::string stats = tmp / "stats.json";
+        const Run r = run("render " + model + " --camera 30,20,2 -q -o " + (tmp / "out.png") + " --stats " + stats +
+                          " " + options);
+        CAPTURE(options);
+        CAPTURE(r.output);
+        REQUIRE(r.status == 0);
+        std::ifstream in(stats);
+        const nlohmann::json sets = nlohmann::json::parse(in)["refine"]["sets"];
+        REQUIRE(sets.size() == 1);
+        return int(sets[0].size()) - 1;  // the seeds' level is the first
+    };
+    CHECK(levels("--size 1448 1448") == 4);  // 2,096,704 pixels
+    CHECK(levels("--size 2048 1024") == 5);
+    CHECK(levels("--size 2048 1024 --levels 2") == 2);
+    CHECK(levels("--size 2048 1024 --style contours") == 3);
+}
