@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # CI's short fuzzing run: builds the libFuzzer targets (fuzz/, clang) in build-fuzz and runs each for
-# ${FUZZ_SECONDS:-20} seconds (one target per core at a time) from its seed corpus (copied, so the checked-in corpus is never modified).
+# ${FUZZ_SECONDS:-10} seconds (one target per core at a time) from its seed corpus (copied, so the checked-in corpus is never modified).
 # A crash, a leak, undefined behaviour or an unexpected exception fails it; the input that did is kept
 # under build-fuzz/findings/. Longer runs: FUZZ_SECONDS=600 scripts/fuzz-smoke.sh (docs/robustness.md).
 set -euo pipefail
@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 scripts/install-deps.sh clang-14 libclang-rt-14-dev >/dev/null
 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Release -DINKWELL_FUZZ=ON -DCMAKE_CXX_COMPILER=clang++-14 >/dev/null
 cmake --build build-fuzz -j"$(nproc)" --target fuzz >/dev/null
-seconds="${FUZZ_SECONDS:-20}"
+seconds="${FUZZ_SECONDS:-10}"
 mkdir -p build-fuzz/findings
 # One target per core at a time: each is single-threaded.
 fuzz_one() {

@@ -587,7 +587,10 @@ TEST_CASE("features: the inside of an open hemisphere shows where ray casting se
         const glm::vec3 e = camera.eye();
         const Vector3d eye(e.x, e.y, e.z);
         size_t seen = 0, seenDrawn = 0, nearOutline = 0, nearOutlineDrawn = 0, hidden = 0, hiddenDrawn = 0;
-        for (const ink::gpu::Dot& d : renderer.dotList(0)) {
+        const std::vector<ink::gpu::Dot> dots = renderer.dotList(0);
+        // Every second dot: the ray casts take 400 evaluations of the fit each, 100 s for all of them here.
+        for (size_t i = 0; i < dots.size(); i += 2) {
+            const ink::gpu::Dot& d = dots[i];
             if ((d.cls & 3u) != ink::gpu::FRONT) continue;
             const auto& p = points.at(d.cls >> 4);
             const Vector3d x(p.position.x, p.position.y, p.position.z), n(p.normal.x, p.normal.y, p.normal.z);
@@ -616,13 +619,14 @@ TEST_CASE("features: the inside of an open hemisphere shows where ray casting se
         INFO("elevation " << elevation << ": back dots seen " << seenDrawn << " drawn of " << seen
                           << " (by the outline " << nearOutlineDrawn << " of " << nearOutline << "), hidden "
                           << hiddenDrawn << " drawn of " << hidden);
-        // Measured on lavapipe, seen drawn / seen, of them by the outline, hidden drawn / hidden: −15°: 1,811 / 2,107,
-        // 0 / 12, 1 / 8,497; −30°: 6,171 / 6,506, 20 / 84, 0 / 5,629; −60°: 13,945 / 14,414, 206 / 418, 0 / 749.
+        // Measured on lavapipe (every second dot), seen drawn / seen, of them by the outline, hidden drawn / hidden:
+        // −15°: 989 / 1,136, 0 / 17, 0 / 4,027; −30°: 3,087 / 3,285, 11 / 48, 0 / 2,662; −60°: 6,837 / 7,085, 80 / 180,
+        // 0 / 334.
         // By the outline the edge-on disks of the outline's own band, taken for a front surface's, hide half of them
         // (all of them, and 8% of the rest, when the back's disks were counted from n·v < −0.2).
-        REQUIRE(seen > 1000);
+        REQUIRE(seen > 500);
         CHECK(double(seenDrawn) >= 0.8 * double(seen));
-        if (nearOutline >= 200) CHECK(double(nearOutlineDrawn) >= 0.3 * double(nearOutline));
+        if (nearOutline >= 100) CHECK(double(nearOutlineDrawn) >= 0.3 * double(nearOutline));
         CHECK(double(hiddenDrawn) <= 0.01 * double(hidden) + 2);
     }
     gpu.requireNoValidationErrors();
