@@ -2,11 +2,11 @@
 # The tests that handle input and memory, again, built with AddressSanitizer, LeakSanitizer and
 # UndefinedBehaviorSanitizer in build-asan at -O1 with clang (CI runs this after scripts/test.sh; it installs
 # clang-14 if it is missing; docs/robustness.md). Clang, not GCC: GCC's UndefinedBehaviorSanitizer took 585 s to
-# build what clang builds in about 400, and the tests run as fast. Warnings are errors. The unit and command-line tests run; the drawing-heavy
-# ones (labels gpu, golden and viewer; the capture, vector and fidelity suites and the cube's SVG test, which
-# draw large frames or fit and draw many times on lavapipe) run in the release build only. `--all` runs every
-# test. Leaks inside libraries we do not build (the validation layer) are suppressed by tests/support/lsan.supp;
-# undefined behaviour in our code ends the program (-fno-sanitize-recover=undefined).
+# build what clang builds in about 400, and the tests run as fast. Warnings are errors. The unit and command-line
+# tests run; the drawing-heavy ones (labels gpu, golden and viewer; the capture, vector and fidelity suites and the
+# cube's SVG test, which draw large frames or fit and draw many times on lavapipe) run in the release build only.
+# `--all` runs every test. Leaks inside libraries we do not build (the validation layer) are suppressed by
+# tests/support/lsan.supp; undefined behaviour in our code ends the program (-fno-sanitize-recover=undefined).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root="$(pwd)"
