@@ -448,7 +448,7 @@ TEST_CASE("readers: every fuzz seed and regression of the new readers parses or 
 }
 
 // Writes each (name, bytes) file and renders it at 128², refined two levels (enough to draw; a mesh's 20,000 face
-// samples gave 338,000 points at the default four, a minute a file under the sanitizers): it must draw. Two test
+// samples gave 338,000 points at the default four, 18 s a file under the sanitizers): it must draw. Two test
 // cases, so that they run side by side.
 static void rendersEach(const std::vector<std::pair<const char*, std::string>>& files) {
     TempDir dir;
