@@ -71,10 +71,10 @@ void addDeviceOptions(CLI::App* cmd, Options& o);
 void addRefineOptions(CLI::App* cmd, Options& o);
 void addRenderOptions(CLI::App* cmd, Options& o);  // style, colours, dots, tone, camera, size, --preset
 void addVectorOptions(CLI::App* cmd, Options& o);  // page, orientation, margin, pen width, dot style, order
-// Validates and resolves what the parser cannot (axis, colours, preset file); throws inkwell::Error.
 // The refinement levels `render` and `capture` use when neither --levels nor a preset gives them: 3 for pen lines
 // alone; for dots, 4, and 5 from 2²¹ pixels (2048 × 1024; a print page), for the tone's ink in finer dots.
 uint32_t defaultLevels(bool dots, uint32_t width, uint32_t height);
+// Validates and resolves what the parser cannot (axis, colours, preset file); throws inkwell::Error.
 void finishOptions(Options& o);
 // The camera of the options: --camera, else the automatic view resolveView chose, else inkwell::Camera's
 // defaults; about the up axis.
