@@ -29,9 +29,13 @@ std::string readFileCapped(const std::string& path, size_t maxBytes, const std::
         throw Error(path + ": " + tooLarge);
     }
     std::string bytes;
+    if (S_ISREG(info.st_mode)) {  // read in place: a 250 MB model appended in chunks was copied three times
+        bytes.resize(size_t(info.st_size));
+        bytes.resize(std::fread(bytes.data(), 1, bytes.size(), file));
+    }
     char chunk[1 << 16];
     size_t n;
-    while ((n = std::fread(chunk, 1, sizeof chunk, file)) > 0) {
+    while ((n = std::fread(chunk, 1, sizeof chunk, file)) > 0) {  // a FIFO, or a file that grew
         bytes.append(chunk, n);
         if (bytes.size() > maxBytes) {
             std::fclose(file);

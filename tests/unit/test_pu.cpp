@@ -260,6 +260,26 @@ TEST_CASE("pu: a version 3 .hrbf file loads as the model the device draws, and s
     padded[nodes - 1] = 1;  // padding after the node counts (they end short of 64 bytes here)
     if (counts[2] * 2 % 64 != 0) refused(sealed(padded), "non-zero padding");
 
+    // The writer checks what it wrote with the reader, without copying the arrays out: a model that would make
+    // a file that cannot be loaded is refused before anything is written, naming what is wrong.
+    auto unsaveable = [&](const ink::Surface& model, const std::string& message) {
+        const std::string target = dir / "refused.hrbf";
+        CHECK_THROWS_WITH_AS(ink::saveHrbf(target, model), doctest::Contains(message.c_str()), ink::Error);
+        CHECK_FALSE(std::filesystem::exists(target));
+    };
+    ink::Surface overflowing = b;
+    overflowing.pu.nodes[5].alpha = 1e39;  // beyond float
+    unsaveable(overflowing, "node 6: a value is not finite");
+    ink::Surface zeroNormal = b;
+    zeroNormal.normals[7] = Eigen::Vector3d::Zero();
+    unsaveable(zeroNormal, "point 8: normal is zero");
+    ink::Surface outsideBox = b;
+    outsideBox.centers[9].x() = 1.5;
+    unsaveable(outsideBox, "centre 10 lies outside the normalized box");
+    ink::Surface farPatch = b;
+    farPatch.pu.patches[3].radius = 5;
+    unsaveable(farPatch, "patch 4: a patch's radius must be in (0, 4]");
+
     // Versions 1 and 2 still read, by content, whatever the name says.
     std::string text = dir / "text.hrbf";
     ink::saveHrbf(text, a, ink::HrbfFormat::Text);
