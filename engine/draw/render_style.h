@@ -34,6 +34,9 @@ struct RenderStyle {
     // Screen spacing (docs/algorithm.md §4): the candidates of a tone are spaced on the page, no two closer than a
     // radius the tone sets, so that tone is even however the surface turns away; off: the rank prefix alone.
     bool screenSpacing = true;
+    // The spaced dots then relaxed (SPACE_RELAX_* in shared/render.h): moved by at most half their radius from the
+    // greedy's just-over-a-radius towards even spacing; off (tests): where the greedy chose them.
+    bool relaxDots = true;
     float splatScale = 2.0f;  // splat radius in units of the finest level's ρ
     bool drawDots = true;     // off: the point sets only give the depth the pen lines are tested against
     // Pen lines (strokes.h, docs/lines.md), widths in output pixels.

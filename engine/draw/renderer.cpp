@@ -247,9 +247,10 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
     if (cells > f.spaceCells) {
         vkDeviceWaitIdle(ctx_.device);
         destroyBuffer(ctx_, f.spaceGrid);
-        f.spaceGrid =
-            createBuffer(ctx_, VkDeviceSize(cells) * 16,
-                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Device);
+        f.spaceGrid = createBuffer(
+            ctx_, VkDeviceSize(cells) * 16,
+            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+            MemoryUse::Device);
         f.spaceCells = cells;
         bindDescriptors(f);
     }
@@ -296,25 +297,42 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
     passBarrier();
     if (spacing_.x > 0) {
         // The screen spacing, a set at a time (spacing.comp): the grid cleared, then its rounds, each clearing the
-        // cells' elections.
+        // cells' elections, then the relaxation of the accepted dots.
         const VkDeviceSize plane = VkDeviceSize(cells) * 4;
-        auto clear = [&](VkDeviceSize bytes) {
+        auto clear = [&](VkDeviceSize bytes, uint32_t value) {
             stageBarrier(cmd, compute, rw, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
-            vkCmdFillBuffer(cmd, f.spaceGrid.buffer, 0, bytes, 0xFFFFFFFFu);
+            vkCmdFillBuffer(cmd, f.spaceGrid.buffer, 0, bytes, value);
             stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute, rw);
         };
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, space_);
         for (size_t k = 0; k < sets_.size(); ++k) {
             if (!sets_[k].spaced) continue;
-            clear(4 * plane);
+            clear(4 * plane, 0xFFFFFFFFu);
             for (uint32_t round = 0; round < gpu::SPACE_ROUNDS; ++round) {
-                if (round > 0) clear(2 * plane);
+                if (round > 0) clear(2 * plane, 0xFFFFFFFFu);
                 for (uint32_t pass :
                      {gpu::PASS_CLAIM_KEY, gpu::PASS_CLAIM_POINT, gpu::PASS_CLAIM_DOT, gpu::PASS_DECIDE}) {
                     bind(k, pass);
                     vkCmdDispatchIndirect(cmd, f.dots[k].buffer, 0);
                     passBarrier();
                 }
+            }
+            // The relaxation: no displacement yet, an empty list of the accepted dots and empty blocks, the list,
+            // its steps over the list, then the dots moved.
+            if (!style_.relaxDots) continue;
+            stageBarrier(cmd, compute, rw, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+            const uint32_t header[4] = {0, 1, 1, 0};
+            vkCmdFillBuffer(cmd, f.spaceGrid.buffer, 0, 2 * plane, 0);
+            vkCmdUpdateBuffer(cmd, f.spaceGrid.buffer, 2 * plane, sizeof(header), header);
+            vkCmdFillBuffer(cmd, f.spaceGrid.buffer, 2 * plane + sizeof(header), plane - sizeof(header), 0);
+            stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute, rw);
+            bind(k, gpu::PASS_LIST);
+            vkCmdDispatchIndirect(cmd, f.dots[k].buffer, 0);
+            passBarrier();
+            for (uint32_t step = 0; step <= gpu::SPACE_RELAX_ROUNDS; ++step) {
+                bind(k, step < gpu::SPACE_RELAX_ROUNDS ? gpu::PASS_RELAX | step << 8 : gpu::PASS_PLACE);
+                vkCmdDispatchIndirect(cmd, f.spaceGrid.buffer, 2 * plane);
+                passBarrier();
             }
         }
     }

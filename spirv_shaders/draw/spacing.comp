@@ -13,7 +13,12 @@
 layout(local_size_x = GROUP_SIZE) in;
 
 // Four planes of `cells` words: the lowest key, the lowest point index with it, the elected dot (the list index),
-// the accepted dot; 0xFFFFFFFF where none.
+// the accepted dot; 0xFFFFFFFF where none. After the rounds, the relaxation keeps each accepted dot's displacement
+// (packSnorm2x16 of it over SPACE_RELAX_MAX radii) in the first two planes in turn, at the cell of its pixel: the
+// pixels stay until PASS_PLACE, so each step reads one plane and writes the other. The third plane then holds the
+// accepted dots' list (PASS_LIST): a uvec4 header (workgroups, 1, 1, dots), the relaxation's indirect dispatch,
+// then their indices (at most 0.64 of the cells: each holds alone a disk of half a radius, over 0.7 of a cell's
+// side), and at its end a word a block of SPACE_BLOCK² cells (a 16th of them), the mask of those that hold one.
 layout(std430, binding = RENDER_SPACE_GRID) buffer SpaceGrid { uint grid[]; };
 
 const uint NONE = 0xFFFFFFFFu;
@@ -39,16 +44,111 @@ bool conflict(Dot a, Dot b) {
     return d2 < r2;
 }
 
+// A dot's displacement, stored in `word` over SPACE_RELAX_MAX radii.
+vec2 displacement(uint word, float radius) {
+    precise vec2 v = unpackSnorm2x16(word) * (SPACE_RELAX_MAX * radius);
+    return v;
+}
+
+// The vector v, shortened to at most `most` long.
+vec2 atMost(vec2 v, float most) {
+    precise float l2 = v.x * v.x + v.y * v.y;
+    if (l2 <= most * most) return v;
+    precise vec2 shorter = v * (most / sqrt(l2));
+    return shorter;
+}
+
+// The blocks of SPACE_BLOCK² cells: the relaxation's masks of the cells that hold an accepted dot, at the end of the
+// third plane.
+uint blocksOf(ivec2 size) {
+    return ((uint(size.x) + SPACE_BLOCK - 1u) / SPACE_BLOCK) * ((uint(size.y) + SPACE_BLOCK - 1u) / SPACE_BLOCK);
+}
+
+// PASS_RELAX, step `step`: the accepted dot d's displacement after one more step, from the plane of the last.
+void relax(Dot d, ivec2 c, uint cell, ivec2 size, uint cells, uint step) {
+    uint from = (step & 1u) * cells, to = cells - from;
+    precise vec2 moved = displacement(grid[from + cell], d.radius);
+    precise vec2 p = d.pixel + moved;
+    precise float reach = SPACE_RELAX_REACH * d.radius;
+    precise float reach2 = reach * reach;
+    precise float searchCells = reach * style.options.w;
+    int search = int(ceil(searchCells));
+    precise vec2 push = vec2(0.0);
+    precise vec2 around = vec2(0.0);
+    uint neighbours = 0u;
+    // The room to the nearest neighbour: how far past SPACE_RELAX_FLOOR of their smaller radius they lie.
+    precise float room = 2.0 * SPACE_RELAX_STEP_MAX * d.radius;
+    // The blocks in reach, and in each the cells that hold an accepted dot, in the order of their bits.
+    int block = int(SPACE_BLOCK);
+    uint blocksX = (uint(size.x) + SPACE_BLOCK - 1u) / SPACE_BLOCK;
+    uint masks = 3u * cells - blocksOf(size);
+    for (int by = max(c.y - search, 0) / block; by <= min(c.y + search, size.y - 1) / block; ++by)
+        for (int bx = max(c.x - search, 0) / block; bx <= min(c.x + search, size.x - 1) / block; ++bx)
+            for (uint mask = grid[masks + uint(by) * blocksX + uint(bx)]; mask != 0u; mask &= mask - 1u) {
+                int bit = findLSB(mask);
+                uint n = uint(by * block + bit / block) * uint(size.x) + uint(bx * block + bit % block);
+                if (n == cell) continue;
+                Dot e = list.dots[grid[3u * cells + n]];
+                precise vec2 q = e.pixel + displacement(grid[from + n], e.radius);
+                precise vec2 delta = p - q;
+                precise float d2 = delta.x * delta.x + delta.y * delta.y;
+                if (d2 >= reach2) continue;
+                push += delta * (reach2 - d2);
+                around += delta;
+                ++neighbours;
+                precise float apart = sqrt(d2) - SPACE_RELAX_FLOOR * min(d.radius, e.radius);
+                room = min(room, apart);
+            }
+    precise float edge = SPACE_RELAX_EDGE * reach * float(neighbours);
+    precise float off2 = around.x * around.x + around.y * around.y;
+    if (neighbours >= 3u && off2 <= edge * edge) {
+        // A step of at most half the room: two dots that step towards each other keep SPACE_RELAX_FLOOR of the
+        // spacing's radius between them.
+        precise vec2 pushed = push * (SPACE_RELAX_STEP / reach2);
+        precise vec2 next = moved + atMost(pushed, min(SPACE_RELAX_STEP_MAX * d.radius, 0.5 * max(room, 0.0)));
+        precise float most = SPACE_RELAX_MAX * d.radius;
+        if (next.x * next.x + next.y * next.y <= most * most) moved = next;
+    }
+    grid[to + cell] = packSnorm2x16(moved / (SPACE_RELAX_MAX * d.radius));
+}
+
 void main() {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= list.dispatch.w) return;
-    Dot d = list.dots[i];
-    uint pass = cam.counts.w;
-    if (d.state != SPACE_OPEN) return;
+    uint pass = cam.counts.w & 0xFFu;
     ivec2 size = gridSize();
     uint cells = uint(size.x) * uint(size.y);
+    uint i = gl_GlobalInvocationID.x;
+    if (pass == PASS_RELAX || pass == PASS_PLACE) {
+        // Over the accepted dots' list (PASS_LIST), not every dot: on a CPU driver a pass over all would run the
+        // neighbour search for every batch of lanes that holds one accepted dot.
+        if (i >= grid[2u * cells + 3u]) return;
+        i = grid[2u * cells + SPACE_LIST_HEADER + i];
+    } else if (i >= list.dispatch.w) {
+        return;
+    }
+    Dot d = list.dots[i];
     ivec2 c = cellOf(d.pixel, size);
     uint cell = uint(c.y) * uint(size.x) + uint(c.x);
+    if (pass == PASS_LIST) {
+        if (d.state != SPACE_ACCEPTED) return;
+        uint slot = atomicAdd(grid[2u * cells + 3u], 1u);
+        if (SPACE_LIST_HEADER + slot >= cells - blocksOf(size)) return;  // never: see SpaceGrid
+        grid[2u * cells + SPACE_LIST_HEADER + slot] = i;
+        atomicMax(grid[2u * cells], slot / GROUP_SIZE + 1u);
+        uint blocksX = (uint(size.x) + SPACE_BLOCK - 1u) / SPACE_BLOCK;
+        uint block = uint(c.y) / SPACE_BLOCK * blocksX + uint(c.x) / SPACE_BLOCK;
+        atomicOr(grid[3u * cells - blocksOf(size) + block],
+                 1u << (uint(c.y) % SPACE_BLOCK * SPACE_BLOCK + uint(c.x) % SPACE_BLOCK));
+        return;
+    }
+    if (pass == PASS_RELAX) {
+        relax(d, c, cell, size, cells, cam.counts.w >> 8u);
+        return;
+    }
+    if (pass == PASS_PLACE) {
+        list.dots[i].pixel = d.pixel + displacement(grid[(SPACE_RELAX_ROUNDS & 1u) * cells + cell], d.radius);
+        return;
+    }
+    if (d.state != SPACE_OPEN) return;
     uint point = d.cls >> 4u;
     precise float reachCells = d.radius * style.options.w;
     int reach = int(ceil(reachCells));

@@ -63,14 +63,33 @@ INK_CONST float SPACE_SUPPLY_KEPT = 5.0;
 INK_CONST float SPACE_MAX_SCALE = 2.0;
 // A dot's spacing radius is at most this many grid cells (the lightest tones), which bounds its search.
 INK_CONST float SPACE_MAX_CELLS = 8.0;
-// What the push constants' counts.w asks of stamp.comp and spacing.comp (the pass).
-INK_CONST uint PASS_VISIBILITY = 0u;   // stamp.comp: classes after occlusion, spaced dots OPEN
-INK_CONST uint PASS_STAMP = 1u;        // stamp.comp: the visible, accepted dots into the coverage
-INK_CONST uint PASS_CLAIM_KEY = 2u;    // spacing.comp: each cell's lowest open key
-INK_CONST uint PASS_CLAIM_POINT = 3u;  // spacing.comp: of the dots with that key, the lowest point index
-INK_CONST uint PASS_CLAIM_DOT = 4u;    // spacing.comp: that dot's list index, the cell's owner
-INK_CONST uint PASS_DECIDE = 5u;       // spacing.comp: owners no lower owner blocks are accepted
-INK_CONST uint DOT_LIST_HEADER = 16u;  // bytes before dots[0]
+// The relaxation after the spacing (spacing.comp, PASS_RELAX): SPACE_RELAX_ROUNDS Jacobi steps push each accepted
+// dot away from the accepted dots within SPACE_RELAX_REACH times its radius, by SPACE_RELAX_STEP of the summed
+// push (δ · (R² − d²) / R² a neighbour at offset δ, distance d, reach R), at most SPACE_RELAX_STEP_MAX radii a step,
+// half its room to the nearest (so that no two come closer than SPACE_RELAX_FLOOR of their smaller radius) and
+// SPACE_RELAX_MAX radii in all; a dot whose neighbours' centroid lies farther than SPACE_RELAX_EDGE reaches (the
+// edge of its region: an outline, a tone's end) or that has fewer than 3 neighbours stays. The greedy leaves the
+// dots just over a radius apart; the steps spread them towards the even spacing of the tone (docs/algorithm.md §4).
+INK_CONST uint SPACE_RELAX_ROUNDS = 3u;
+INK_CONST float SPACE_RELAX_REACH = 1.7;
+INK_CONST float SPACE_RELAX_STEP = 0.28;
+INK_CONST float SPACE_RELAX_STEP_MAX = 0.25;
+INK_CONST float SPACE_RELAX_MAX = 0.5;
+INK_CONST float SPACE_RELAX_EDGE = 0.35;
+INK_CONST float SPACE_RELAX_FLOOR = 0.9;
+// What the push constants' counts.w asks of stamp.comp and spacing.comp (the pass; PASS_RELAX: | the step << 8).
+INK_CONST uint PASS_VISIBILITY = 0u;    // stamp.comp: classes after occlusion, spaced dots OPEN
+INK_CONST uint PASS_STAMP = 1u;         // stamp.comp: the visible, accepted dots into the coverage
+INK_CONST uint PASS_CLAIM_KEY = 2u;     // spacing.comp: each cell's lowest open key
+INK_CONST uint PASS_CLAIM_POINT = 3u;   // spacing.comp: of the dots with that key, the lowest point index
+INK_CONST uint PASS_CLAIM_DOT = 4u;     // spacing.comp: that dot's list index, the cell's owner
+INK_CONST uint PASS_DECIDE = 5u;        // spacing.comp: owners no lower owner blocks are accepted
+INK_CONST uint PASS_LIST = 6u;          // spacing.comp: the accepted dots into a list, for the relaxation
+INK_CONST uint PASS_RELAX = 7u;         // spacing.comp: each accepted dot's displacement, a step further
+INK_CONST uint PASS_PLACE = 8u;         // spacing.comp: each accepted dot moved by its displacement
+INK_CONST uint SPACE_LIST_HEADER = 4u;  // words before the accepted dots' list (spacing.comp)
+INK_CONST uint SPACE_BLOCK = 4u;        // the relaxation's blocks of cells a side: a bit a cell in a word
+INK_CONST uint DOT_LIST_HEADER = 16u;   // bytes before dots[0]
 
 // A point's class (report §5): silhouette |n·v| < τ, front n·v > τ, back n·v < −τ; hidden: an occluded silhouette.
 INK_CONST uint SILHOUETTE = 0u;

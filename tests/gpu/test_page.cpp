@@ -66,11 +66,13 @@ void checkPage(const ink::PageMetrics& m, double asked, double minMean, double m
 
 }  // namespace
 
-TEST_CASE("page: the device's screen spacing accepts exactly the dots its CPU twin does" * doctest::test_suite("gpu")) {
+TEST_CASE("page: the device's screen spacing accepts exactly the dots its CPU twin does, and moves them as far" *
+          doctest::test_suite("gpu")) {
     EvenTorus t;
     t.style.toneGamma = 1.5f;  // a range of tones: radii from small to large
     t.style.ambient = 0.04f;
     t.style.light = {-0.5f, 0.6f, 0.65f};
+    t.style.relaxDots = false;  // the greedy's choice where it lies: what the twin starts from
     ink::OffscreenRenderer renderer(t.gpu.ctx, 512, 512, t.style, {&t.refined.r});
     renderer.render(tiltedCamera());
     std::vector<ink::gpu::Dot> device = renderer.dotList(0);
@@ -90,17 +92,57 @@ TEST_CASE("page: the device's screen spacing accepts exactly the dots its CPU tw
     CHECK(same == cpu.size());
     CHECK(accepted > open / 5);
     CHECK(accepted < open * 3 / 4);
+
+    // The same frame relaxed on the device: each accepted dot (found by its point) where the twin moved it, to within
+    // float rounding (the device's division, square root and snorm rounding are its own), and no further than
+    // SPACE_RELAX_MAX radii from where the greedy chose it.
+    t.style.relaxDots = true;
+    renderer.setStyle(t.style);
+    renderer.render(tiltedCamera());
+    std::vector<ink::gpu::Dot> relaxed = renderer.dotList(0);
+    auto byPoint = [](std::vector<ink::gpu::Dot> dots) {
+        std::sort(dots.begin(), dots.end(), [](const auto& a, const auto& b) { return a.cls < b.cls; });
+        return dots;
+    };
+    cpu = byPoint(cpu), relaxed = byPoint(relaxed), device = byPoint(device);
+    REQUIRE(relaxed.size() == cpu.size());
+    size_t agree = 0, moved = 0, beyond = 0;
+    double worst = 0;
+    for (size_t i = 0; i < cpu.size(); ++i) {
+        REQUIRE(relaxed[i].cls == cpu[i].cls);
+        if (cpu[i].state != ink::gpu::SPACE_ACCEPTED) continue;
+        const double apart = glm::length(relaxed[i].pixel - cpu[i].pixel);
+        const double from = glm::length(relaxed[i].pixel - device[i].pixel);
+        worst = std::max(worst, apart);
+        agree += apart <= 1e-3;
+        moved += from > 0.05 * device[i].radius;
+        beyond += from > ink::gpu::SPACE_RELAX_MAX * device[i].radius * 1.001;
+    }
+    INFO(agree << " of " << accepted << " accepted dots where the twin put them (worst " << worst << " px), " << moved
+               << " moved over a twentieth of their radius, " << beyond << " past the limit");
+    CHECK(double(agree) >= 0.995 * double(accepted));
+    CHECK(double(moved) >= 0.5 * double(accepted));
+    CHECK(beyond == 0);
     t.gpu.requireNoValidationErrors();
 }
 
 TEST_CASE("page: one tone on a torus is evenly spaced and evenly inked out to the silhouettes" *
           doctest::test_suite("gpu")) {
     EvenTorus t;
+    t.style.relaxDots = false;
     ink::OffscreenRenderer renderer(t.gpu.ctx, 1024, 1024, t.style, {&t.refined.r});
     renderer.render(tiltedCamera());
-    // The tone asks for kCoverage · darkness (renderer.cpp): 0.5 · 0.12 of the page. Measured 0.760, no clumps,
-    // coverage 0.058..0.064 (the issue asks 0.78: docs/performance.md); the rank prefix alone gave 0.72 with clumps.
-    checkPage(page(renderer, t.style), 0.5 * 0.12, 0.74, 0.02, 0.1, 0.1);
+    const ink::PageMetrics greedy = page(renderer, t.style);
+    t.style.relaxDots = true;
+    renderer.setStyle(t.style);
+    renderer.render(tiltedCamera());
+    // The tone asks for kCoverage · darkness (renderer.cpp): 0.5 · 0.12 of the page. Measured on lavapipe: worst
+    // window 0.787 (mean 0.814), clumping 0.5%, coverage 0.058..0.064 (the issue asks 0.78: docs/performance.md);
+    // the greedy alone 0.760 (mean 0.774) and the rank prefix alone 0.72 with clumps.
+    const ink::PageMetrics m = page(renderer, t.style);
+    checkPage(m, 0.5 * 0.12, 0.77, 0.02, 0.1, 0.1);
+    INFO("mean NN over the windows: greedy " << greedy.meanNearest << ", relaxed " << m.meanNearest);
+    CHECK(m.meanNearest >= greedy.meanNearest + 0.02);
     t.gpu.requireNoValidationErrors();
 }
 
@@ -143,8 +185,9 @@ TEST_CASE("page: where the points are too few for a dark tone, fewer and larger 
     CHECK(larger > drawn / 2);
     const ink::PageMetrics m = page(renderer, t.style);
     CHECK(m.largerDots == larger);
-    // 0.5 · 0.5 of the page asked. Measured on lavapipe: 0.758, 0.6%, 0.228..0.247 (99% of the dots larger).
-    checkPage(m, 0.5 * 0.5, 0.74, 0.02, 0.12, 0.12);
+    // 0.5 · 0.5 of the page asked. Measured on lavapipe: 0.793, no clumps, 0.229..0.246 (99% of the dots larger;
+    // the greedy alone gave 0.758).
+    checkPage(m, 0.5 * 0.5, 0.77, 0.02, 0.12, 0.12);
     t.gpu.requireNoValidationErrors();
 }
 
