@@ -319,7 +319,7 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
             }
             // The relaxation: no displacement yet, an empty list of the accepted dots and empty blocks, the list,
             // its steps over the list, then the dots moved.
-            if (!style_.relaxDots) continue;
+            if (!style_.relaxDots || cells < gpu::SPACE_RELAX_MIN_CELLS) continue;
             stageBarrier(cmd, compute, rw, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
             const uint32_t header[4] = {0, 1, 1, 0};
             vkCmdFillBuffer(cmd, f.spaceGrid.buffer, 0, 2 * plane, 0);

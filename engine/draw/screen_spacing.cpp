@@ -104,6 +104,7 @@ void spaceDotsOnCpu(std::vector<gpu::Dot>& dots, uint32_t width, uint32_t height
         }
     }
     // PASS_RELAX: each step reads the displacements of the last (plane `from`) and writes the next; PASS_PLACE.
+    if (cells < gpu::SPACE_RELAX_MIN_CELLS) return;
     // The blocks' masks of the cells that hold an accepted dot (PASS_LIST), visited as the shader does.
     const int blocksX = (sx + int(gpu::SPACE_BLOCK) - 1) / int(gpu::SPACE_BLOCK);
     const int blocksY = (sy + int(gpu::SPACE_BLOCK) - 1) / int(gpu::SPACE_BLOCK);

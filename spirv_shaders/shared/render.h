@@ -89,7 +89,10 @@ INK_CONST uint PASS_RELAX = 7u;         // spacing.comp: each accepted dot's dis
 INK_CONST uint PASS_PLACE = 8u;         // spacing.comp: each accepted dot moved by its displacement
 INK_CONST uint SPACE_LIST_HEADER = 4u;  // words before the accepted dots' list (spacing.comp)
 INK_CONST uint SPACE_BLOCK = 4u;        // the relaxation's blocks of cells a side: a bit a cell in a word
-INK_CONST uint DOT_LIST_HEADER = 16u;   // bytes before dots[0]
+// A smaller grid (a target of a few pixels) is not relaxed: its third plane would not hold the list's header and
+// the blocks.
+INK_CONST uint SPACE_RELAX_MIN_CELLS = 64u;
+INK_CONST uint DOT_LIST_HEADER = 16u;  // bytes before dots[0]
 
 // A point's class (report §5): silhouette |n·v| < τ, front n·v > τ, back n·v < −τ; hidden: an occluded silhouette.
 INK_CONST uint SILHOUETTE = 0u;

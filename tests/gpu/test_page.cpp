@@ -230,3 +230,24 @@ TEST_CASE("page: on a very large target the spacing's grid grows coarser to fit,
     CHECK(accepted > 1000);
     t.gpu.requireNoValidationErrors();
 }
+
+TEST_CASE("page: targets of a few pixels are spaced and drawn without a validation error or a stray write" *
+          doctest::test_suite("gpu")) {
+    // A grid of a few cells has no room for the relaxation's list and blocks (SPACE_RELAX_MIN_CELLS): at 1 × 1 its
+    // fill once underflowed and its list overwrote the accepted dots' plane (lavapipe crashed).
+    EvenTorus t;
+    for (const auto& [width, height] : {std::pair{1u, 1u}, {2u, 3u}, {3u, 40u}, {9u, 9u}}) {
+        CAPTURE(width);
+        CAPTURE(height);
+        ink::OffscreenRenderer renderer(t.gpu.ctx, width, height, t.style, {&t.refined.r});
+        const ink::RgbaImage image = renderer.render(tiltedCamera());
+        CHECK(image.width == width);
+        CHECK(image.height == height);
+        for (const auto& d : renderer.dotList(0))
+            if (d.state == ink::gpu::SPACE_ACCEPTED) {
+                CHECK(d.pixel.x >= -1.0f);
+                CHECK(d.pixel.x <= float(width * renderer.supersample()) + 1.0f);
+            }
+    }
+    t.gpu.requireNoValidationErrors();
+}
