@@ -247,6 +247,8 @@ TEST_CASE("page: targets of a few pixels are spaced and drawn without a validati
             if (d.state == ink::gpu::SPACE_ACCEPTED) {
                 CHECK(d.pixel.x >= -1.0f);
                 CHECK(d.pixel.x <= float(width * renderer.supersample()) + 1.0f);
+                CHECK(d.pixel.y >= -1.0f);
+                CHECK(d.pixel.y <= float(height * renderer.supersample()) + 1.0f);
             }
     }
     t.gpu.requireNoValidationErrors();
