@@ -236,7 +236,8 @@ TEST_CASE("page: targets of a few pixels are spaced and drawn without a validati
     // A grid of a few cells has no room for the relaxation's list and blocks (SPACE_RELAX_MIN_CELLS): at 1 × 1 its
     // fill once underflowed and its list overwrote the accepted dots' plane (lavapipe crashed).
     EvenTorus t;
-    for (const auto& [width, height] : {std::pair{1u, 1u}, {2u, 3u}, {3u, 40u}, {9u, 9u}}) {
+    for (const std::pair<uint32_t, uint32_t>& size : {std::pair{1u, 1u}, {2u, 3u}, {3u, 40u}, {9u, 9u}}) {
+        const uint32_t width = size.first, height = size.second;
         CAPTURE(width);
         CAPTURE(height);
         ink::OffscreenRenderer renderer(t.gpu.ctx, width, height, t.style, {&t.refined.r});
