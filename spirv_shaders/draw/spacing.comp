@@ -60,9 +60,13 @@ vec2 atMost(vec2 v, float most) {
 
 // The blocks of SPACE_BLOCK² cells: the relaxation's masks of the cells that hold an accepted dot, at the end of the
 // third plane.
-uint blocksOf(ivec2 size) {
-    return ((uint(size.x) + SPACE_BLOCK - 1u) / SPACE_BLOCK) * ((uint(size.y) + SPACE_BLOCK - 1u) / SPACE_BLOCK);
-}
+uint blocksAcross(ivec2 size) { return (uint(size.x) + SPACE_BLOCK - 1u) / SPACE_BLOCK; }
+
+uint blocksOf(ivec2 size) { return blocksAcross(size) * ((uint(size.y) + SPACE_BLOCK - 1u) / SPACE_BLOCK); }
+
+// Where the blocks' masks begin, and the list's room before them.
+uint masksAt(ivec2 size, uint cells) { return 3u * cells - blocksOf(size); }
+uint listRoom(ivec2 size, uint cells) { return cells - blocksOf(size) - SPACE_LIST_HEADER; }
 
 // PASS_RELAX, step `step`: the accepted dot d's displacement after one more step, from the plane of the last.
 void relax(Dot d, ivec2 c, uint cell, ivec2 size, uint cells, uint step) {
@@ -80,8 +84,8 @@ void relax(Dot d, ivec2 c, uint cell, ivec2 size, uint cells, uint step) {
     precise float room = 2.0 * SPACE_RELAX_STEP_MAX * d.radius;
     // The blocks in reach, and in each the cells that hold an accepted dot, in the order of their bits.
     int block = int(SPACE_BLOCK);
-    uint blocksX = (uint(size.x) + SPACE_BLOCK - 1u) / SPACE_BLOCK;
-    uint masks = 3u * cells - blocksOf(size);
+    uint blocksX = blocksAcross(size);
+    uint masks = masksAt(size, cells);
     for (int by = max(c.y - search, 0) / block; by <= min(c.y + search, size.y - 1) / block; ++by)
         for (int bx = max(c.x - search, 0) / block; bx <= min(c.x + search, size.x - 1) / block; ++bx)
             for (uint mask = grid[masks + uint(by) * blocksX + uint(bx)]; mask != 0u; mask &= mask - 1u) {
@@ -122,7 +126,7 @@ void main() {
         // Over the accepted dots' list (PASS_LIST), not every dot: on a CPU driver a pass over all would run the
         // neighbour search for every batch of lanes that holds one accepted dot.
         // The count may pass the list's room (see PASS_LIST's guard): only the listed dots are visited.
-        if (i >= min(grid[2u * cells + 3u], cells - blocksOf(size) - SPACE_LIST_HEADER)) return;
+        if (i >= min(grid[2u * cells + 3u], listRoom(size, cells))) return;
         i = grid[2u * cells + SPACE_LIST_HEADER + i];
     } else if (i >= list.dispatch.w) {
         return;
@@ -135,12 +139,11 @@ void main() {
         uint slot = atomicAdd(grid[2u * cells + 3u], 1u);
         // Past the list's room the dot is not moved (and no other sees it). Not seen on any target: about 0.64 of
         // the cells at most (see SpaceGrid), though a grid one cell wide could pack 0.87 against its room of 0.75.
-        if (SPACE_LIST_HEADER + slot >= cells - blocksOf(size)) return;
+        if (slot >= listRoom(size, cells)) return;
         grid[2u * cells + SPACE_LIST_HEADER + slot] = i;
         atomicMax(grid[2u * cells], slot / GROUP_SIZE + 1u);
-        uint blocksX = (uint(size.x) + SPACE_BLOCK - 1u) / SPACE_BLOCK;
-        uint block = uint(c.y) / SPACE_BLOCK * blocksX + uint(c.x) / SPACE_BLOCK;
-        atomicOr(grid[3u * cells - blocksOf(size) + block],
+        uint block = uint(c.y) / SPACE_BLOCK * blocksAcross(size) + uint(c.x) / SPACE_BLOCK;
+        atomicOr(grid[masksAt(size, cells) + block],
                  1u << (uint(c.y) % SPACE_BLOCK * SPACE_BLOCK + uint(c.x) % SPACE_BLOCK));
         return;
     }
