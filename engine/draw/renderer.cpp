@@ -118,6 +118,11 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
             f.depth = createBuffer(ctx, 4, storage, MemoryUse::Device);
             f.coverage = createBuffer(ctx, 4, storage, MemoryUse::Device);
             f.spaceGrid = createBuffer(ctx, 16, storage, MemoryUse::Device);
+            // The spacing's two lists of open dots (spacing.comp's SpaceOpen): a header and a word a point each.
+            uint32_t most = 1;
+            for (const Set& set : sets_) most = std::max(most, set.points);
+            f.spaceOpen = createBuffer(ctx, 2 * (16 + 4 * VkDeviceSize(most)),
+                                       storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, MemoryUse::Device);
             for (const Set& set : sets_)
                 // `DotList`: the indirect dispatch, then up to one `Dot` a point.
                 f.dots.push_back(
@@ -150,7 +155,7 @@ void PointRenderer::release() {
         vkDestroyQueryPool(ctx_.device, f.timestamps, nullptr);
         for (DescriptorSet& d : f.descriptors) destroyDescriptorSet(ctx_, d);
         for (Buffer& b : f.dots) destroyBuffer(ctx_, b);
-        for (Buffer* b : {&f.coverage, &f.depth, &f.drawn, &f.spaceGrid}) destroyBuffer(ctx_, *b);
+        for (Buffer* b : {&f.coverage, &f.depth, &f.drawn, &f.spaceGrid, &f.spaceOpen}) destroyBuffer(ctx_, *b);
     }
     for (Set& s : sets_) vkDestroyBufferView(ctx_.device, s.texels, nullptr);
     destroyBuffer(ctx_, styleBuffer_);
@@ -173,7 +178,8 @@ void PointRenderer::bindDescriptors(Frame& f) {
                                  {gpu::RENDER_POINT_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1,
                                   0, 0, sets_[k].texels},
                                  {gpu::RENDER_COVERAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.coverage.buffer},
-                                 {gpu::RENDER_SPACE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.spaceGrid.buffer}},
+                                 {gpu::RENDER_SPACE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.spaceGrid.buffer},
+                                 {gpu::RENDER_SPACE_OPEN, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.spaceOpen.buffer}},
                                 kStages));
 }
 
@@ -297,23 +303,30 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
     passBarrier();
     if (spacing_.x > 0) {
         // The screen spacing, a set at a time (spacing.comp): the grid cleared, then its rounds, each clearing the
-        // cells' elections, then the relaxation of the accepted dots.
+        // cells' elections and emptying its list of open dots, then the relaxation of the accepted dots. The first
+        // round's PASS_CLAIM_KEY visits every dot; the other passes visit the open dots it and each later one list.
         const VkDeviceSize plane = VkDeviceSize(cells) * 4;
-        auto clear = [&](VkDeviceSize bytes, uint32_t value) {
+        const VkDeviceSize openList = f.spaceOpen.size / 2;
+        auto clear = [&](VkDeviceSize bytes, uint32_t round) {
             stageBarrier(cmd, compute, rw, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
-            vkCmdFillBuffer(cmd, f.spaceGrid.buffer, 0, bytes, value);
+            vkCmdFillBuffer(cmd, f.spaceGrid.buffer, 0, bytes, 0xFFFFFFFFu);
+            const uint32_t empty[4] = {0, 1, 1, 0};
+            vkCmdUpdateBuffer(cmd, f.spaceOpen.buffer, (round & 1) * openList, sizeof(empty), empty);
             stageBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute, rw);
         };
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, space_);
         for (size_t k = 0; k < sets_.size(); ++k) {
             if (!sets_[k].spaced) continue;
-            clear(4 * plane, 0xFFFFFFFFu);
             for (uint32_t round = 0; round < gpu::SPACE_ROUNDS; ++round) {
-                if (round > 0) clear(2 * plane, 0xFFFFFFFFu);
+                clear((round == 0 ? 4 : 2) * plane, round);
                 for (uint32_t pass :
                      {gpu::PASS_CLAIM_KEY, gpu::PASS_CLAIM_POINT, gpu::PASS_CLAIM_DOT, gpu::PASS_DECIDE}) {
-                    bind(k, pass);
-                    vkCmdDispatchIndirect(cmd, f.dots[k].buffer, 0);
+                    bind(k, pass | round << 8);
+                    if (pass == gpu::PASS_CLAIM_KEY && round == 0)
+                        vkCmdDispatchIndirect(cmd, f.dots[k].buffer, 0);
+                    else
+                        vkCmdDispatchIndirect(cmd, f.spaceOpen.buffer,
+                                              ((pass == gpu::PASS_CLAIM_KEY ? round - 1 : round) & 1) * openList);
                     passBarrier();
                 }
             }

@@ -101,6 +101,7 @@ private:
     struct Frame {
         Buffer drawn, depth, coverage;  // depth and coverage follow the target's extent
         Buffer spaceGrid;               // the screen spacing's grid (spacing.comp), spaceCells cells
+        Buffer spaceOpen;               // its two lists of open dots, a word a point of the largest set
         uint32_t spaceCells = 0;
         VkExtent2D extent{0, 0};
         std::vector<Buffer> dots;                // a set's `DotList`: the dots that may show, and stamp.comp's dispatch

@@ -7,7 +7,9 @@
 // accepts each elected dot that no elected dot of a lower key lies within the smaller of their two radii of;
 // PASS_CLAIM_KEY first rejects the open dots that an earlier round's accepted dot lies that close to. Two dots
 // accepted in one round are never that close (one blocks the other), and no pass reads what it writes, so the
-// outcome does not depend on the order the invocations run in.
+// outcome does not depend on the order the invocations run in. Only the first round's PASS_CLAIM_KEY visits every
+// dot: it and each later one list the dots that stay open (SpaceOpen), and the round's other passes and the next
+// round's PASS_CLAIM_KEY visit that list alone (after two rounds, a few percent of the dots).
 #include "draw/render_common.glsl"
 
 layout(local_size_x = GROUP_SIZE) in;
@@ -20,6 +22,10 @@ layout(local_size_x = GROUP_SIZE) in;
 // then their indices (at most about 0.64 of the cells, more along the target's border: each holds alone a disk of
 // half a radius, over 0.7 of a cell's side), and at its end a word a block of SPACE_BLOCK² cells (a 16th of them), the mask of those that hold one.
 layout(std430, binding = RENDER_SPACE_GRID) buffer SpaceGrid { uint grid[]; };
+
+// Two lists of open dots (the list indices), one a round in turn, each a uvec4 header (workgroups, 1, 1, dots: the
+// next passes' indirect dispatch) then up to one word a point of the set.
+layout(std430, binding = RENDER_SPACE_OPEN) buffer SpaceOpen { uint open[]; };
 
 const uint NONE = 0xFFFFFFFFu;
 
@@ -67,6 +73,10 @@ uint blocksOf(ivec2 size) { return blocksAcross(size) * ((uint(size.y) + SPACE_B
 // Where the blocks' masks begin, and the list's room before them.
 uint masksAt(ivec2 size, uint cells) { return 3u * cells - blocksOf(size); }
 uint listRoom(ivec2 size, uint cells) { return cells - blocksOf(size) - SPACE_LIST_HEADER; }
+
+// The open list of round r's parity: its header (workgroups, 1, 1, dots) and its room.
+uint openAt(uint r) { return (r & 1u) * (uint(open.length()) / 2u); }
+uint openRoom() { return uint(open.length()) / 2u - SPACE_LIST_HEADER; }
 
 // PASS_RELAX, step `step`: the accepted dot d's displacement after one more step, from the plane of the last.
 void relax(Dot d, ivec2 c, uint cell, ivec2 size, uint cells, uint step) {
@@ -119,6 +129,7 @@ void relax(Dot d, ivec2 c, uint cell, ivec2 size, uint cells, uint step) {
 
 void main() {
     uint pass = cam.counts.w & 0xFFu;
+    uint round = cam.counts.w >> 8u;  // PASS_CLAIM_* and PASS_DECIDE
     ivec2 size = gridSize();
     uint cells = uint(size.x) * uint(size.y);
     uint i = gl_GlobalInvocationID.x;
@@ -128,6 +139,11 @@ void main() {
         // The count may pass the list's room (see PASS_LIST's guard): only the listed dots are visited.
         if (i >= min(grid[2u * cells + 3u], listRoom(size, cells))) return;
         i = grid[2u * cells + SPACE_LIST_HEADER + i];
+    } else if (pass >= PASS_CLAIM_KEY && pass <= PASS_DECIDE && (pass != PASS_CLAIM_KEY || round > 0u)) {
+        // Over the dots this round's PASS_CLAIM_KEY left open, or the last round's for PASS_CLAIM_KEY.
+        uint at = openAt(pass == PASS_CLAIM_KEY ? round - 1u : round);
+        if (i >= min(open[at + 3u], openRoom())) return;
+        i = open[at + SPACE_LIST_HEADER + i];
     } else if (i >= list.dispatch.w) {
         return;
     }
@@ -141,7 +157,8 @@ void main() {
         // the cells at most (see SpaceGrid), though a grid one cell wide could pack 0.87 against its room of 0.75.
         if (slot >= listRoom(size, cells)) return;
         grid[2u * cells + SPACE_LIST_HEADER + slot] = i;
-        atomicMax(grid[2u * cells], slot / GROUP_SIZE + 1u);
+        // The first dot of each workgroup's worth raises the workgroups (slots are dense from 0).
+        if (slot % GROUP_SIZE == 0u) atomicMax(grid[2u * cells], slot / GROUP_SIZE + 1u);
         uint block = uint(c.y) / SPACE_BLOCK * blocksAcross(size) + uint(c.x) / SPACE_BLOCK;
         atomicOr(grid[masksAt(size, cells) + block],
                  1u << (uint(c.y) % SPACE_BLOCK * SPACE_BLOCK + uint(c.x) % SPACE_BLOCK));
@@ -160,17 +177,24 @@ void main() {
     precise float reachCells = d.radius * style.options.w;
     int reach = int(ceil(reachCells));
     if (pass == PASS_CLAIM_KEY) {
-        // Rejected when a dot accepted in an earlier round lies within reach, else a candidate for its cell.
+        // Rejected when a dot accepted in an earlier round lies within reach (none before the first), else a
+        // candidate for its cell, and listed for this round's passes.
         bool covered = false;
-        for (int y = max(c.y - reach, 0); y <= min(c.y + reach, size.y - 1) && !covered; ++y)
+        for (int y = max(c.y - reach, 0); y <= min(c.y + reach, size.y - 1) && !covered && round > 0u; ++y)
             for (int x = max(c.x - reach, 0); x <= min(c.x + reach, size.x - 1) && !covered; ++x) {
                 uint a = grid[3u * cells + uint(y) * uint(size.x) + uint(x)];
                 if (a != NONE && conflict(d, list.dots[a])) covered = true;
             }
-        if (covered)
+        if (covered) {
             list.dots[i].state = SPACE_REJECTED;
-        else
-            atomicMin(grid[cell], d.key);
+            return;
+        }
+        atomicMin(grid[cell], d.key);
+        uint at = openAt(round);
+        uint slot = atomicAdd(open[at + 3u], 1u);
+        if (slot >= openRoom()) return;  // never: a list has a word for every point of the set
+        open[at + SPACE_LIST_HEADER + slot] = i;
+        if (slot % GROUP_SIZE == 0u) atomicMax(open[at], slot / GROUP_SIZE + 1u);
     } else if (pass == PASS_CLAIM_POINT) {
         if (grid[cell] == d.key) atomicMin(grid[cells + cell], point);
     } else if (pass == PASS_CLAIM_DOT) {

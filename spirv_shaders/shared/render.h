@@ -77,7 +77,8 @@ INK_CONST float SPACE_RELAX_STEP_MAX = 0.25;
 INK_CONST float SPACE_RELAX_MAX = 0.5;
 INK_CONST float SPACE_RELAX_EDGE = 0.35;
 INK_CONST float SPACE_RELAX_FLOOR = 0.9;
-// What the push constants' counts.w asks of stamp.comp and spacing.comp (the pass; PASS_RELAX: | the step << 8).
+// What the push constants' counts.w asks of stamp.comp and spacing.comp (the pass; PASS_CLAIM_* and PASS_DECIDE:
+// | the round << 8; PASS_RELAX: | the step << 8).
 INK_CONST uint PASS_VISIBILITY = 0u;    // stamp.comp: classes after occlusion, spaced dots OPEN
 INK_CONST uint PASS_STAMP = 1u;         // stamp.comp: the visible, accepted dots into the coverage
 INK_CONST uint PASS_CLAIM_KEY = 2u;     // spacing.comp: each cell's lowest open key
@@ -87,7 +88,7 @@ INK_CONST uint PASS_DECIDE = 5u;        // spacing.comp: owners no lower owner b
 INK_CONST uint PASS_LIST = 6u;          // spacing.comp: the accepted dots into a list, for the relaxation
 INK_CONST uint PASS_RELAX = 7u;         // spacing.comp: each accepted dot's displacement, a step further
 INK_CONST uint PASS_PLACE = 8u;         // spacing.comp: each accepted dot moved by its displacement
-INK_CONST uint SPACE_LIST_HEADER = 4u;  // words before the accepted dots' list (spacing.comp)
+INK_CONST uint SPACE_LIST_HEADER = 4u;  // words before the accepted or open dots' lists (spacing.comp)
 INK_CONST uint SPACE_BLOCK = 4u;        // the relaxation's blocks of cells a side: a bit a cell in a word
 // A smaller grid (a target of a few pixels) is not relaxed: its third plane would not hold the list's header and
 // the blocks.
@@ -150,6 +151,7 @@ INK_CONST uint RENDER_DEPTH = 3u;         // uint[]: the splat depth (float bits
 INK_CONST uint RENDER_POINT_TEXELS = 4u;  // the points as RGBA32F texels, two a point (uniform texel buffer)
 INK_CONST uint RENDER_COVERAGE = 5u;      // uint[]: the coverage bits (limits.h)
 INK_CONST uint RENDER_SPACE_GRID = 6u;    // uint[4 · cells]: the screen spacing's grid (spacing.comp)
+INK_CONST uint RENDER_SPACE_OPEN = 7u;  // uint[2 · (4 + points)]: the spacing's two lists of open dots (spacing.comp)
 
 INK_END
 
