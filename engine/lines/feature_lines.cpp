@@ -35,6 +35,7 @@ constexpr double kMaxStandoff = 0.01;
 struct Chain {
     std::vector<uint32_t> vertices;
     bool closed = false;
+    bool meets[2] = {false, false};  // an open chain's first and last vertex: where three edges or more meet
 };
 
 // The edges as vertex paths: each runs between vertices where the edges do not simply continue (one edge, or
@@ -62,6 +63,9 @@ std::vector<Chain> chainEdges(const std::vector<Edge>& edges) {
         if (c.vertices.size() > 3 && c.vertices.front() == c.vertices.back()) {
             c.vertices.pop_back();
             c.closed = true;
+        } else {
+            c.meets[0] = around[start].size() > 2;
+            c.meets[1] = around[v].size() > 2;
         }
         chains.push_back(std::move(c));
     };
@@ -97,13 +101,14 @@ void taubinSmooth(std::vector<Eigen::Vector3d>& x, const std::vector<bool>& fixe
 // across its triangles (the bunny's ear rims: a turn of 30–60° at every vertex, alternating): rounds of Taubin's
 // λ|μ smoothing (1995) take out the zigzag, the chain's highest frequency (λ = ½ cancels an alternating one in a
 // step), without shrinking its longer bends. The ends stay put, and so do corners: a turn of over 60° with
-// turns under 20° either side (straight stretches meeting), as where a CAD part's crease changes direction.
+// turns under 20° either side (straight stretches meeting), as where a CAD part's crease changes direction, and
+// a small polygon's (a hole of a triangle or two). `rim`: a boundary's chain, not a crease's.
 struct SmoothChain {
     std::vector<Eigen::Vector3d> x;
     std::vector<bool> fixed;  // an end or a corner: the curve through the points may turn there
 };
 
-SmoothChain smoothChain(const Chain& chain, const std::vector<Eigen::Vector3d>& positions) {
+SmoothChain smoothChain(const Chain& chain, const std::vector<Eigen::Vector3d>& positions, bool rim) {
     const size_t n = chain.vertices.size();
     std::vector<Eigen::Vector3d> x(n);
     for (size_t i = 0; i < n; ++i) x[i] = positions[chain.vertices[i]];
@@ -116,20 +121,47 @@ SmoothChain smoothChain(const Chain& chain, const std::vector<Eigen::Vector3d>& 
     for (size_t i = 0; i < n; ++i) turns[i] = turn(i);
     std::vector<bool> fixed(n, false);
     if (!chain.closed) fixed.front() = fixed.back() = true;
+    // A rim's two edges between ends (where holes meet) have no zigzag to take out: smoothed, a missing triangle's
+    // two sides were pulled into a bulge over its third. (A scan's crease of two edges is smoothed: its kink is
+    // the mesh's.)
+    if (rim && !chain.closed && n == 3) return {x, std::vector<bool>(n, true)};
     constexpr double kCorner = 60 * M_PI / 180, kStraight = 20 * M_PI / 180, kSquare = 120 * M_PI / 180;
     // A corner: a sharp turn between straight stretches, or one of at most 120° beside another such turning the
-    // same way (a low-poly box's rim, a square of four edges, which smoothing shrank to its centre). Sharp turns
+    // same way (a low-poly box's rim, a square of four edges, which smoothing shrank to its centre) or beside an
+    // end where edges meet (a polyhedron's edges, a hole's rim between two vertices where holes meet). Sharp turns
     // either way in a row are a jagged edge's zigzag, and a turn past 120° beside another a hook doubling back
     // (the bunny's ear rims): smoothed.
     auto sense = [&](size_t i) { return Eigen::Vector3d((x[i] - x[(i + n - 1) % n]).cross(x[(i + 1) % n] - x[i])); };
     auto square = [&](size_t i) {  // (an open chain's ends turn towards each other: no turn)
         return (chain.closed || (i > 0 && i + 1 < n)) && turns[i] > kCorner && turns[i] <= kSquare;
     };
-    auto calm = [&](size_t i, size_t j) {  // j beside i: straight, or the same square turn
-        return turns[j] < kStraight || (square(i) && square(j) && sense(i).dot(sense(j)) > 0);
+    auto calm = [&](size_t i, size_t j) {  // j beside i: straight, the same square turn, or an end where edges meet
+        // (no turn of its own: the line may turn there)
+        const bool end = (j == 0 && chain.meets[0]) || (j + 1 == n && chain.meets[1]);
+        return turns[j] < kStraight || (square(i) && (end || (square(j) && sense(i).dot(sense(j)) > 0)));
     };
     for (size_t i = 0; i < n; ++i)
         if (turns[i] > kCorner && calm(i, (i + n - 1) % n) && calm(i, (i + 1) % n)) fixed[i] = true;
+    // A small hole's rim: a loop that turns one way all round by about a full turn, as a convex polygon does; each
+    // turn of over 60° is a corner. A missing triangle (turns of 90–135°, past the hook's 120°) was smoothed to a
+    // sliver inside it.
+    if (chain.closed) {
+        constexpr double kFullTurnMin = 300 * M_PI / 180, kFullTurnMax = 420 * M_PI / 180;
+        double total = 0;
+        bool oneWay = true;
+        size_t first = n;  // the first turn of note: the way every other must turn
+        for (size_t i = 0; i < n; ++i) {
+            total += turns[i];
+            if (turns[i] < kStraight) continue;  // a straight stretch's sense is noise
+            if (first == n)
+                first = i;
+            else if (sense(i).dot(sense(first)) <= 0)
+                oneWay = false;
+        }
+        if (oneWay && total > kFullTurnMin && total < kFullTurnMax)
+            for (size_t i = 0; i < n; ++i)
+                if (turns[i] > kCorner) fixed[i] = true;
+    }
     taubinSmooth(x, fixed, chain.closed);
     if (!chain.closed) fixed.front() = fixed.back() = true;
     return {x, fixed};
@@ -175,7 +207,7 @@ void smoothLaid(const Surface& surface, PenStroke& stroke, const std::vector<boo
 void layOnSurface(const Chain& chain, const std::vector<Eigen::Vector3d>& positions, const Surface& surface,
                   const FeatureOptions& options, const std::vector<Eigen::Vector3d>& faces, bool faced,
                   std::vector<PenStroke>& out) {
-    const SmoothChain smooth = smoothChain(chain, positions);
+    const SmoothChain smooth = smoothChain(chain, positions, faces.empty());
     const std::vector<Eigen::Vector3d>& x = smooth.x;
     PenStroke stroke;
     std::vector<bool> pinned;         // the stroke's points at the chain's fixed points

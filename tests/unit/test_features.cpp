@@ -1146,3 +1146,65 @@ TEST_CASE("features: a flat disk's support ends at its rim, past its vertices to
         }
     }
 }
+
+// Assimp's sphereWithHole.stl in kind: a coarse sphere with three triangles missing, each meeting the one before at
+// a vertex. The rims turn 90–135° at each corner, past the 120° of a hook, so the smoothing shrank the first and last
+// to slivers inside them; the middle one's two edges between the vertices where rims meet bulged over its third.
+TEST_CASE("features: a coarse sphere's missing triangles are drawn as triangles, where they meet at a vertex too" *
+          doctest::test_suite("unit")) {
+    const int nu = 16, rings = 7;
+    ink::OrientedPoints m = gridMesh(nu, rings - 1, false, [&](double u, double t, Vector3d& p, Vector3d& n) {
+        const double lat = M_PI * ((rings - 1) * t + 1) / (rings + 1) - M_PI / 2;
+        n = Vector3d(std::cos(u) * std::cos(lat), std::sin(u) * std::cos(lat), std::sin(lat));
+        p = n;
+    });
+    for (int s : {-1, 1}) {
+        const uint32_t pole = uint32_t(m.positions.size()), ring = s < 0 ? 0 : (rings - 1) * nu;
+        m.positions.emplace_back(0, 0, s);
+        m.normals.emplace_back(0, 0, s);
+        for (uint32_t i = 0; i < uint32_t(nu); ++i) {
+            const uint32_t a = ring + i, b = ring + (i + 1) % nu;
+            m.triangles.push_back(s < 0 ? ink::Triangle{pole, b, a} : ink::Triangle{pole, a, b});
+        }
+    }
+    // gridMesh's first triangle of cell (j, i) is (j, i), (j, i + 1), (j + 1, i + 1): the next cell along the
+    // diagonal's starts at that last vertex, sharing no edge.
+    std::vector<std::array<Vector3d, 2>> edges;  // the missing triangles' sides
+    for (int k = 2; k >= 0; --k) {               // cells (0, 2), (1, 3), (2, 4), the last first
+        const size_t t = size_t(2 * (k * nu + k + 2));
+        for (int e = 0; e < 3; ++e)
+            edges.push_back({m.positions[m.triangles[t][e]], m.positions[m.triangles[t][(e + 1) % 3]]});
+        m.triangles.erase(m.triangles.begin() + std::ptrdiff_t(t));
+    }
+    const ink::Model model = ink::fitModel(m, {});
+    auto toEdge = [&](const Vector3d& p) {  // the distance to the nearest missing side
+        double best = 1e9;
+        for (const auto& [a, b] : edges) {
+            const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+            best = std::min(best, (a + t * (b - a) - p).norm());
+        }
+        return best;
+    };
+    double drawn = 0, perimeter = 0;
+    std::vector<Vector3d> points;
+    for (const ink::PenStroke& rim : model.features.boundaries) {
+        for (size_t k = 0; k < rim.points.size(); ++k) {
+            points.push_back(model.surface.frame.toInput(rim.points[k].cast<double>()));
+            if (k > 0) drawn += (points.back() - points[points.size() - 2]).norm();
+        }
+        if (rim.closed) drawn += (points.back() - model.surface.frame.toInput(rim.points[0].cast<double>())).norm();
+    }
+    for (const auto& [a, b] : edges) perimeter += (b - a).norm();
+    const double diagonal = 2 * std::sqrt(3.0), near = 0.01 * diagonal;
+    CAPTURE(model.features.boundaries.size());
+    CHECK(drawn == doctest::Approx(perimeter).epsilon(0.05));
+    double farthest = 0;
+    for (const Vector3d& p : points) farthest = std::max(farthest, toEdge(p));
+    CHECK(farthest < near);
+    // Every side drawn: a point of a line near its middle.
+    for (const auto& [a, b] : edges) {
+        double nearest = 1e9;
+        for (const Vector3d& p : points) nearest = std::min(nearest, (p - 0.5 * (a + b)).norm());
+        CHECK(nearest < near);
+    }
+}
