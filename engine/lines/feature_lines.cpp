@@ -102,7 +102,7 @@ void taubinSmooth(std::vector<Eigen::Vector3d>& x, const std::vector<bool>& fixe
 // λ|μ smoothing (1995) take out the zigzag, the chain's highest frequency (λ = ½ cancels an alternating one in a
 // step), without shrinking its longer bends. The ends stay put, and so do corners: a turn of over 60° with
 // turns under 20° either side (straight stretches meeting), as where a CAD part's crease changes direction, and
-// a small polygon's (a hole of a triangle or two). `rim`: a boundary's chain, not a crease's.
+// a small hole's rim's (a triangle or two missing). `rim`: a boundary's chain, not a crease's.
 struct SmoothChain {
     std::vector<Eigen::Vector3d> x;
     std::vector<bool> fixed;  // an end or a corner: the curve through the points may turn there
@@ -127,8 +127,8 @@ SmoothChain smoothChain(const Chain& chain, const std::vector<Eigen::Vector3d>& 
     if (rim && !chain.closed && n == 3) return {x, std::vector<bool>(n, true)};
     constexpr double kCorner = 60 * M_PI / 180, kStraight = 20 * M_PI / 180, kSquare = 120 * M_PI / 180;
     // A corner: a sharp turn between straight stretches, or one of at most 120° beside another such turning the
-    // same way (a low-poly box's rim, a square of four edges, which smoothing shrank to its centre) or beside an
-    // end where edges meet (a polyhedron's edges, a hole's rim between two vertices where holes meet). Sharp turns
+    // same way (a low-poly box's rim, a square of four edges, which smoothing shrank to its centre) or, on a rim,
+    // beside an end where rims meet (a hole's rim between two vertices where holes meet). Sharp turns
     // either way in a row are a jagged edge's zigzag, and a turn past 120° beside another a hook doubling back
     // (the bunny's ear rims): smoothed.
     auto sense = [&](size_t i) { return Eigen::Vector3d((x[i] - x[(i + n - 1) % n]).cross(x[(i + 1) % n] - x[i])); };
@@ -136,16 +136,17 @@ SmoothChain smoothChain(const Chain& chain, const std::vector<Eigen::Vector3d>& 
         return (chain.closed || (i > 0 && i + 1 < n)) && turns[i] > kCorner && turns[i] <= kSquare;
     };
     auto calm = [&](size_t i, size_t j) {  // j beside i: straight, the same square turn, or an end where edges meet
-        // (no turn of its own: the line may turn there)
-        const bool end = (j == 0 && chain.meets[0]) || (j + 1 == n && chain.meets[1]);
+        // (no turn of its own: the line may turn there). A rim's only: a coarse scan's crease kept this way drew
+        // stray dashes (CGAL's cow, triceratops).
+        const bool end = rim && ((j == 0 && chain.meets[0]) || (j + 1 == n && chain.meets[1]));
         return turns[j] < kStraight || (square(i) && (end || (square(j) && sense(i).dot(sense(j)) > 0)));
     };
     for (size_t i = 0; i < n; ++i)
         if (turns[i] > kCorner && calm(i, (i + n - 1) % n) && calm(i, (i + 1) % n)) fixed[i] = true;
     // A small hole's rim: a loop that turns one way all round by about a full turn, as a convex polygon does; each
     // turn of over 60° is a corner. A missing triangle (turns of 90–135°, past the hook's 120°) was smoothed to a
-    // sliver inside it.
-    if (chain.closed) {
+    // sliver inside it. (A coarse scan's loop of creases is smoothed as before: kept, it drew stray dashes.)
+    if (rim && chain.closed) {
         constexpr double kFullTurnMin = 300 * M_PI / 180, kFullTurnMax = 420 * M_PI / 180;
         double total = 0;
         bool oneWay = true;
