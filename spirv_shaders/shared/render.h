@@ -151,7 +151,7 @@ INK_CONST uint RENDER_DEPTH = 3u;         // uint[]: the splat depth (float bits
 INK_CONST uint RENDER_POINT_TEXELS = 4u;  // the points as RGBA32F texels, two a point (uniform texel buffer)
 INK_CONST uint RENDER_COVERAGE = 5u;      // uint[]: the coverage bits (limits.h)
 INK_CONST uint RENDER_SPACE_GRID = 6u;    // uint[4 · cells]: the screen spacing's grid (spacing.comp)
-INK_CONST uint RENDER_SPACE_OPEN = 7u;  // uint[2 · (4 + points)]: the spacing's two lists of open dots (spacing.comp)
+INK_CONST uint RENDER_SPACE_OPEN = 7u;    // uint[2 · (4 + points)]: its two lists of open dots (spacing.comp)
 
 INK_END
 
