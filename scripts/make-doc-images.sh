@@ -42,11 +42,11 @@ $ink -q render assets/bunny.obj --control-points 684 --preset assets/presets/cro
 $ink -q render assets/bunny.obj --control-points 684 --preset assets/presets/pen.json --size 640 640 \
   --camera 120,25,1.6 -o $out/bunny-pen.png
 # Refinement levels 0-4 as the report makes them (ρ/3 a level), each level alone, without tone, for stippling
-# and direction sampling.
+# and direction sampling: every point facing the eye a round dot (τ 0: no silhouette strokes).
 for level in 0 1 2 3 4; do
   for style in stipple direction; do
     $ink -q render assets/bunny.obj --control-points 312 --passes 1 --style $style --levels $level \
-      --distribution refinement --keep-levels last --tone 0 --no-occlusion --size 320 320 \
+      --distribution refinement --keep-levels last --tone 0 --tau 0 --no-occlusion --size 320 320 \
       -o $out/levels-$style-$level.png
   done
 done

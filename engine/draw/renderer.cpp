@@ -213,11 +213,11 @@ PointRenderer::Push PointRenderer::push(const Set& s, const Camera& camera, VkEx
     // depth); without, λ·(dot area)·k ≈ 0.9, so a fully dark region is about 60% ink at any zoom and point count.
     const bool spaced = spacing_.x > 0 && s.spaced;
     float k = spaced ? kSupply * kCoverage / (dotPixels * lambda) : std::min(1.0f, 0.9f / (sphereLambda * dotPixels));
-    float radius = style_.occlusion ? style_.splatScale * s.splatRadius : 0.0f;
+    const float radius = style_.splatScale * s.splatRadius, pushBack = style_.occlusion ? radius : 0.0f;
     return Push{
         camera.view(), glm::vec4(p[0][0], p[1][1], p[2][2], p[3][2]),
         glm::vec4(extent.width, extent.height, (extent.width + 1) / 2, (extent.height + 1) / 2),
-        glm::vec4(radius, radius, k, camera.distance * camera.distance),
+        glm::vec4(radius, pushBack, k, camera.distance * camera.distance),
         glm::uvec4(s.points,
                    (style_.hiddenLines ? gpu::CAMERA_HIDDEN : 0u) | (s.sparseSplats ? gpu::CAMERA_SPARSE_SPLATS : 0u) |
                        (spaced ? gpu::CAMERA_SPACED : 0u) | (s.twoSided ? gpu::CAMERA_TWO_SIDED : 0u),
@@ -517,17 +517,18 @@ VectorDrawing PointRenderer::vectorDrawing(uint32_t frame) const {
             uint32_t point, cls;
             glm::vec2 pixel;
             float scale;
+            glm::vec2 along;
         };
         std::vector<Mark> marks;
         for (const gpu::Dot& d : dots) {
             uint32_t cls = (d.cls >> 2) & 3u;
-            if (cls != gpu::BACK) marks.push_back({d.cls >> 4, cls, d.pixel, d.scale});
+            if (cls != gpu::BACK) marks.push_back({d.cls >> 4, cls, d.pixel, d.scale, d.along});
         }
         std::sort(marks.begin(), marks.end(), [](const Mark& a, const Mark& b) { return a.point < b.point; });
         VectorLayer& shown = out.layer(sets_[k].name, style_.ink);
         std::vector<VectorLayer::Dot> hidden;
         for (const Mark& m : marks) {
-            VectorLayer::Dot dot{m.pixel, std::clamp(sizes[m.cls] * pixelScale_ * m.scale, 1.0f, maxDiameter)};
+            VectorLayer::Dot dot{m.pixel, std::clamp(sizes[m.cls] * pixelScale_ * m.scale, 1.0f, maxDiameter), m.along};
             (m.cls == gpu::HIDDEN ? hidden : shown.dots).push_back(dot);
         }
         if (!hidden.empty()) {
@@ -613,7 +614,7 @@ VectorDrawing OffscreenRenderer::vectorDrawing() const {
     d.width /= factor_;
     d.height /= factor_;
     for (VectorLayer& layer : d.layers) {
-        for (VectorLayer::Dot& dot : layer.dots) dot.center *= scale, dot.diameter *= scale;
+        for (VectorLayer::Dot& dot : layer.dots) dot.center *= scale, dot.diameter *= scale, dot.along *= scale;
         for (std::vector<glm::vec2>& line : layer.lines)
             for (glm::vec2& p : line) p *= scale;
     }

@@ -164,6 +164,22 @@ std::string xmlEscape(const std::string& text) {
     return out;
 }
 
+// Appends the closed outline of the disk of radius r swept from c − along to c + along (a stadium): along one
+// side, round the far end, back along the other side and round the near end, kStadiumArc segments an end.
+void appendStadium(std::vector<glm::dvec2>& points, glm::dvec2 c, glm::dvec2 along, double r) {
+    constexpr int kStadiumArc = 6;
+    const glm::dvec2 a = glm::normalize(along), side(-a.y, a.x);
+    for (int end = 0; end < 2; ++end) {
+        const double sign = end == 0 ? 1.0 : -1.0;
+        const glm::dvec2 centre = c + sign * along;
+        for (int i = 0; i <= kStadiumArc; ++i) {
+            const double t = M_PI * double(i) / kStadiumArc;
+            points.push_back(centre + sign * r * (side * std::cos(t) + a * std::sin(t)));
+        }
+    }
+    points.push_back(points[points.size() - 2 * (kStadiumArc + 1)]);  // closed where this ring began
+}
+
 }  // namespace
 
 Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& o) {
@@ -223,14 +239,18 @@ Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& o) {
             glm::dvec2 c = lo + glm::dvec2(dot.center) * scale;
             const double diameter = double(dot.diameter) * scale;
             double half = std::max((diameter - w) * 0.5, kMinRadius);
-            glm::dvec2 reach = o.dotStyle == DotStyle::Circle ? glm::dvec2(half + 0.5 * w)
-                                                              : glm::dvec2(half / std::sqrt(2.0)) + 0.5 * w;
+            // A silhouette's stroke: its tick lies along the stroke, (d − w) longer than it.
+            const glm::dvec2 along = glm::dvec2(dot.along) * scale;
+            const bool stroke = glm::length(along) > 1e-9;
+            const glm::dvec2 tick = stroke ? along + glm::normalize(along) * half
+                                           : glm::dvec2(1.0, -1.0) * (half / std::sqrt(2.0));  // "/", y down
+            glm::dvec2 reach =
+                o.dotStyle == DotStyle::Circle ? glm::abs(along) + half + 0.5 * w : glm::abs(tick) + 0.5 * w;
             if (glm::any(glm::lessThan(c - reach, lo - eps)) || glm::any(glm::greaterThan(c + reach, hi + eps)))
                 continue;
             out.widestDot = std::max(out.widestDot, diameter);
             if (o.dotStyle == DotStyle::Tick) {
-                glm::dvec2 d = glm::dvec2(1.0, -1.0) * (half / std::sqrt(2.0));  // "/" on a page, y down
-                out.paths.push_back({{c - d, c + d}});
+                out.paths.push_back({{c - tick, c + tick}});
                 continue;
             }
             // A circle whose stroke covers the dot's rim; inside one wider than two pens, concentric circles
@@ -241,6 +261,12 @@ Plot layoutPlot(const VectorDrawing& drawing, const PageOptions& o) {
             p.ringStep = kDotFillStep * w;
             while (p.radius - p.rings * p.ringStep > 0.5 * w + 1e-9) ++p.rings;
             out.fillCircles += p.rings;
+            if (stroke) {
+                // The same rings stretched along the stroke (stadiums), one closed polyline.
+                PlotPath rings;
+                for (uint32_t k = 0; k <= p.rings; ++k) appendStadium(rings.points, c, along, p.ringRadius(k));
+                p = std::move(rings);
+            }
             out.paths.push_back(std::move(p));
         }
         const glm::dvec2 inset(std::min(0.5 * w, 0.5 * (hi.x - lo.x)), std::min(0.5 * w, 0.5 * (hi.y - lo.y)));

@@ -22,8 +22,9 @@ struct Stroke {
 // Marks drawn with one pen.
 struct VectorLayer {
     struct Dot {
-        glm::vec2 center;  // pixels
-        float diameter;    // of the ink, pixels
+        glm::vec2 center;    // pixels
+        float diameter;      // of the ink, pixels
+        glm::vec2 along{0};  // a silhouette's stroke: the disk swept from center − along to center + along
     };
     std::string name;             // "stipple", "direction", "hidden", "contour", ...
     glm::vec4 color{0, 0, 0, 1};  // RGBA; alpha blends once over the paper (the hidden lines' grey)

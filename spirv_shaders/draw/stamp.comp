@@ -12,17 +12,20 @@
 
 layout(local_size_x = GROUP_SIZE) in;
 
-// Sets the pixels whose centres lie within the dot's disk, and always the pixel under its centre, so that a
-// dot smaller than a pixel never vanishes between pixel centres. Returns the pixel box it may have set.
-ivec4 stamp(vec2 center, float diameter, uint bit) {
-    float r = 0.5 * diameter;
+// Sets the pixels whose centres lie within the dot's disk, swept from center − along to center + along (a
+// silhouette's stroke; along = 0 for a round dot), and always the pixel under its centre, so that a dot smaller
+// than a pixel never vanishes between pixel centres. Returns the pixel box it may have set.
+ivec4 stamp(vec2 center, float diameter, vec2 along, uint bit) {
+    float r = 0.5 * diameter, along2 = dot(along, along);
+    vec2 reach = abs(along) + r;
     ivec2 size = ivec2(cam.viewport.xy);
     ivec2 own = ivec2(floor(center));
-    ivec2 lo = max(min(ivec2(ceil(center - r - 0.5)), own), ivec2(0));
-    ivec2 hi = min(max(ivec2(floor(center + r - 0.5)), own), size - 1);
+    ivec2 lo = max(min(ivec2(ceil(center - reach - 0.5)), own), ivec2(0));
+    ivec2 hi = min(max(ivec2(floor(center + reach - 0.5)), own), size - 1);
     for (int y = lo.y; y <= hi.y; ++y) {
         for (int x = lo.x; x <= hi.x; ++x) {
             vec2 d = vec2(x, y) + 0.5 - center;
+            if (along2 > 0.0) d -= along * clamp(dot(d, along) / along2, -1.0, 1.0);  // from the nearest on the stroke
             if (dot(d, d) > r * r && ivec2(x, y) != own) continue;
             uint i = uint(y) * uint(size.x) + uint(x);
             atomicOr(coverage[i >> COVERAGE_SHIFT], bit << ((i & 7u) * COVERAGE_BITS));
@@ -31,19 +34,24 @@ ivec4 stamp(vec2 center, float diameter, uint bit) {
     return ivec4(lo, hi);
 }
 
+// The normalized depth of a point at normalized depth `ndc` moved `pushBacks` push-backs away from the camera (view
+// depth z = −P32 / (ndc + P22)).
+float pushedBack(float ndc, float pushBacks) {
+    float view = -cam.projection.w / (ndc + cam.projection.z) - pushBacks * cam.splat.y;
+    return -cam.projection.z - cam.projection.w / view;
+}
+
 // The dot's class once occlusion is known: as selected, HIDDEN, or BACK for a dot that does not show.
 uint visibleClass(Dot d) {
     uint cls = d.cls & 3u;
-    if (cam.splat.x <= 0.0) return cls;
+    if (cam.splat.y <= 0.0) return cls;  // no occlusion
     vec2 grid = cam.viewport.zw;
     ivec2 cell = clamp(ivec2(d.pixel / cam.viewport.xy * grid), ivec2(0), ivec2(grid) - 1);
     bool shows = d.z <= uintBitsToFloat(depth[cell.y * int(grid.x) + cell.x]);
     if (shows && (d.cls & DOT_BACK_SIDE) != 0u) {
         // The back of an open surface shows in front of every front-facing disk in its cell and the cells around
-        // (a cell the front surface's disks leave uncovered is no opening), tested two push-backs farther (view
-        // depth z = −P32 / (ndc + P22)).
-        float view = -cam.projection.w / (d.z + cam.projection.z) - 2.0 * cam.splat.y;
-        float z = -cam.projection.z - cam.projection.w / view;
+        // (a cell the front surface's disks leave uncovered is no opening), tested two push-backs farther.
+        float z = pushedBack(d.z, 2.0);
         ivec2 lo = max(cell - 1, ivec2(0)), hi = min(cell + 1, ivec2(grid) - 1);
         for (int y = lo.y; y <= hi.y && shows; ++y)
             for (int x = lo.x; x <= hi.x; ++x) {
@@ -55,6 +63,22 @@ uint visibleClass(Dot d) {
     return cls == SILHOUETTE && (cam.counts.y & CAMERA_HIDDEN) != 0u ? HIDDEN : BACK;
 }
 
+// Whether a visible silhouette dot shows at its own depth (not two push-backs nearer, as splat.comp tests it) in its
+// depth cell or one of the eight around: an outline's dot does, beside what lies behind the outline. A dot of a
+// contour just behind a surface at a graze may pass the lenient test (the torus's inner contour under its front
+// tube): drawn as a stroke it was a dash on the surface in front, so it stays a round dot, lost among the stipples.
+bool bordersBehind(Dot d) {
+    if (cam.splat.y <= 0.0) return true;
+    vec2 grid = cam.viewport.zw;
+    ivec2 cell = clamp(ivec2(d.pixel / cam.viewport.xy * grid), ivec2(0), ivec2(grid) - 1);
+    float z = pushedBack(d.z, 2.0);
+    ivec2 lo = max(cell - 1, ivec2(0)), hi = min(cell + 1, ivec2(grid) - 1);
+    for (int y = lo.y; y <= hi.y; ++y)
+        for (int x = lo.x; x <= hi.x; ++x)
+            if (z <= uintBitsToFloat(depth[y * int(grid.x) + x])) return true;
+    return false;
+}
+
 void main() {
     uint i = gl_GlobalInvocationID.x;
     Dot d = list.dots[min(i, list.dispatch.w - 1u)];
@@ -62,6 +86,7 @@ void main() {
         if (i >= list.dispatch.w) return;
         uint cls = visibleClass(d);
         list.dots[i].cls = d.cls >> 3u << 4u | cls << 2u | (d.cls & 3u);
+        if (cls == SILHOUETTE && !bordersBehind(d)) list.dots[i].along = vec2(0.0);  // round
         if (cls == BACK) list.dots[i].state = SPACE_FIXED;
         return;
     }
@@ -70,7 +95,7 @@ void main() {
     ivec4 box = ivec4(0x7FFFFFFF, 0x7FFFFFFF, -1, -1);
     if (visible) {
         uint sizeSlot = cls == HIDDEN ? 2u : cls;
-        box = stamp(d.pixel, clamp(style.size[sizeSlot] * d.scale, style.tone.z, style.tone.w),
+        box = stamp(d.pixel, clamp(style.size[sizeSlot] * d.scale, style.tone.z, style.tone.w), d.along,
                     cls == HIDDEN ? HIDDEN_BIT : INK_BIT);
     } else if (i < list.dispatch.w && cls != BACK) {
         list.dots[i].cls = d.cls & ~12u | BACK << 2u;  // spaced out: not drawn

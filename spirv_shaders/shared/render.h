@@ -36,13 +36,24 @@ struct Dot {
     uint state;    // SPACE_* below
     float scale;   // the dot's diameter over its class's: above 1 where the screen spacing keeps fewer dots than
                    // the tone asks, for want of candidates (SPACE_SUPPLY_KEPT), so that they carry its ink
+    vec2 along;    // a silhouette dot's half stroke along the outline, pixels (SILHOUETTE_STROKE); 0: a round dot
 };
-INK_ASSERT_SIZE(Dot, 32);
+INK_ASSERT_SIZE(Dot, 40);
 INK_ASSERT_OFFSET(Dot, z, 8);
 INK_ASSERT_OFFSET(Dot, cls, 12);
 INK_ASSERT_OFFSET(Dot, radius, 16);
 INK_ASSERT_OFFSET(Dot, state, 24);
 INK_ASSERT_OFFSET(Dot, scale, 28);
+INK_ASSERT_OFFSET(Dot, along, 32);
+
+// A silhouette dot is a stroke along the outline's screen tangent, SILHOUETTE_STROKE splat radii long and at most
+// SILHOUETTE_STROKE_MAX times its diameter (splat.comp), as wide as the dot (stamp.comp, and the SVG and PDF). The
+// band |n·v| < τ is about 2τ/κ_r of surface across the outline (κ_r the radial curvature), so where the surface is
+// tightly curved (a trunk, an ear, a leg) its points lie far apart along the outline, and round dots left it dotted
+// or grey; strokes a few points long join them. The cap keeps a sparse set's strokes (a small image, few levels)
+// from overshooting tight turns of the outline as long straight dashes (docs/algorithm.md §4).
+INK_CONST float SILHOUETTE_STROKE = 3.0;
+INK_CONST float SILHOUETTE_STROKE_MAX = 3.0;
 
 // A dot's state in the screen spacing (spacing.comp, engine/draw/screen_spacing.h): FIXED dots take no part
 // (silhouettes, hidden ones, dots drawn without tone), the others start OPEN and end ACCEPTED (drawn) or REJECTED; a
@@ -135,7 +146,7 @@ struct Camera {
     mat4 view;        // model → view (rigid)
     vec4 projection;  // P00, P11, P22, P32 of the perspective projection (clip.w = −z_view)
     vec4 viewport;    // width, height of the target in pixels; width, height of the depth grid
-    vec4 splat;       // x: splat radius, y: push-back (model units), 0: no occlusion; z: tone scale k; w: the
+    vec4 splat;       // x: splat radius, y: push-back (model units; 0: no occlusion); z: tone scale k; w: the
                       // squared distance of the model's centre from the eye (the depth the tone scale is for)
     uvec4 counts;     // x: points in the set; y: CAMERA_* bits; z: the set's first point; w: PASS_*
 };

@@ -378,7 +378,9 @@ TEST_CASE("cli: the hidden lines' dot size, contour width and opacity take effec
     CHECK(hidden.pixels > 50);
     CHECK(darkness(hidden) <= 116);
     CHECK(darkness(hidden) >= 57);
-    CHECK(big.pixels > 3 * hidden.pixels);  // 4 px hidden dots cover far more
+    // 4 px hidden strokes cover far more: measured on lavapipe 755 pixels against 337 (a pixel counts when any of it
+    // is inked: a stroke 1.4 px wide touches about 3 pixels across, 4 px about 5 or 6).
+    CHECK(2 * big.pixels > 3 * hidden.pixels);
     CHECK(darkness(big) <= 116);
     CHECK(darkness(big) >= 110);
     // Opacity 1: the same dots in the ink itself: the same coverage darkens 1 / 0.45 times as much (and faint

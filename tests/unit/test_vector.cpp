@@ -502,6 +502,75 @@ TEST_CASE("vector: the layout fits the view in the margins, sizes circles to the
                          "page 'A9' is not A3, A4, A5, letter or WxHmm with sides of 10 to 5000 mm", ink::Error);
 }
 
+TEST_CASE("vector: a silhouette's stroke is drawn round the disk it sweeps, and as a tick along it" *
+          doctest::test_suite("unit")) {
+    // A 200 × 100 view on A4 landscape: 1.335 mm a pixel. A dot 0.4 pixels wide swept 4 pixels each way along
+    // (3, 4) / 5; one 3 pixels wide along the same.
+    ink::VectorDrawing d;
+    d.width = 200;
+    d.height = 100;
+    d.layer("stipple", {0, 0, 0, 1}).dots = {{{100, 50}, 0.4f, {2.4f, 3.2f}}, {{100, 50}, 3.0f, {2.4f, 3.2f}}};
+    ink::PageOptions o;
+    const double scale = 267.0 / 200.0, top = (210 - 100 * scale) / 2;
+    const glm::dvec2 c(15 + 100 * scale, top + 50 * scale), axis(0.6, 0.8);
+    const double half = 4 * scale;
+    // The distance of q from the stroke's centre segment, and how far along and across it q lies.
+    auto fromSegment = [&](glm::dvec2 q) {
+        return glm::distance(q, c + std::clamp(glm::dot(q - c, axis), -half, half) * axis);
+    };
+    const ink::Plot plot = ink::layoutPlot(d, o);
+    REQUIRE(plot.layers.size() == 1);
+    REQUIRE(plot.layers[0].paths.size() == 2);
+    // The thin one: a stadium whose pen's centre line lies (d − w) / 2 from the segment, closed, reaching both ends'
+    // caps and both sides.
+    const ink::PlotPath* thin = &plot.layers[0].paths[0];
+    const ink::PlotPath* wide = &plot.layers[0].paths[1];
+    if (thin->points.size() > wide->points.size()) std::swap(thin, wide);
+    REQUIRE(!thin->circle());
+    REQUIRE(thin->points.size() > 8);
+    CHECK(glm::distance(thin->points.front(), thin->points.back()) < 1e-9);
+    const double r = (0.4 * scale - o.penWidth) / 2;
+    double along0 = INFINITY, along1 = -INFINITY, side0 = INFINITY, side1 = -INFINITY;
+    size_t off = 0;
+    for (const glm::dvec2& q : thin->points) {
+        off += std::abs(fromSegment(q) - r) > 1e-6;
+        const double t = glm::dot(q - c, axis), u = glm::dot(q - c, glm::dvec2(-axis.y, axis.x));
+        along0 = std::min(along0, t), along1 = std::max(along1, t), side0 = std::min(side0, u),
+        side1 = std::max(side1, u);
+    }
+    CHECK(off == 0);
+    CHECK(along0 == doctest::Approx(-half - r));
+    CHECK(along1 == doctest::Approx(half + r));
+    CHECK(side0 == doctest::Approx(-r));
+    CHECK(side1 == doctest::Approx(r));
+    // Pen down: two sides and two half circles (each 6 chords).
+    CHECK(thin->length() == doctest::Approx(4 * half + 2 * M_PI * r).epsilon(0.01));
+    // The wide one: the same rings as a round dot's, each stretched into a stadium, outermost first.
+    const double r0 = (3 * scale - o.penWidth) / 2, step = ink::kDotFillStep * o.penWidth;
+    REQUIRE(wide->points.size() % 15 == 0);
+    const size_t rings = wide->points.size() / 15;
+    CHECK(rings == size_t(std::ceil((r0 - 0.5 * o.penWidth) / step)) + 1);
+    for (size_t k = 0; k < rings; ++k)
+        for (size_t i = 0; i < 15; ++i)
+            CHECK(fromSegment(wide->points[15 * k + i]) ==
+                  doctest::Approx(std::max(r0 - double(k) * step, ink::kMinRadius)).epsilon(1e-6));
+    // Ticks: one stroke along the segment, (d − w) longer.
+    o.dotStyle = ink::DotStyle::Tick;
+    d.layers[0].dots.pop_back();
+    const ink::Plot ticks = ink::layoutPlot(d, o);
+    REQUIRE(ticks.layers[0].paths.size() == 1);
+    const ink::PlotPath& tick = ticks.layers[0].paths[0];
+    REQUIRE(tick.points.size() == 2);
+    CHECK(glm::distance(tick.points[0], c - (half + r) * axis) < 1e-6);
+    CHECK(glm::distance(tick.points[1], c + (half + r) * axis) < 1e-6);
+    // A stroke whose ink would leave the view is dropped, as a dot is: 2.4 · 1.335 mm along x each way, 2.7 mm in.
+    d.layers[0].dots[0].center = {2.0f, 50.0f};
+    for (ink::DotStyle style : {ink::DotStyle::Tick, ink::DotStyle::Circle}) {
+        o.dotStyle = style;
+        CHECK(ink::layoutPlot(d, o).layers.empty());
+    }
+}
+
 TEST_CASE("vector: render writes the frame's marks as SVG and PDF that independent renderers draw as the PNG" *
           doctest::test_suite("cli")) {
     TempDir dir("inkwell-vector");
