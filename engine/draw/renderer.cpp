@@ -301,6 +301,15 @@ void PointRenderer::prepare(VkCommandBuffer cmd, const Camera& camera, VkExtent2
         vkCmdDispatchIndirect(cmd, f.dots[k].buffer, 0);
     }
     passBarrier();
+    // The silhouettes' strokes (stamp.comp): every set's visible silhouette dots into the coverage, then each
+    // stroke reaching along the outline to the nearest of them.
+    for (uint32_t pass : {gpu::PASS_OUTLINE, gpu::PASS_REACH}) {
+        for (size_t k = 0; k < sets_.size(); ++k) {
+            bind(k, pass);
+            vkCmdDispatchIndirect(cmd, f.dots[k].buffer, 0);
+        }
+        passBarrier();
+    }
     if (spacing_.x > 0) {
         // The screen spacing, a set at a time (spacing.comp): the grid cleared, then its rounds, each clearing the
         // cells' elections and emptying its list of open dots, then the relaxation of the accepted dots. The first

@@ -87,18 +87,19 @@ void splat(vec3 c, vec3 n, bool back) {
     }
 }
 
-// A silhouette dot's half stroke along the outline, pixels (SILHOUETTE_STROKE): across the motion of c + εn on
-// the screen (the pixel x of c is P00·x / −z, so d/dε ∝ P00·(n.x·(−z) + x·n.z), likewise y). Direction sampling's
-// dots lie on lines already, and its splat radius is the coarse spacing: round.
-vec2 silhouetteStroke(vec3 c, vec3 n) {
+// A silhouette dot's reach along the outline, pixels (SILHOUETTE_REACH; stamp.comp's PASS_REACH makes it the
+// stroke): across the motion of c + εn on the screen (the pixel x of c is P00·x / −z, so d/dε ∝ P00·(n.x·(−z) +
+// x·n.z), likewise y). Direction sampling's dots lie on lines already, and its splat radius is the coarse spacing:
+// round.
+vec2 silhouetteReach(vec3 c, vec3 n) {
     if ((cam.counts.y & CAMERA_SPARSE_SPLATS) != 0u) return vec2(0.0);
     float z = -c.z;
     vec2 across = cam.projection.xy * (n.xy * z + c.xy * n.z) * cam.viewport.xy;
     float length2 = dot(across, across);
     if (!(length2 > 0.0)) return vec2(0.0);  // the normal along the view ray: no outline direction
-    float halfStroke = min(0.25 * SILHOUETTE_STROKE * cam.splat.x * abs(cam.projection.x) * cam.viewport.x / z,
-                           0.5 * SILHOUETTE_STROKE_MAX * style.size.x);
-    return vec2(-across.y, across.x) * (inversesqrt(length2) * halfStroke);
+    float reach = min(SILHOUETTE_REACH * cam.splat.x * abs(cam.projection.x) * 0.5 * cam.viewport.x / z,
+                      SILHOUETTE_REACH_MAX * style.size.x);
+    return vec2(-across.y, across.x) * (inversesqrt(length2) * reach);
 }
 
 // Whether the point's dot may show — its class is not BACK, its tone keeps it, it is in the frustum — and
@@ -145,7 +146,7 @@ bool selectDot(Point p, uint index, vec3 c, vec3 n, float nv, bool back, out Dot
         // show it in the next.
         vec4 nearer = project(c - normalize(c) * (2.0 * cam.splat.y));
         d.z = nearer.z / nearer.w;
-        d.along = silhouetteStroke(c, n);
+        d.along = silhouetteReach(c, n);
     }
     return true;
 }

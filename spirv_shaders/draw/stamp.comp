@@ -79,6 +79,25 @@ bool bordersBehind(Dot d) {
     return false;
 }
 
+// Whether pixel p holds `bit` in the coverage (false off the target).
+bool inked(vec2 p, uint bit) {
+    ivec2 q = ivec2(floor(p));
+    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(cam.viewport.xy)))) return false;
+    uint i = uint(q.y) * uint(cam.viewport.x) + uint(q.x);
+    return ((coverage[i >> COVERAGE_SHIFT] >> ((i & 7u) * COVERAGE_BITS)) & bit) != 0u;
+}
+
+// How far from `center` along `dir` the nearest other outline disk lies, up to `most` pixels (0: none): the first
+// pixel step past the dot's own disk (radius r) where the coverage holds `bit` on the line or a pixel beside it.
+float reach(vec2 center, vec2 dir, float r, float most, uint bit) {
+    vec2 side = vec2(-dir.y, dir.x);
+    for (float s = r + 1.0; s <= most; s += 1.0) {
+        vec2 p = center + s * dir;
+        if (inked(p, bit) || inked(p + side, bit) || inked(p - side, bit)) return s;
+    }
+    return 0.0;
+}
+
 void main() {
     uint i = gl_GlobalInvocationID.x;
     Dot d = list.dots[min(i, list.dispatch.w - 1u)];
@@ -88,6 +107,24 @@ void main() {
         list.dots[i].cls = d.cls >> 3u << 4u | cls << 2u | (d.cls & 3u);
         if (cls == SILHOUETTE && !bordersBehind(d)) list.dots[i].along = vec2(0.0);  // round
         if (cls == BACK) list.dots[i].state = SPACE_FIXED;
+        return;
+    }
+    if (cam.counts.w == PASS_OUTLINE || cam.counts.w == PASS_REACH) {
+        // A silhouette's stroke joins its dot to the nearest outline dots ahead and behind along the outline, within
+        // reach (Dot::along, splat.comp); with none it stays round, and it never overshoots the outline's end.
+        uint cls = (d.cls >> 2u) & 3u;
+        if (i >= list.dispatch.w || (d.cls & 3u) != SILHOUETTE || cls == BACK || !(dot(d.along, d.along) > 0.0)) return;
+        float diameter = clamp(style.size[cls == HIDDEN ? 2u : 0u], style.tone.z, style.tone.w);
+        uint bit = cls == HIDDEN ? HIDDEN_BIT : INK_BIT;
+        if (cam.counts.w == PASS_OUTLINE) {
+            stamp(d.pixel, diameter, vec2(0.0), bit);
+            return;
+        }
+        vec2 dir = normalize(d.along);
+        float most = length(d.along), r = 0.5 * diameter;
+        float ahead = reach(d.pixel, dir, r, most, bit), behind = reach(d.pixel, -dir, r, most, bit);
+        list.dots[i].pixel = d.pixel + 0.5 * (ahead - behind) * dir;
+        list.dots[i].along = 0.5 * (ahead + behind) * dir;
         return;
     }
     uint cls = (d.cls >> 2u) & 3u;

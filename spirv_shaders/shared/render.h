@@ -36,7 +36,8 @@ struct Dot {
     uint state;    // SPACE_* below
     float scale;   // the dot's diameter over its class's: above 1 where the screen spacing keeps fewer dots than
                    // the tone asks, for want of candidates (SPACE_SUPPLY_KEPT), so that they carry its ink
-    vec2 along;    // a silhouette dot's half stroke along the outline, pixels (SILHOUETTE_STROKE); 0: a round dot
+    vec2 along;    // a silhouette dot's half stroke along the outline, pixels (SILHOUETTE_REACH; before PASS_REACH
+                   // the direction and the reach); 0: a round dot
 };
 INK_ASSERT_SIZE(Dot, 40);
 INK_ASSERT_OFFSET(Dot, z, 8);
@@ -46,14 +47,16 @@ INK_ASSERT_OFFSET(Dot, state, 24);
 INK_ASSERT_OFFSET(Dot, scale, 28);
 INK_ASSERT_OFFSET(Dot, along, 32);
 
-// A silhouette dot is a stroke along the outline's screen tangent, SILHOUETTE_STROKE splat radii long and at most
-// SILHOUETTE_STROKE_MAX times its diameter (splat.comp), as wide as the dot (stamp.comp, and the SVG and PDF). The
-// band |n·v| < τ is about 2τ/κ_r of surface across the outline (κ_r the radial curvature), so where the surface is
-// tightly curved (a trunk, an ear, a leg) its points lie far apart along the outline, and round dots left it dotted
-// or grey; strokes a few points long join them. The cap keeps a sparse set's strokes (a small image, few levels)
-// from overshooting tight turns of the outline as long straight dashes (docs/algorithm.md §4).
-INK_CONST float SILHOUETTE_STROKE = 3.0;
-INK_CONST float SILHOUETTE_STROKE_MAX = 3.0;
+// A silhouette dot is a stroke along the outline's screen tangent that joins it to the nearest silhouette dots
+// ahead and behind, each within SILHOUETTE_REACH splat radii and SILHOUETTE_REACH_MAX of its diameters (splat.comp
+// sets the reach, stamp.comp's PASS_OUTLINE and PASS_REACH find them), as wide as the dot (stamp.comp, and the SVG
+// and PDF). The band |n·v| < τ is about 2τ/κ_r of surface across the outline (κ_r the radial curvature), so where
+// the surface is tightly curved (a trunk, an ear, a leg) its points lie far apart along the outline, and round dots
+// left it dotted or grey. Joined only to dots that are there, a stroke never overshoots the outline's end or a
+// tight turn, and a lone dot (a few points turned nearly edge-on, off any outline) stays round
+// (docs/algorithm.md §4).
+INK_CONST float SILHOUETTE_REACH = 3.0;
+INK_CONST float SILHOUETTE_REACH_MAX = 4.0;
 
 // A dot's state in the screen spacing (spacing.comp, engine/draw/screen_spacing.h): FIXED dots take no part
 // (silhouettes, hidden ones, dots drawn without tone), the others start OPEN and end ACCEPTED (drawn) or REJECTED; a
@@ -99,6 +102,8 @@ INK_CONST uint PASS_DECIDE = 5u;        // spacing.comp: owners no lower owner b
 INK_CONST uint PASS_LIST = 6u;          // spacing.comp: the accepted dots into a list, for the relaxation
 INK_CONST uint PASS_RELAX = 7u;         // spacing.comp: each accepted dot's displacement, a step further
 INK_CONST uint PASS_PLACE = 8u;         // spacing.comp: each accepted dot moved by its displacement
+INK_CONST uint PASS_OUTLINE = 9u;       // stamp.comp: the visible silhouette dots' disks into the coverage
+INK_CONST uint PASS_REACH = 10u;        // stamp.comp: each silhouette's stroke to the nearest disks along the outline
 INK_CONST uint SPACE_LIST_HEADER = 4u;  // words before the accepted or open dots' lists (spacing.comp)
 INK_CONST uint SPACE_BLOCK = 4u;        // the relaxation's blocks of cells a side: a bit a cell in a word
 // A smaller grid (a target of a few pixels) is not relaxed: its third plane would not hold the list's header and

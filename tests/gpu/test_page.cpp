@@ -224,7 +224,7 @@ size_t inkComponents(const ink::RgbaImage& image) {
 TEST_CASE("page: a thin tube's silhouette dots join into its outline, stroked along it" * doctest::test_suite("gpu")) {
     // A ring of tube radius 0.03 (a tenth of the ring's), refined to 3 levels: its band |n·v| < τ is about 2τ·0.03
     // wide on the surface, less than a point apart, so round silhouette dots laid each outline down as a dotted
-    // line; stroked along the outline (SILHOUETTE_STROKE) they join. The outline only: no tone.
+    // line; stroked along the outline to their neighbours (SILHOUETTE_REACH) they join. The outline only: no tone.
     GpuFixture gpu;
     ink::Model ring = ink::fitModel(ink::torusPoints(192, 24, 0.3, 0.03), {});
     ink::RefineOptions options;
@@ -239,12 +239,12 @@ TEST_CASE("page: a thin tube's silhouette dots join into its outline, stroked al
         if ((d.cls & 3u) == ink::gpu::SILHOUETTE) ++silhouettes, round += !(glm::length(d.along) > 0.0f);
     for (size_t i = 0; i < image.pixels.size(); i += 4) inked += image.pixels[i] < 128;
     const size_t components = inkComponents(image);
-    // Measured on lavapipe: 1,347 silhouette dots ink 4,241 pixels in 2 components, the ring's outer and inner
-    // outlines; drawn round (SILHOUETTE_STROKE 0) they inked 2,888 pixels in 130.
+    // Measured on lavapipe: 1,347 silhouette dots, none left round, ink 4,047 pixels in 2 components, the ring's
+    // outer and inner outlines; drawn round (SILHOUETTE_REACH 0) they inked 2,888 pixels in 130.
     INFO(silhouettes << " silhouette dots (" << round << " round), " << inked << " inked pixels in " << components
                      << " components");
     CHECK(silhouettes > 500);
-    CHECK(round == 0);
+    CHECK(round * 20 <= silhouettes);  // a dot with no neighbour within reach stays round
     CHECK(components <= 12);
     gpu.requireNoValidationErrors();
 }
