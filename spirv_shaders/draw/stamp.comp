@@ -66,7 +66,8 @@ uint visibleClass(Dot d) {
 // Whether a visible silhouette dot shows at its own depth (not two push-backs nearer, as splat.comp tests it) in its
 // depth cell or one of the eight around: an outline's dot does, beside what lies behind the outline. A dot of a
 // contour just behind a surface at a graze may pass the lenient test (the torus's inner contour under its front
-// tube): drawn as a stroke it was a dash on the surface in front, so it stays a round dot, lost among the stipples.
+// tube): drawn as a stroke it was a dash on the surface in front, so it stays a round dot, lost among the stipples,
+// and out of the other strokes' reach.
 bool bordersBehind(Dot d) {
     if (cam.splat.y <= 0.0) return true;
     vec2 grid = cam.viewport.zw;
