@@ -10,7 +10,7 @@ layout(location = 0) out vec4 outColor;
 void main() {
     uvec2 pixel = uvec2(gl_FragCoord.xy);
     uint i = pixel.y * uint(cam.viewport.x) + pixel.x;
-    uint bits = (coverage[i >> COVERAGE_SHIFT] >> ((i & 7u) * COVERAGE_BITS)) & 15u;
+    uint bits = coverageBits(i);
     if (bits == 0u || (bits & (CONTOUR_BIT | HALO_BIT)) == HALO_BIT) discard;  // a halo keeps the paper
     outColor = style.color[(bits & (INK_BIT | CONTOUR_BIT)) != 0u ? 0 : 1];
 }

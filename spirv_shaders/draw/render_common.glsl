@@ -28,6 +28,9 @@ layout(std430, binding = RENDER_DEPTH) buffer DepthBuffer { uint depth[]; };
 // dots' and hatching's ink over hidden ink.
 layout(std430, binding = RENDER_COVERAGE) buffer CoverageBuffer { uint coverage[]; };
 
+// Pixel i's four coverage bits.
+uint coverageBits(uint i) { return (coverage[i >> COVERAGE_SHIFT] >> ((i & 7u) * COVERAGE_BITS)) & 15u; }
+
 // The same points as RGBA32F texels, two a point: texel fetches are vectorized gathers on CPU drivers, where
 // per-point storage-buffer loads become one scalar load per lane and component.
 layout(binding = RENDER_POINT_TEXELS) uniform samplerBuffer pointTexels;

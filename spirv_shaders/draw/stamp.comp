@@ -85,7 +85,7 @@ bool inked(vec2 p, uint bit) {
     ivec2 q = ivec2(floor(p));
     if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(cam.viewport.xy)))) return false;
     uint i = uint(q.y) * uint(cam.viewport.x) + uint(q.x);
-    return ((coverage[i >> COVERAGE_SHIFT] >> ((i & 7u) * COVERAGE_BITS)) & bit) != 0u;
+    return (coverageBits(i) & bit) != 0u;
 }
 
 // How far from `center` along `dir` the nearest other outline disk lies, up to `most` pixels (0: none): the first
