@@ -59,7 +59,8 @@ public:
     uint32_t framesInFlight() const { return uint32_t(frames_.size()); }
 
     // Milliseconds of the last frame's passes, from timestamps: splat (with the dot selection), stamp, ink
-    // (which ends at writeEnd), and between splat and stamp the occlusion test and the screen spacing.
+    // (which ends at writeEnd), and between splat and stamp the occlusion test, the silhouettes' outline and reach
+    // passes and the screen spacing.
     struct Timings {
         double splatMs = 0, stampMs = 0, inkMs = 0, spaceMs = 0;
     };

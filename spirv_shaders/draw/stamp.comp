@@ -2,10 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-// The dots splat.comp selected, in two passes (cam.counts.w). PASS_VISIBILITY tests each against the splat depth
+// The dots splat.comp selected, in four passes (cam.counts.w). PASS_VISIBILITY tests each against the splat depth
 // (occluded ones vanish, or become hidden silhouettes) and opens the visible toned ones to the screen spacing
-// (spacing.comp); PASS_STAMP stamps the visible ones the spacing kept into the coverage bits that ink.frag turns
-// into colour. Dots are rasterized here rather than drawn as point primitives: a CPU driver sets up each point
+// (spacing.comp); PASS_OUTLINE and PASS_REACH make each silhouette dot the stroke to its neighbours along the
+// outline; PASS_STAMP stamps the visible ones the spacing kept into the coverage bits that ink.frag turns into
+// colour. Dots are rasterized here rather than drawn as point primitives: a CPU driver sets up each point
 // primitive on one thread (lavapipe: ~0.45 µs a point, whatever its size and shaders), while a stamp is a few
 // atomic ORs.
 #include "draw/render_common.glsl"
