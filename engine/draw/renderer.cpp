@@ -31,7 +31,7 @@ constexpr VkShaderStageFlags kStages =
     VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
 constexpr uint32_t kComputeGroup = gpu::GROUP_SIZE;
 constexpr uint32_t kFarDepth = gpu::FAR_DEPTH;  // FLT_MAX: positive floats order as their bits do
-constexpr uint32_t kTimestamps = 5;  // start, splat, visibility with the outline, reach and spacing, stamp, ink
+constexpr uint32_t kTimestamps = 5;             // start, splat, visibility to spacing, stamp, ink
 constexpr float kMaxDotPixels = 64.0f;          // dot diameters are clamped to this (times the pixel scale)
 // The tone curve with screen spacing (docs/algorithm.md): at darkness d the dots are spread to an ink coverage of
 // kCoverage·d (dots of area a, a density of kCoverage·d / a on the page), each kept at least its radius
