@@ -54,9 +54,10 @@ INK_ASSERT_OFFSET(Dot, along, 32);
 // the surface is tightly curved (a trunk, an ear, a leg) its points lie far apart along the outline, and round dots
 // left it dotted or grey. Joined only to dots that are there, a stroke never overshoots the outline's end or a
 // tight turn, and a lone dot (a few points turned nearly edge-on, off any outline) stays round
-// (docs/algorithm.md §4).
-INK_CONST float SILHOUETTE_REACH = 3.0;
-INK_CONST float SILHOUETTE_REACH_MAX = 4.0;
+// (docs/algorithm.md §4). Six, not four: along the rounded edges of a low-poly mesh's fit (assimp's Spider's legs)
+// and an elephant's ear the band's dots lie up to six diameters apart, and four left those outlines dashed.
+INK_CONST float SILHOUETTE_REACH = 6.0;
+INK_CONST float SILHOUETTE_REACH_MAX = 6.0;
 
 // A dot's state in the screen spacing (spacing.comp, engine/draw/screen_spacing.h): FIXED dots take no part
 // (silhouettes, hidden ones, dots drawn without tone), the others start OPEN and end ACCEPTED (drawn) or REJECTED; a
