@@ -19,6 +19,10 @@ namespace {
 // A stroke ends where this much of its neighbourhood is flat ground combed the other way (CrossField::flat()).
 constexpr double kFlatAgainst = 0.25;
 
+// A stroke that comes back beside its seed, going its way, within this × its separation across it, is a loop
+// (a ring round a tube): it closes there. Past 2 it would meet the next ring out, not its own start.
+constexpr double kLoopDrift = 1.5;
+
 // Newton steps along ∇f onto f = 0; n is the unit normal there.
 bool projectToSurface(const Surface& hrbf, Vector3d& x, Vector3d& n) {
     for (int i = 0; i < 8; ++i) {
@@ -118,6 +122,8 @@ private:
         const size_t hashStart = hash_.size();
         hash_.add(x0, n0, id, 0);
         bool closed = false;
+        Vector3d drift = Vector3d::Zero();  // a closed loop's offset from its seed where it came back (kLoopDrift)
+        std::vector<double> arcs;           // of the forward points
         auto march = [&](double sign, std::vector<Vector3d>& xs, std::vector<Vector3d>& ns) {
             Vector3d x = x0, d = sign * d0;
             double arc = 0;
@@ -130,20 +136,44 @@ private:
                     return;
                 if (dy.dot(d) < minTurn_) return;  // turns sharply
                 arc += (y - x).norm();
-                if (arc > 4 * dsep && (y - x0).norm() < 1.5 * step_) {
-                    closed = sign > 0;
-                    return;
+                if (sign > 0 && arc > 4 * dsep && dy.dot(d0) > 0.7) {
+                    // Back beside its seed, going its way: a loop (a ring round a tube). The field's small errors
+                    // bring it back off its seed by a drift across it; it closes there, the drift spread over its
+                    // second half (below), rather than ending on itself with a jog.
+                    const Vector3d back = x0 - y;
+                    const double along = back.dot(dy);
+                    const Vector3d across = back - along * dy;
+                    if (along > -0.5 * step_ && along < 1.5 * step_ && across.norm() < kLoopDrift * dsep) {
+                        closed = true;
+                        drift = across;
+                        return;
+                    }
                 }
                 if (hash_.near(y, ny, dtest, id, sign * arc, gap)) return;
                 hash_.add(y, ny, id, sign * arc);
                 xs.push_back(y);
                 ns.push_back(ny);
+                if (sign > 0) arcs.push_back(arc);
                 x = y, d = dy;
             }
         };
         std::vector<Vector3d> fx, fn, bx, bn;
         march(1.0, fx, fn);
         if (!closed) march(-1.0, bx, bn);
+        if (closed && drift.squaredNorm() > 0 && !arcs.empty()) {
+            // The loop's second half moved across by up to the drift, growing linearly, and back onto the surface;
+            // its entries in the hash again where they now lie.
+            const double half = 0.5 * arcs.back();
+            hash_.truncate(hashStart + 1);
+            for (size_t i = 0; i < fx.size(); ++i) {
+                const double w = std::clamp((arcs[i] - half) / half, 0.0, 1.0);
+                if (w > 0) {
+                    Vector3d y = fx[i] + w * drift, ny;
+                    if (projectToSurface(hrbf_, y, ny)) fx[i] = y, fn[i] = ny;
+                }
+                hash_.add(fx[i], fn[i], id, arcs[i]);
+            }
+        }
         PenStroke s;
         s.family = family_;
         s.level = level;
