@@ -42,13 +42,38 @@ float pushedBack(float ndc, float pushBacks) {
     return -cam.projection.z - cam.projection.w / view;
 }
 
+// Whether cells nearer than depth `z` lie left, right, above and below `cell`, each within SPLAT_HOLE splat radii
+// (at z): the dot lies in a hole in the splats, behind the surface around it. The refinement leaves gaps of a few
+// times its spacing that no disk covers (the targets' torus: up to 6 nearest-neighbour distances), and a dot of the
+// surface behind showed through one as a lone dot, larger than those around it (the spacing enlarges far dots).
+// An outline's dot has open ground beyond it; the bottom of a pit narrower than the search is hidden with it.
+bool enclosed(float z, ivec2 cell) {
+    vec2 grid = cam.viewport.zw;
+    float view = cam.projection.w / (z + cam.projection.z);  // the view depth, positive
+    int most = clamp(int(ceil(SPLAT_HOLE * cam.splat.x * abs(cam.projection.x) * 0.5 * grid.x / max(view, 1e-6))), 1,
+                     SPLAT_HOLE_CELLS);
+    const ivec2 ways[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
+    for (int w = 0; w < 4; ++w) {
+        bool nearer = false;
+        for (int k = 1; k <= most && !nearer; ++k) {
+            ivec2 c = cell + k * ways[w];
+            if (any(lessThan(c, ivec2(0))) || any(greaterThanEqual(c, ivec2(grid)))) break;
+            nearer = uintBitsToFloat(depth[c.y * int(grid.x) + c.x]) < z;
+        }
+        if (!nearer) return false;
+    }
+    return true;
+}
+
 // The dot's class once occlusion is known: as selected, HIDDEN, or BACK for a dot that does not show.
 uint visibleClass(Dot d) {
     uint cls = d.cls & 3u;
     if (cam.splat.y <= 0.0) return cls;  // no occlusion
     vec2 grid = cam.viewport.zw;
     ivec2 cell = clamp(ivec2(d.pixel / cam.viewport.xy * grid), ivec2(0), ivec2(grid) - 1);
-    bool shows = d.z <= uintBitsToFloat(depth[cell.y * int(grid.x) + cell.x]);
+    // (Direction sampling's sparse disks keep to their rims: there a hole is no gap.)
+    bool sparse = (cam.counts.y & CAMERA_SPARSE_SPLATS) != 0u;
+    bool shows = d.z <= uintBitsToFloat(depth[cell.y * int(grid.x) + cell.x]) && (sparse || !enclosed(d.z, cell));
     if (shows && (d.cls & DOT_BACK_SIDE) != 0u) {
         // The back of an open surface shows in front of every front-facing disk in its cell and the cells around
         // (a cell the front surface's disks leave uncovered is no opening), tested two push-backs farther.

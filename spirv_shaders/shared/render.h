@@ -56,6 +56,10 @@ INK_ASSERT_OFFSET(Dot, along, 32);
 // tight turn, and a lone dot (a few points turned nearly edge-on, off any outline) stays round
 // (docs/algorithm.md §4). Six, not four: along the rounded edges of a low-poly mesh's fit (assimp's Spider's legs)
 // and an elephant's ear the band's dots lie up to six diameters apart, and four left those outlines dashed.
+// A dot enclosed on four sides by nearer splats within this many splat radii (at most SPLAT_HOLE_CELLS depth cells)
+// lies in a hole in the splats, behind the surface (stamp.comp's enclosed()).
+INK_CONST float SPLAT_HOLE = 3.0;
+INK_CONST int SPLAT_HOLE_CELLS = 16;
 INK_CONST float SILHOUETTE_REACH = 6.0;
 INK_CONST float SILHOUETTE_REACH_MAX = 6.0;
 

@@ -107,22 +107,7 @@ TEST_CASE("contours: fitted meshes have their true cusps only (issue 24)" * doct
     // A 64 × 32 torus mesh of 2,048 vertices: its contour has no cusp at these views; the fit to its vertices and
     // all its flat face samples gave 21,906 cusps and 409,614 vertices (65 s).
     TempDir dir;
-    {
-        std::ofstream obj(dir / "torus.obj");
-        const int nu = 64, nv = 32;
-        for (int i = 0; i < nu; ++i)
-            for (int j = 0; j < nv; ++j) {
-                const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
-                obj << "v " << (1 + 0.42 * std::cos(v)) * std::cos(u) << ' ' << (1 + 0.42 * std::cos(v)) * std::sin(u)
-                    << ' ' << 0.42 * std::sin(v) << '\n';
-            }
-        for (int i = 0; i < nu; ++i)
-            for (int j = 0; j < nv; ++j) {
-                const int a = i * nv + j + 1, b = (i + 1) % nu * nv + j + 1, c = (i + 1) % nu * nv + (j + 1) % nv + 1,
-                          d = i * nv + (j + 1) % nv + 1;
-                obj << "f " << a << ' ' << b << ' ' << c << "\nf " << a << ' ' << c << ' ' << d << '\n';
-            }
-    }
+    torus_fixture::writeTorusMesh(dir / "torus.obj");
     const ink::Model torusMesh = ink::loadModel(dir / "torus.obj", {});
     for (float elevation : {20.0f, 60.0f}) {
         CAPTURE(elevation);

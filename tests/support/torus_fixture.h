@@ -8,6 +8,8 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <vector>
 
 namespace torus_fixture {
@@ -32,6 +34,24 @@ inline std::vector<ink::SurfaceSample> torusSamples(const ink::Model& m, int nu,
             if (around) around->push_back(Eigen::Vector3d(-std::sin(u), std::cos(u), 0));
         }
     return s;
+}
+
+// A torus mesh of nu × nv vertices (radii 1 and 0.42, around the z axis) as an OBJ file: the targets' torus
+// (the shared tools' targets.sh).
+inline void writeTorusMesh(const std::filesystem::path& path, int nu = 64, int nv = 32) {
+    std::ofstream obj(path);
+    for (int i = 0; i < nu; ++i)
+        for (int j = 0; j < nv; ++j) {
+            const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
+            obj << "v " << (1 + 0.42 * std::cos(v)) * std::cos(u) << ' ' << (1 + 0.42 * std::cos(v)) * std::sin(u)
+                << ' ' << 0.42 * std::sin(v) << '\n';
+        }
+    for (int i = 0; i < nu; ++i)
+        for (int j = 0; j < nv; ++j) {
+            const int a = i * nv + j + 1, b = (i + 1) % nu * nv + j + 1, c = (i + 1) % nu * nv + (j + 1) % nv + 1,
+                      d = i * nv + (j + 1) % nv + 1;
+            obj << "f " << a << ' ' << b << ' ' << c << "\nf " << a << ' ' << c << ' ' << d << '\n';
+        }
 }
 
 }  // namespace torus_fixture
