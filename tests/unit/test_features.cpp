@@ -221,6 +221,21 @@ RayCast rayCastDots(GpuFixture& gpu, const ink::Scene& scene, const ink::Offscre
     return r;
 }
 
+// Every `stride`-th front dot of the scene, toned all dark, at 1024² from the targets' view of a torus (30° around,
+// 15° above its axis, z), against ray casting.
+RayCast rayCastTorusView(GpuFixture& gpu, const ink::Scene& scene, size_t stride) {
+    ink::RenderStyle style;
+    style.toneGamma = 0.0f;  // every front dot
+    ink::OffscreenRenderer renderer(gpu.ctx, 1024, 1024, style, scene.pointers());
+    ink::Camera camera;
+    camera.up = ink::UpAxis::PosZ;
+    camera.azimuthDeg = 30;
+    camera.elevationDeg = 15;
+    camera.distance = 1.6f;
+    renderer.render(camera);
+    return rayCastDots(gpu, scene, renderer, camera, stride);
+}
+
 }  // namespace
 
 TEST_CASE("creases: a short run of sharp edges the fit rounds away, between creases along one chain, is bridged" *
@@ -996,19 +1011,10 @@ TEST_CASE("features: a torus's dots behind its near tube stay hidden where that 
     GpuFixture gpu;
     ink::Scene scene(gpu.ctx, ink::fitModel(ink::torusPoints(64, 32, 1.0, 0.42), {}), ink::DrawStyle::Stipple,
                      ink::RefineOptions{});
-    ink::RenderStyle style;
-    style.toneGamma = 0.0f;  // every front dot
-    ink::OffscreenRenderer renderer(gpu.ctx, 1024, 1024, style, scene.pointers());
-    ink::Camera camera;
-    camera.up = ink::UpAxis::PosZ;
-    camera.azimuthDeg = 30;
-    camera.elevationDeg = 15;
-    camera.distance = 1.6f;
-    renderer.render(camera);
     // A point cloud is drawn two-sided (its rims are not known): the back's dots are tested too, and on this closed
     // surface none may show.
     REQUIRE(scene.model.twoSided);
-    const RayCast r = rayCastDots(gpu, scene, renderer, camera, 4);  // every fourth front dot
+    const RayCast r = rayCastTorusView(gpu, scene, 4);  // every fourth front dot
     const size_t front = r.front, leaked = r.leaked, lost = r.lost, back = r.back, backShown = r.backShown;
     INFO(front << " front dots ray cast: " << leaked << " drawn though occluded, " << lost << " hidden though visible");
     REQUIRE(front > 4000);
@@ -1034,16 +1040,7 @@ TEST_CASE("features: a dot of the far tube stays hidden where the near tube's sp
     TempDir dir;
     torus_fixture::writeTorusMesh(dir / "torus.obj");
     ink::Scene scene(gpu.ctx, ink::loadModel(dir / "torus.obj", {}), ink::DrawStyle::Stipple, ink::RefineOptions{});
-    ink::RenderStyle style;
-    style.toneGamma = 0.0f;  // every front dot
-    ink::OffscreenRenderer renderer(gpu.ctx, 1024, 1024, style, scene.pointers());
-    ink::Camera camera;
-    camera.up = ink::UpAxis::PosZ;
-    camera.azimuthDeg = 30;
-    camera.elevationDeg = 15;
-    camera.distance = 1.6f;
-    renderer.render(camera);
-    const RayCast r = rayCastDots(gpu, scene, renderer, camera, 1);
+    const RayCast r = rayCastTorusView(gpu, scene, 1);
     MESSAGE(r.front << " front dots ray cast: " << r.leaked << " drawn though occluded (" << r.far
                     << " with the surface over 2% of the diagonal in front), " << r.lost << " hidden though visible");
     REQUIRE(r.front > 20000);
