@@ -47,6 +47,11 @@ INK_ASSERT_OFFSET(Dot, state, 24);
 INK_ASSERT_OFFSET(Dot, scale, 28);
 INK_ASSERT_OFFSET(Dot, along, 32);
 
+// A dot enclosed on four sides by nearer splats within this many splat radii (at most SPLAT_HOLE_CELLS depth cells)
+// lies in a hole in the splats, behind the surface (stamp.comp's enclosed()).
+INK_CONST float SPLAT_HOLE = 3.0;
+INK_CONST int SPLAT_HOLE_CELLS = 16;
+
 // A silhouette dot is a stroke along the outline's screen tangent that joins it to the nearest silhouette dots
 // ahead and behind, each within SILHOUETTE_REACH splat radii and SILHOUETTE_REACH_MAX of its diameters (splat.comp
 // sets the reach, stamp.comp's PASS_OUTLINE and PASS_REACH find them), as wide as the dot (stamp.comp, and the SVG
@@ -56,10 +61,6 @@ INK_ASSERT_OFFSET(Dot, along, 32);
 // tight turn, and a lone dot (a few points turned nearly edge-on, off any outline) stays round
 // (docs/algorithm.md §4). Six, not four: along the rounded edges of a low-poly mesh's fit (assimp's Spider's legs)
 // and an elephant's ear the band's dots lie up to six diameters apart, and four left those outlines dashed.
-// A dot enclosed on four sides by nearer splats within this many splat radii (at most SPLAT_HOLE_CELLS depth cells)
-// lies in a hole in the splats, behind the surface (stamp.comp's enclosed()).
-INK_CONST float SPLAT_HOLE = 3.0;
-INK_CONST int SPLAT_HOLE_CELLS = 16;
 INK_CONST float SILHOUETTE_REACH = 6.0;
 INK_CONST float SILHOUETTE_REACH_MAX = 6.0;
 
