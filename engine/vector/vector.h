@@ -84,8 +84,8 @@ struct PlotLayer {
     double retraced = 0;     // pen-down length dropped as retraced, mm
     size_t lifts = 0;        // pen lifts: one a path
     double plotSeconds = 0;  // penDown / drawSpeed + travelAfter / travelSpeed + lifts · liftSeconds
-    // The circles inside dots more than two pen widths across that fill them (PlotPath::rings, in the dots' own
-    // paths); the widest dot, mm.
+    // The circles (a silhouette stroke's stadiums) inside dots more than two pen widths across that fill them
+    // (PlotPath::rings, in the dots' own paths); the widest dot, mm.
     size_t fillCircles = 0;
     double widestDot = 0;
 };
