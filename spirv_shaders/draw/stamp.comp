@@ -35,12 +35,22 @@ ivec4 stamp(vec2 center, float diameter, vec2 along, uint bit) {
     return ivec4(lo, hi);
 }
 
-// The normalized depth of a point at normalized depth `ndc` moved `pushBacks` push-backs away from the camera (view
-// depth z = −P32 / (ndc + P22)).
+// The distance along the view axis of a point at normalized depth `ndc` (view z = −P32 / (ndc + P22)).
+float viewDepth(float ndc) { return cam.projection.w / (ndc + cam.projection.z); }
+
+// The normalized depth of a point at normalized depth `ndc` moved `pushBacks` push-backs away from the camera.
 float pushedBack(float ndc, float pushBacks) {
-    float view = -cam.projection.w / (ndc + cam.projection.z) - pushBacks * cam.splat.y;
+    float view = -viewDepth(ndc) - pushBacks * cam.splat.y;
     return -cam.projection.z - cam.projection.w / view;
 }
+
+// The depth grid's cell under a pixel, and a cell's word: the nearest splat's normalized depth as float bits (bit 0
+// marks the back of an open surface, CAMERA_TWO_SIDED).
+ivec2 depthCell(vec2 pixel) {
+    ivec2 grid = ivec2(cam.viewport.zw);
+    return clamp(ivec2(pixel / cam.viewport.xy * vec2(grid)), ivec2(0), grid - 1);
+}
+uint depthWord(ivec2 cell) { return depth[cell.y * int(cam.viewport.z) + cell.x]; }
 
 // Whether cells nearer than depth `z` lie left, right, above and below `cell`, each within SPLAT_HOLE splat radii
 // (at z): the dot lies in a hole in the splats, behind the surface around it. The refinement leaves gaps of a few
@@ -49,16 +59,15 @@ float pushedBack(float ndc, float pushBacks) {
 // An outline's dot has open ground beyond it; the bottom of a pit narrower than the search is hidden with it.
 bool enclosed(float z, ivec2 cell) {
     vec2 grid = cam.viewport.zw;
-    float view = cam.projection.w / (z + cam.projection.z);  // the view depth, positive
-    int most = clamp(int(ceil(SPLAT_HOLE * cam.splat.x * abs(cam.projection.x) * 0.5 * grid.x / max(view, 1e-6))), 1,
-                     SPLAT_HOLE_CELLS);
+    int most = clamp(int(ceil(SPLAT_HOLE * cam.splat.x * abs(cam.projection.x) * 0.5 * grid.x / max(viewDepth(z), 1e-6))),
+                     1, SPLAT_HOLE_CELLS);
     const ivec2 ways[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
     for (int w = 0; w < 4; ++w) {
         bool nearer = false;
         for (int k = 1; k <= most && !nearer; ++k) {
             ivec2 c = cell + k * ways[w];
             if (any(lessThan(c, ivec2(0))) || any(greaterThanEqual(c, ivec2(grid)))) break;
-            nearer = uintBitsToFloat(depth[c.y * int(grid.x) + c.x]) < z;
+            nearer = uintBitsToFloat(depthWord(c)) < z;
         }
         if (!nearer) return false;
     }
@@ -69,19 +78,18 @@ bool enclosed(float z, ivec2 cell) {
 uint visibleClass(Dot d) {
     uint cls = d.cls & 3u;
     if (cam.splat.y <= 0.0) return cls;  // no occlusion
-    vec2 grid = cam.viewport.zw;
-    ivec2 cell = clamp(ivec2(d.pixel / cam.viewport.xy * grid), ivec2(0), ivec2(grid) - 1);
+    ivec2 grid = ivec2(cam.viewport.zw), cell = depthCell(d.pixel);
     // (Direction sampling's sparse disks keep to their rims: there a hole is no gap.)
     bool sparse = (cam.counts.y & CAMERA_SPARSE_SPLATS) != 0u;
-    bool shows = d.z <= uintBitsToFloat(depth[cell.y * int(grid.x) + cell.x]) && (sparse || !enclosed(d.z, cell));
+    bool shows = d.z <= uintBitsToFloat(depthWord(cell)) && (sparse || !enclosed(d.z, cell));
     if (shows && (d.cls & DOT_BACK_SIDE) != 0u) {
         // The back of an open surface shows in front of every front-facing disk in its cell and the cells around
         // (a cell the front surface's disks leave uncovered is no opening), tested two push-backs farther.
         float z = pushedBack(d.z, 2.0);
-        ivec2 lo = max(cell - 1, ivec2(0)), hi = min(cell + 1, ivec2(grid) - 1);
+        ivec2 lo = max(cell - 1, ivec2(0)), hi = min(cell + 1, grid - 1);
         for (int y = lo.y; y <= hi.y && shows; ++y)
             for (int x = lo.x; x <= hi.x; ++x) {
-                uint nearest = depth[y * int(grid.x) + x];
+                uint nearest = depthWord(ivec2(x, y));
                 if ((nearest & 1u) == 0u && z > uintBitsToFloat(nearest)) shows = false;
             }
     }
@@ -96,13 +104,12 @@ uint visibleClass(Dot d) {
 // and out of the other strokes' reach.
 bool bordersBehind(Dot d) {
     if (cam.splat.y <= 0.0) return true;
-    vec2 grid = cam.viewport.zw;
-    ivec2 cell = clamp(ivec2(d.pixel / cam.viewport.xy * grid), ivec2(0), ivec2(grid) - 1);
+    ivec2 cell = depthCell(d.pixel);
     float z = pushedBack(d.z, 2.0);
-    ivec2 lo = max(cell - 1, ivec2(0)), hi = min(cell + 1, ivec2(grid) - 1);
+    ivec2 lo = max(cell - 1, ivec2(0)), hi = min(cell + 1, ivec2(cam.viewport.zw) - 1);
     for (int y = lo.y; y <= hi.y; ++y)
         for (int x = lo.x; x <= hi.x; ++x)
-            if (z <= uintBitsToFloat(depth[y * int(grid.x) + x])) return true;
+            if (z <= uintBitsToFloat(depthWord(ivec2(x, y)))) return true;
     return false;
 }
 
