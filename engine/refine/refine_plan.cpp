@@ -3,6 +3,7 @@
 
 #include "base/common.h"
 #include "base/random.h"
+#include "surface/clean.h"
 
 #include <algorithm>
 #include <array>
@@ -32,7 +33,9 @@ double nearestSquaredDistance(const std::vector<Eigen::Vector3d>& points, size_t
 // the wrong way: mean NN 0.760 → 0.750 and 0.759 → 0.742, clumping 0.071 → 0.120 and 0.026 → 0.043.)
 constexpr double kClustered = 1.5;
 
-static double meanSpacing(const std::vector<Eigen::Vector3d>& p) {
+// With normals, only the seeds that face a seed's way are its neighbours (clean.h, kOtherSide): across a thin wall
+// the nearest seed is the other side's, and ρ₀ came out the wall's thickness.
+static double meanSpacing(const std::vector<Eigen::Vector3d>& p, const std::vector<Eigen::Vector3d>& normals) {
     if (p.size() < 2) return 0.1;
     size_t stride = std::max<size_t>(1, p.size() / 2000);
     double sum = 0;
@@ -43,7 +46,7 @@ static double meanSpacing(const std::vector<Eigen::Vector3d>& p) {
         nearest.fill(INFINITY);
         for (size_t j = 0; j < p.size(); ++j) {
             const double d2 = (p[i] - p[j]).squaredNorm();
-            if (j == i || !(d2 < nearest.back())) continue;
+            if (j == i || !(d2 < nearest.back()) || normals[i].dot(normals[j]) < kOtherSide) continue;
             nearest.back() = d2;
             std::sort(nearest.begin(), nearest.end());
         }
@@ -55,6 +58,17 @@ static double meanSpacing(const std::vector<Eigen::Vector3d>& p) {
     std::nth_element(third.begin(), third.begin() + std::ptrdiff_t(third.size() / 2), third.end());
     const double median = third[third.size() / 2];
     return median > kClustered * mean ? median : mean;
+}
+
+// The seeds' unit normals, ∇f there (zero where it vanishes: then every seed is a neighbour).
+static std::vector<Eigen::Vector3d> seedNormals(const Surface& hrbf, const std::vector<Eigen::Vector3d>& seeds) {
+    std::vector<Eigen::Vector3d> normals(seeds.size());
+    for (size_t i = 0; i < seeds.size(); ++i) {
+        Eigen::Vector3d g;
+        hrbf.eval(seeds[i], g);
+        normals[i] = g.norm() > 0 && g.allFinite() ? g.normalized() : Eigen::Vector3d::Zero();
+    }
+    return normals;
 }
 
 RefinePlan planRefinement(const Surface& hrbf, const RefineOptions& o, uint64_t maxPoints) {
@@ -118,7 +132,7 @@ RefinePlan planRefinement(const Surface& hrbf, const RefineOptions& o, uint64_t 
         base.clear();
     }
     double spacing = base.empty() ? (o.seeds == SeedMode::Grid ? double(plan.seedJumpLimit) / std::sqrt(3.0) : 0.1)
-                                  : meanSpacing(base);
+                                  : meanSpacing(base, seedNormals(hrbf, base));
     plan.rho0 = o.rho0 > 0 ? o.rho0 : 0.5 * spacing;
     plan.rhoDivisor = o.rhoDivisor > 0 ? o.rhoDivisor : (o.selects() ? 2.0 : 3.0);
     if (!(plan.rhoDivisor >= 1.5 && plan.rhoDivisor <= 4.0)) throw Error("--rho-divisor must be between 1.5 and 4");

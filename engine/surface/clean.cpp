@@ -263,7 +263,8 @@ namespace {
 
 // The serial definition of farthest-point sampling, every point's distance updated at every pick; kept for
 // positions that are not all finite (a box of NaN cannot prune), where it is what the tree would give.
-std::vector<size_t> farthestPointSampleFlat(const std::vector<Vector3d>& positions, size_t first, size_t count) {
+std::vector<size_t> farthestPointSampleFlat(const std::vector<Vector3d>& positions,
+                                            const std::vector<Vector3d>* normals, size_t first, size_t count) {
     const size_t n = positions.size();
     std::vector<double> distance(n, std::numeric_limits<double>::infinity());
     std::vector<size_t> picked;
@@ -277,7 +278,7 @@ std::vector<size_t> farthestPointSampleFlat(const std::vector<Vector3d>& positio
         for (size_t i = 0; i < n; ++i) {
             if (distance[i] < 0) continue;
             double d = (positions[i] - positions[current]).squaredNorm();
-            if (d < distance[i]) distance[i] = d;
+            if (d < distance[i] && (!normals || (*normals)[i].dot((*normals)[current]) >= kOtherSide)) distance[i] = d;
             if (distance[i] > bestDistance) best = i, bestDistance = distance[i];  // ties keep the lowest index
         }
         // Only with NaN coordinates: take the lowest index not yet picked.
@@ -296,9 +297,11 @@ std::vector<size_t> farthestPointSampleFlat(const std::vector<Vector3d>& positio
 // the picks are the flat loop's, in the same order (test: points, farthestPointSample).
 class FpsTree {
 public:
-    explicit FpsTree(const std::vector<Vector3d>& positions) : items_(positions.size()), at_(positions.size()) {
+    FpsTree(const std::vector<Vector3d>& positions, const std::vector<Vector3d>* normals)
+        : items_(positions.size()), at_(positions.size()), sided_(normals != nullptr) {
         for (size_t i = 0; i < items_.size(); ++i)
-            items_[i] = {positions[i], std::numeric_limits<double>::infinity(), uint32_t(i)};
+            items_[i] = {positions[i], normals ? (*normals)[i] : Vector3d::Zero(),
+                         std::numeric_limits<double>::infinity(), uint32_t(i)};
         nodes_.reserve(2 * (items_.size() / kLeaf + 1));
         build(0, uint32_t(items_.size()));
         for (uint32_t k = 0; k < items_.size(); ++k) at_[items_[k].index] = k;
@@ -307,8 +310,8 @@ public:
     // Picks `i` and brings every distance up to date; returns the next pick (the farthest point).
     size_t pick(size_t i) {
         items_[at_[i]].distance = -1;
-        const Vector3d p = items_[at_[i]].p;
-        update(0, p);
+        const Vector3d p = items_[at_[i]].p, n = items_[at_[i]].n;
+        update(0, p, n);
         return nodes_[0].farthest;
     }
 
@@ -316,7 +319,7 @@ private:
     static constexpr uint32_t kLeaf = 32;
     // The points in the tree's order, beside their distances: a leaf reads one stretch of memory.
     struct Item {
-        Vector3d p;
+        Vector3d p, n;    // n: its normal, with normals (else zero)
         double distance;  // squared distance to the nearest picked point; -1 once picked
         uint32_t index;   // in the input
     };
@@ -358,7 +361,7 @@ private:
         return d > best || (d == best && i < bestIndex);
     }
 
-    void update(uint32_t index, const Vector3d& at) {
+    void update(uint32_t index, const Vector3d& at, const Vector3d& facing) {
         Node& node = nodes_[index];
         // The box's squared distance from `at`, a lower bound of its points' (less a margin for rounding).
         const Vector3d gap = (node.lo - at).cwiseMax(at - node.hi).cwiseMax(0.0);
@@ -369,13 +372,14 @@ private:
             for (uint32_t k = node.begin; k < node.end; ++k) {
                 Item& item = items_[k];
                 if (item.distance < 0) continue;
-                item.distance = std::min(item.distance, (item.p - at).squaredNorm());
+                if (!sided_ || item.n.dot(facing) >= kOtherSide)
+                    item.distance = std::min(item.distance, (item.p - at).squaredNorm());
                 if (farther(item.distance, item.index, best, bestIndex)) best = item.distance, bestIndex = item.index;
             }
         } else {
             const uint32_t left = node.left, right = node.right;
-            update(left, at);
-            update(right, at);
+            update(left, at, facing);
+            update(right, at, facing);
             const Node &a = nodes_[left], &b = nodes_[right];
             best = a.distance, bestIndex = a.farthest;
             if (farther(b.distance, b.farthest, best, bestIndex)) best = b.distance, bestIndex = b.farthest;
@@ -387,12 +391,15 @@ private:
     std::vector<Item> items_;
     std::vector<uint32_t> at_;  // each input point's place in items_
     std::vector<Node> nodes_;
+    bool sided_;
 };
 
 }  // namespace
 
-std::vector<size_t> farthestPointSample(const std::vector<Vector3d>& positions, size_t count) {
+std::vector<size_t> farthestPointSample(const std::vector<Vector3d>& positions, size_t count,
+                                        const std::vector<Vector3d>* normals) {
     size_t n = positions.size();
+    if (normals && normals->size() != n) throw Error("farthestPointSample: one normal a position");
     std::vector<size_t> picked;
     if (count >= n) {
         for (size_t i = 0; i < n; ++i) picked.push_back(i);
@@ -407,9 +414,9 @@ std::vector<size_t> farthestPointSample(const std::vector<Vector3d>& positions, 
         if (less(positions[i], positions[first])) first = i;
     if (n >= size_t(UINT32_MAX) ||
         !std::all_of(positions.begin(), positions.end(), [](const Vector3d& p) { return p.allFinite(); }))
-        return farthestPointSampleFlat(positions, first, count);
+        return farthestPointSampleFlat(positions, normals, first, count);
 
-    FpsTree tree(positions);
+    FpsTree tree(positions, normals);
     picked.reserve(count);
     for (size_t current = first;;) {
         picked.push_back(current);

@@ -449,8 +449,9 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     if (adaptive) {
         // Seeds from the vertices and every face sample, projected onto F = 0: a big flat face with few vertices
         // is seeded as densely as the rest.
-        std::vector<Eigen::Vector3d> candidates = surface.centers;
-        for (Eigen::Vector3d x : samples.positions) {
+        std::vector<Eigen::Vector3d> candidates = surface.centers, facing = surface.normals;
+        for (size_t j = 0; j < samples.positions.size(); ++j) {
+            Eigen::Vector3d x = samples.positions[j];
             bool on = false;
             const Eigen::Vector3d start = x;
             for (int k = 0; k < 6 && !on; ++k) {
@@ -460,10 +461,10 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
                 x -= (f / g2) * g;
                 on = std::abs(f) < 1e-9 * std::sqrt(g2);
             }
-            if (on && (x - start).norm() < 0.01) candidates.push_back(x);
+            if (on && (x - start).norm() < 0.01) candidates.push_back(x), facing.push_back(samples.normals[j]);
         }
         surface.seeds.clear();
-        for (size_t i : farthestPointSample(candidates, std::min(candidates.size(), kMaxSeeds)))
+        for (size_t i : farthestPointSample(candidates, std::min(candidates.size(), kMaxSeeds), &facing))
             surface.seeds.push_back(candidates[i]);
     }
     phases.lap("seeds");

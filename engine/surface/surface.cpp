@@ -11,7 +11,9 @@ namespace ink {
 
 void chooseSeeds(Surface& surface) {
     surface.seeds.clear();
-    for (size_t i : farthestPointSample(surface.centers, std::min(surface.centers.size(), kMaxSeeds)))
+    const bool sided = surface.normals.size() == surface.centers.size();
+    for (size_t i : farthestPointSample(surface.centers, std::min(surface.centers.size(), kMaxSeeds),
+                                        sided ? &surface.normals : nullptr))
         surface.seeds.push_back(surface.centers[i]);
 }
 

@@ -535,7 +535,10 @@ TEST_CASE(
                              << " px, " << dashes << " under 20 px; ink share of the two busiest directions " << share);
         CHECK(dashes <= pieces.size() / 100);
         CHECK(median >= 40.0);  // RenderStyle::hatchMinRun: 4% of 1024 (of visible run), unless cut by the image
-        CHECK(share <= 0.55);
+        // The layout follows the sample set: over refinement seeds 1–6 the share was 0.43–0.53 (0.51 at seed 1),
+        // and with the seeds spread over each side of a thin wall on its own (clean.h) 0.41–0.58 (0.58 at seed 1),
+        // the same spread: no one direction either way, where graph paper reads 1.
+        CHECK(share <= 0.62);
 
         // The halo: around every visible interior contour, the band between its ink and the halo's edge is paper
         // unless another contour inks it. Without the halo, hatching inks part of that band (the test can fail).
@@ -579,11 +582,12 @@ TEST_CASE(
         CHECK(inked == 0);
         style.haloWidth = 0;
         renderer.setStyle(style);
-        // The control: without the halo the hatching does cross the band, a fortieth of it at least (on lavapipe 43
-        // of its 887 pixels).
+        // The control: without the halo the hatching does cross the band, an 80th of it at least (on lavapipe 43
+        // of its 887 pixels; with the seeds of each side of a thin wall spread on their own, clean.h, 29 and 15
+        // of 889 as quads and stamps: where the strokes lie follows the sample set).
         auto [inkedWithout, unused] = inkedInBand(renderer.render(camera));
         MESSAGE(inkedWithout << " of them inked without the halo");
-        CHECK(inkedWithout * 40 > bandPixels);
+        CHECK(inkedWithout * 80 > bandPixels);
     }
     gpu.requireNoValidationErrors();
 }

@@ -597,7 +597,7 @@ TEST_CASE("points: farthestPointSample" * doctest::test_suite("unit")) {
 // The definition, every distance updated at every pick, against the pruned tree the function uses: the same
 // picks in the same order, on spread points, on a grid (many exact ties) and on clusters of duplicates.
 TEST_CASE("points: farthestPointSample picks what the definition picks" * doctest::test_suite("unit")) {
-    auto definition = [](const std::vector<Vector3d>& v, size_t count) {
+    auto definition = [](const std::vector<Vector3d>& v, size_t count, const std::vector<Vector3d>* n = nullptr) {
         size_t first = 0;
         for (size_t i = 1; i < v.size(); ++i)
             if (std::tie(v[i].x(), v[i].y(), v[i].z()) < std::tie(v[first].x(), v[first].y(), v[first].z())) first = i;
@@ -609,7 +609,8 @@ TEST_CASE("points: farthestPointSample picks what the definition picks" * doctes
             double far = -1;
             for (size_t i = 0; i < v.size(); ++i) {
                 if (d[i] < 0) continue;
-                d[i] = std::min(d[i], (v[i] - v[picked.back()]).squaredNorm());
+                if (!n || (*n)[i].dot((*n)[picked.back()]) >= ink::kOtherSide)
+                    d[i] = std::min(d[i], (v[i] - v[picked.back()]).squaredNorm());
                 if (d[i] > far) far = d[i], best = i;
             }
             picked.push_back(best);
@@ -640,6 +641,71 @@ TEST_CASE("points: farthestPointSample picks what the definition picks" * doctes
             CAPTURE(count);
             CHECK(ink::farthestPointSample(*v, count) == definition(*v, count));
         }
+    // With normals: random ones on the spread points, and the two sides of a thin plate.
+    std::vector<Vector3d> normals, plate, plateNormals;
+    for (size_t i = 0; i < spread.size(); ++i) normals.push_back(Vector3d(u(rng), u(rng), u(rng)).normalized());
+    for (int x = 0; x < 30; ++x)
+        for (int y = 0; y < 30; ++y)
+            for (int side : {0, 1}) {
+                plate.emplace_back(x / 29.0 + 1e-3 * u(rng), y / 29.0 + 1e-3 * u(rng), 0.01 * side);
+                plateNormals.emplace_back(0, 0, side ? 1 : -1);
+            }
+    for (size_t count : {size_t(2), size_t(97), size_t(700)}) {
+        CAPTURE(count);
+        CHECK(ink::farthestPointSample(spread, count, &normals) == definition(spread, count, &normals));
+        CHECK(ink::farthestPointSample(plate, count, &plateNormals) == definition(plate, count, &plateNormals));
+    }
+}
+
+TEST_CASE("points: farthestPointSample with normals spreads each side of a thin plate on its own" *
+          doctest::test_suite("unit")) {
+    // A unit plate a hundredth thick, its two sides sampled on a jittered grid. By distance alone a pick on one
+    // side stands for the other too: each side gets picks only where the other has none. With the normals, each
+    // side's points are as near a pick of their own side as one side's alone would be.
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::vector<Vector3d> plate, normals;
+    for (int x = 0; x < 40; ++x)
+        for (int y = 0; y < 40; ++y)
+            for (int side : {0, 1}) {
+                plate.emplace_back(x / 39.0 + 2e-3 * u(rng), y / 39.0 + 2e-3 * u(rng), 0.01 * side);
+                normals.emplace_back(0, 0, side ? 1 : -1);
+            }
+    // The farthest any point lies from a pick on its own side, and how many picks each side got.
+    auto gap = [&](const std::vector<size_t>& picks, std::array<int, 2>* perSide) {
+        double worst = 0;
+        *perSide = {0, 0};
+        for (size_t p : picks) ++(*perSide)[normals[p].z() > 0];
+        for (size_t i = 0; i < plate.size(); ++i) {
+            double nearest = INFINITY;
+            for (size_t p : picks)
+                if (normals[p].dot(normals[i]) > 0) nearest = std::min(nearest, (plate[p] - plate[i]).norm());
+            worst = std::max(worst, nearest);
+        }
+        return worst;
+    };
+    std::array<int, 2> blind, sided;
+    const double blindGap = gap(ink::farthestPointSample(plate, 64), &blind);
+    const double sidedGap = gap(ink::farthestPointSample(plate, 64, &normals), &sided);
+    INFO("by distance: worst gap " << blindGap << ", picks " << blind[0] << " + " << blind[1]
+                                   << "; with normals: " << sidedGap << ", " << sided[0] << " + " << sided[1]);
+    // One side alone, 32 picks: how near its points come to one.
+    std::vector<Vector3d> top;
+    for (size_t i = 0; i < plate.size(); ++i)
+        if (normals[i].z() > 0) top.push_back(plate[i]);
+    double alone = 0;
+    const std::vector<size_t> topPicks = ink::farthestPointSample(top, 32);
+    for (const Vector3d& p : top) {
+        double nearest = INFINITY;
+        for (size_t k : topPicks) nearest = std::min(nearest, (top[k] - p).norm());
+        alone = std::max(alone, nearest);
+    }
+    INFO("one side alone: " << alone);
+    CHECK(std::abs(sided[0] - sided[1]) <= 2);
+    CHECK(sidedGap < 1.15 * alone);
+    CHECK(blindGap > 1.4 * alone);
+    CHECK_THROWS_WITH_AS(ink::farthestPointSample(std::vector<Vector3d>(3), 1, &normals),
+                         "farthestPointSample: one normal a position", ink::Error);
 }
 
 // --- Files -----------------------------------------------------------------------------------------------
