@@ -27,9 +27,11 @@ inkwell::ModelOptions modelOptions(const Options& o) {
     m.trim = o.trim;
     m.removeOutliers = o.removeOutliers;
     m.smoothNoise = o.smoothNoise;
-    // A point cloud's creases only where they may be drawn: by the style's pen lines, or in the viewer, whose panel
-    // turns them on (fit, sample and a render of dots alone skip them). A mesh's lines are always found.
-    m.features = o.drawing.creases || (o.command && o.command->get_name() == "view");
+    // A point cloud's creases (estimated, 2 s for a 10⁶-point scan) only with the style's pen lines, where asked
+    // for (--creases on), or in the viewer, whose panel turns them on: fit, sample and a render of dots alone skip
+    // them. A mesh's lines are always found, and drawn in every style (below).
+    const bool pen = o.drawing.contours || o.drawing.hatching;
+    m.features = (o.drawing.creases && (pen || o.creases == "on")) || (o.command && o.command->get_name() == "view");
     return m;
 }
 
@@ -129,8 +131,8 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--halo", s.halo, "Paper kept clear each side of an interior contour, in pixels")
         ->capture_default_str();
     cmd->add_option("--creases", o.creases,
-                    "Crease lines (a mesh's or a point cloud's sharp edges), on their own pen: auto draws them with "
-                    "contours or hatching")
+                    "Crease lines (a mesh's or a point cloud's sharp edges), on their own pen: auto draws a mesh's in "
+                    "every style, a point cloud's with contours or hatching")
         ->check(CLI::IsMember({"auto", "on", "off"}))
         ->capture_default_str();
     cmd->add_option("--boundaries", o.boundaries,
@@ -309,14 +311,15 @@ static void parseStyle(Options& o) {
     d.style = dots == "direction" ? inkwell::Style::Direction
               : dots == "both"    ? inkwell::Style::Both
                                   : inkwell::Style::Stipple;
-    // Creases go with the pen lines, a mesh's boundaries (its rims, its holes' edges) with every style: dots alone
-    // do not show where an open surface ends. Either unless asked for or against.
-    const bool pen = d.contours || d.hatching;
-    for (auto [setting, on, option, always] : {std::tuple{&o.creases, &d.creases, "--creases", false},
-                                               std::tuple{&o.boundaries, &d.boundaries, "--boundaries", true}}) {
+    // A model's creases (its sharp edges) and a mesh's boundaries (its rims, its holes' edges) go with every style,
+    // unless asked against: dots alone show neither where an open surface ends nor where two faces of one tone meet
+    // (a CAD part's stippled faces ran together, its outline along a sharp edge dashed: CGAL's fandisk, spool,
+    // rotor). A point cloud's creases are searched for only with pen lines or when asked for (modelOptions).
+    for (auto [setting, on, option] :
+         {std::tuple{&o.creases, &d.creases, "--creases"}, std::tuple{&o.boundaries, &d.boundaries, "--boundaries"}}) {
         if (*setting != "auto" && *setting != "on" && *setting != "off")
             throw inkwell::Error(std::string(option) + " '" + *setting + "' is not auto, on or off");
-        *on = *setting == "on" || (*setting == "auto" && (pen || always));
+        *on = *setting != "off";
     }
     o.look.dots = !dots.empty();
 }

@@ -247,7 +247,7 @@ struct DrawingOptions {
     bool hatching = false;
     // A model's crease lines (sharp edges: a mesh's, or a point cloud's where its normals turn sharply) and a mesh's
     // boundary lines (open edges, holes' rims), on pens of their own; a .hrbf model has none. The command line
-    // draws them with contours or hatching.
+    // draws a mesh's in every style, a point cloud's creases with contours or hatching.
     bool creases = false;
     bool boundaries = false;
     double hatchSpacing = 0.007;  // of the bounding-box diagonal, the finest level (the coarse one is twice this)

@@ -799,25 +799,47 @@ TEST_CASE("cli: a cube's SVG has its creases on a pen of their own, an open hemi
     CHECK(open.find("creases") == std::string::npos);
 }
 
-TEST_CASE("cli: the feature lines are found where they are drawn, not for dots alone" * doctest::test_suite("cli")) {
-    // A 10⁶-point scan's creases take seconds to find: a render of dots does not look for a point cloud's (nor do
-    // fit and sample) nor draws a mesh's, and its stats say so instead of counting none.
+TEST_CASE("cli: a mesh's creases are drawn in every style, a point cloud's looked for only with pen lines" *
+          doctest::test_suite("cli")) {
+    // A mesh's sharp edges are found with its fit (one pass over its edges) and drawn with dots alone too: stippled
+    // alone, a CAD part's faces of one tone ran together and its outline along a sharp edge came out dashed. A
+    // point cloud's are estimated from its normals, seconds for a 10⁶-point scan: a render of dots does not look
+    // for them (nor do fit and sample), and its stats say so instead of counting none.
     TempDir dir;
-    const std::string cube = dir / "cube.obj";
+    const std::string cube = dir / "cube.obj", cloud = dir / "cube.xyzn";
     writeObj(cube, cubeMesh(6));
-    auto creases = [&](const std::string& style) {
-        const std::string stats = dir / (style + ".json");
-        Run r = runInkwell("render " + cube + " --style " + style + " --size 128 128 --stats " + stats + " -o " +
-                           dir / (style + ".png"));
+    {
+        const ink::OrientedPoints points = cubeMesh(24);
+        std::ofstream out(cloud);
+        for (size_t i = 0; i < points.positions.size(); ++i)
+            out << points.positions[i].x() << ' ' << points.positions[i].y() << ' ' << points.positions[i].z() << ' '
+                << points.normals[i].x() << ' ' << points.normals[i].y() << ' ' << points.normals[i].z() << '\n';
+    }
+    int runs = 0;
+    auto creases = [&](const std::string& model, const std::string& style, const std::string& extra) {
+        const std::string name = std::to_string(++runs), stats = dir / (name + ".json");
+        Run r = runInkwell("render " + model + " --style " + style + " --size 128 128 --stats " + stats + " -o " +
+                           dir / (name + ".png") + extra);
         REQUIRE_MESSAGE(r.status == 0, r.output);
         std::ifstream in(stats);
         return nlohmann::json::parse(in)["lines"]["creases"];
     };
-    const nlohmann::json dots = creases("stipple"), lines = creases("contours");
-    CHECK(dots == nlohmann::json{{"drawn", false}});
-    CHECK(lines["drawn"] == true);
-    CHECK(lines["strokes"].get<size_t>() >= 1);
-    CHECK(lines["length"].get<double>() > 0.9 * 12 / std::sqrt(3.0));  // the twelve edges, in diagonals
+    const double edges = 12 / std::sqrt(3.0);  // the twelve edges, in diagonals
+    const nlohmann::json meshDots = creases(cube, "stipple", ""), meshLines = creases(cube, "contours", "");
+    for (const nlohmann::json* drawn : {&meshDots, &meshLines}) {
+        CHECK((*drawn)["drawn"] == true);
+        CHECK((*drawn)["strokes"].get<size_t>() >= 1);
+        CHECK((*drawn)["length"].get<double>() > 0.9 * edges);
+    }
+    CHECK(creases(cube, "stipple", " --creases off") == nlohmann::json{{"drawn", false}});
+    CHECK(creases(cloud, "stipple", "") == nlohmann::json{{"drawn", false}});
+    const nlohmann::json cloudLines = creases(cloud, "contours", ""),
+                         cloudAsked = creases(cloud, "stipple", " --creases on");
+    for (const nlohmann::json* drawn : {&cloudLines, &cloudAsked}) {
+        CHECK((*drawn)["drawn"] == true);
+        // From points, none within about an eighth of a side of the corners (docs/lines.md).
+        CHECK((*drawn)["length"].get<double>() > 0.6 * edges);
+    }
 }
 
 // Dots alone do not show where an open surface ends: its rim went ragged, a hole through it unseen (CGAL's
