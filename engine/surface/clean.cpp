@@ -261,6 +261,11 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance, double oppos
 
 namespace {
 
+// Whether two normals face the same way (not turned past kOtherSide), in float as the tree keeps them.
+bool facesWay(const Vector3d& a, const Vector3d& b) {
+    return a.cast<float>().dot(b.cast<float>()) >= float(kOtherSide);
+}
+
 // The serial definition of farthest-point sampling, every point's distance updated at every pick; kept for
 // positions that are not all finite (a box of NaN cannot prune), where it is what the tree would give.
 std::vector<size_t> farthestPointSampleFlat(const std::vector<Vector3d>& positions,
@@ -278,7 +283,7 @@ std::vector<size_t> farthestPointSampleFlat(const std::vector<Vector3d>& positio
         for (size_t i = 0; i < n; ++i) {
             if (distance[i] < 0) continue;
             double d = (positions[i] - positions[current]).squaredNorm();
-            if (d < distance[i] && (!normals || (*normals)[i].dot((*normals)[current]) >= kOtherSide)) distance[i] = d;
+            if (d < distance[i] && (!normals || facesWay((*normals)[i], (*normals)[current]))) distance[i] = d;
             if (distance[i] > bestDistance) best = i, bestDistance = distance[i];  // ties keep the lowest index
         }
         // Only with NaN coordinates: take the lowest index not yet picked.
@@ -298,20 +303,21 @@ std::vector<size_t> farthestPointSampleFlat(const std::vector<Vector3d>& positio
 class FpsTree {
 public:
     FpsTree(const std::vector<Vector3d>& positions, const std::vector<Vector3d>* normals)
-        : items_(positions.size()), at_(positions.size()), sided_(normals != nullptr) {
+        : items_(positions.size()), at_(positions.size()) {
         for (size_t i = 0; i < items_.size(); ++i)
-            items_[i] = {positions[i], normals ? (*normals)[i] : Vector3d::Zero(),
-                         std::numeric_limits<double>::infinity(), uint32_t(i)};
+            items_[i] = {positions[i], std::numeric_limits<double>::infinity(), uint32_t(i)};
         nodes_.reserve(2 * (items_.size() / kLeaf + 1));
         build(0, uint32_t(items_.size()));
         for (uint32_t k = 0; k < items_.size(); ++k) at_[items_[k].index] = k;
+        if (normals)  // in the tree's order, beside the items (none without normals)
+            for (const Item& item : items_) normals_.push_back((*normals)[item.index].cast<float>());
     }
 
     // Picks `i` and brings every distance up to date; returns the next pick (the farthest point).
     size_t pick(size_t i) {
         items_[at_[i]].distance = -1;
-        const Vector3d p = items_[at_[i]].p, n = items_[at_[i]].n;
-        update(0, p, n);
+        const Vector3d p = items_[at_[i]].p;
+        update(0, p, normals_.empty() ? Eigen::Vector3f::Zero() : normals_[at_[i]]);
         return nodes_[0].farthest;
     }
 
@@ -319,7 +325,7 @@ private:
     static constexpr uint32_t kLeaf = 32;
     // The points in the tree's order, beside their distances: a leaf reads one stretch of memory.
     struct Item {
-        Vector3d p, n;    // n: its normal, with normals (else zero)
+        Vector3d p;
         double distance;  // squared distance to the nearest picked point; -1 once picked
         uint32_t index;   // in the input
     };
@@ -361,7 +367,8 @@ private:
         return d > best || (d == best && i < bestIndex);
     }
 
-    void update(uint32_t index, const Vector3d& at, const Vector3d& facing) {
+    // `towards`: the pick's normal; with normals, only the points facing its way come nearer it.
+    void update(uint32_t index, const Vector3d& at, const Eigen::Vector3f& towards) {
         Node& node = nodes_[index];
         // The box's squared distance from `at`, a lower bound of its points' (less a margin for rounding).
         const Vector3d gap = (node.lo - at).cwiseMax(at - node.hi).cwiseMax(0.0);
@@ -372,14 +379,14 @@ private:
             for (uint32_t k = node.begin; k < node.end; ++k) {
                 Item& item = items_[k];
                 if (item.distance < 0) continue;
-                if (!sided_ || item.n.dot(facing) >= kOtherSide)
+                if (normals_.empty() || normals_[k].dot(towards) >= float(kOtherSide))
                     item.distance = std::min(item.distance, (item.p - at).squaredNorm());
                 if (farther(item.distance, item.index, best, bestIndex)) best = item.distance, bestIndex = item.index;
             }
         } else {
             const uint32_t left = node.left, right = node.right;
-            update(left, at, facing);
-            update(right, at, facing);
+            update(left, at, towards);
+            update(right, at, towards);
             const Node &a = nodes_[left], &b = nodes_[right];
             best = a.distance, bestIndex = a.farthest;
             if (farther(b.distance, b.farthest, best, bestIndex)) best = b.distance, bestIndex = b.farthest;
@@ -391,7 +398,7 @@ private:
     std::vector<Item> items_;
     std::vector<uint32_t> at_;  // each input point's place in items_
     std::vector<Node> nodes_;
-    bool sided_;
+    std::vector<Eigen::Vector3f> normals_;  // the items' normals, with normals
 };
 
 }  // namespace

@@ -609,7 +609,7 @@ TEST_CASE("points: farthestPointSample picks what the definition picks" * doctes
             double far = -1;
             for (size_t i = 0; i < v.size(); ++i) {
                 if (d[i] < 0) continue;
-                if (!n || (*n)[i].dot((*n)[picked.back()]) >= ink::kOtherSide)
+                if (!n || (*n)[i].cast<float>().dot((*n)[picked.back()].cast<float>()) >= float(ink::kOtherSide))
                     d[i] = std::min(d[i], (v[i] - v[picked.back()]).squaredNorm());
                 if (d[i] > far) far = d[i], best = i;
             }
