@@ -31,7 +31,7 @@ inkwell::ModelOptions modelOptions(const Options& o) {
     // for (--creases on), or in the viewer, whose panel turns them on: fit, sample and a render of dots alone skip
     // them. A mesh's lines are always found, and drawn in every style (below).
     const bool pen = o.drawing.contours || o.drawing.hatching;
-    m.features = (o.drawing.creases && (pen || o.creases == "on")) || (o.command && o.command->get_name() == "view");
+    m.features = o.creases == "on" || (o.creases == "auto" && pen) || (o.command && o.command->get_name() == "view");
     return m;
 }
 

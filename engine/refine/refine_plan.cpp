@@ -33,7 +33,7 @@ double nearestSquaredDistance(const std::vector<Eigen::Vector3d>& points, size_t
 // the wrong way: mean NN 0.760 → 0.750 and 0.759 → 0.742, clumping 0.071 → 0.120 and 0.026 → 0.043.)
 constexpr double kClustered = 1.5;
 
-// With normals, only the seeds that face a seed's way are its neighbours (clean.h, kOtherSide): across a thin wall
+// With normals, only the seeds that face a seed's way are its neighbours (clean.h, facesWay): across a thin wall
 // the nearest seed is the other side's, and ρ₀ came out the wall's thickness.
 static double meanSpacing(const std::vector<Eigen::Vector3d>& p, const std::vector<Eigen::Vector3d>& normals) {
     if (p.size() < 2) return 0.1;
@@ -46,7 +46,7 @@ static double meanSpacing(const std::vector<Eigen::Vector3d>& p, const std::vect
         nearest.fill(INFINITY);
         for (size_t j = 0; j < p.size(); ++j) {
             const double d2 = (p[i] - p[j]).squaredNorm();
-            if (j == i || !(d2 < nearest.back()) || normals[i].dot(normals[j]) < kOtherSide) continue;
+            if (j == i || !(d2 < nearest.back()) || !facesWay(normals[i], normals[j])) continue;
             nearest.back() = d2;
             std::sort(nearest.begin(), nearest.end());
         }

@@ -261,11 +261,6 @@ NearMerge mergeNearPoints(OrientedPoints& points, double tolerance, double oppos
 
 namespace {
 
-// Whether two normals face the same way (not turned past kOtherSide), in float as the tree keeps them.
-bool facesWay(const Vector3d& a, const Vector3d& b) {
-    return a.cast<float>().dot(b.cast<float>()) >= float(kOtherSide);
-}
-
 // The serial definition of farthest-point sampling, every point's distance updated at every pick; kept for
 // positions that are not all finite (a box of NaN cannot prune), where it is what the tree would give.
 std::vector<size_t> farthestPointSampleFlat(const std::vector<Vector3d>& positions,

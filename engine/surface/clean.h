@@ -125,5 +125,10 @@ std::vector<size_t> farthestPointSample(const std::vector<Eigen::Vector3d>& posi
 // faces counted as two sides too, and the bunny's seeds crowded at its ear tips (its closest same-side pair 0.35 →
 // 0.19 in its units, the mean spacing 0.40; the walls' patches closed as much either way).
 constexpr double kOtherSide = -0.8;
+// Whether two normals face the same way (not turned past kOtherSide), in float as farthestPointSample's tree keeps
+// them: the seeds' spacing (refine_plan.cpp) asks as the sampling does.
+inline bool facesWay(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return a.cast<float>().dot(b.cast<float>()) >= float(kOtherSide);
+}
 
 }  // namespace ink
