@@ -191,7 +191,9 @@ DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t sa
         // Each march takes room for CONTOUR_MARCH_VERTICES and uses a few on average (the bunny: 8); every seed
         // marches both ways in round 0. Four times the CPU's budget of vertices: room for the first marches of
         // 12,500 seeds (the bunny's default view has 372, the armadillo's 1,242).
-        vertexCapacity_ = uint32_t(std::min<size_t>(4 * options.maxTotalVertices, 1u << 24));
+        vertexCapacity_ = uint32_t(
+            std::min<uint64_t>({4 * uint64_t(options.maxTotalVertices), 1u << 24,
+                                uint64_t(ctx.properties.limits.maxStorageBufferRange) / sizeof(gpu::ContourVertex)}));
         const auto dst = VK_BUFFER_USAGE_TRANSFER_DST_BIT, src = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
         seedTable_ =
             createBuffer(ctx, VkDeviceSize(seedSlots_) * gpu::CONTOUR_SEED_SLOT * 4, kStorage | dst, MemoryUse::Device);

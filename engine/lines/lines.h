@@ -58,8 +58,9 @@ struct ContourOptions {
     double seedBand = 0.12;         // samples with |n·v| below this (v the unit view vector) seed curves
     uint32_t maxVertices = 100000;  // per curve
     // All curves together: past this the tracing stops with an ink::Error (a smooth model's contour at 1024² has a
-    // few thousand; hundreds of thousands mean a surface too rough to draw lines on).
-    size_t maxTotalVertices = 300000;
+    // few thousand, a detailed CAD assembly a few hundred thousand: assimp's 2CylinderEngine.glb 380,000 in 3.6 s,
+    // refused at 300,000 before; millions mean a surface too rough to draw lines on). 32 MB of vertices at most.
+    size_t maxTotalVertices = 1000000;
     double maxSeconds = 30;  // likewise past this much tracing time
     // Closed curves shorter than this (normalized units; about 10 pixels at the default view) are dropped: the
     // contour of a bump too small to read, which the pen would draw as a blot.
