@@ -160,7 +160,9 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
     cmd->add_option("--paper", o.paper, "Paper colour, #rrggbb")->capture_default_str();
     cmd->add_option("--dot-size", s.dotSize, "Dot diameter in pixels")->capture_default_str();
     cmd->add_option("--silhouette-size", s.silhouetteSize, "Silhouette dot diameter in pixels")->capture_default_str();
-    cmd->add_option("--tau", s.tau, "Silhouette threshold τ on |n·v|")->capture_default_str();
+    cmd->add_option("--tau", s.tau,
+                    "Silhouette threshold τ on |n·v| (the dots' outline; none with contours, whose pen draws it)")
+        ->capture_default_str();
     cmd->add_option("--tone", s.toneGamma, "Tone curve exponent γ; 0 draws every front dot")->capture_default_str();
     cmd->add_option("--ink-density", s.inkDensity, "Scales how many dots the tone draws")->capture_default_str();
     cmd->add_option("--light", o.light,

@@ -66,7 +66,7 @@ void checkLook(const Look& look) {
     if (!ranges::supersample.contains(look.supersample)) throw Error("supersample must be 1 to 4");
 }
 
-ink::RenderStyle toStyle(const Look& look) {
+ink::RenderStyle toStyle(const Look& look, bool contours) {
     checkLook(look);
     ink::RenderStyle s;
     s.ink = {look.ink[0], look.ink[1], look.ink[2], look.ink[3]};
@@ -75,7 +75,10 @@ ink::RenderStyle toStyle(const Look& look) {
     s.hiddenSize = look.hiddenDotSize;
     s.frontSize = look.dotSize;
     s.silhouetteSize = look.silhouetteSize;
-    s.tau = look.tau;
+    // The silhouette class's band |n·v| < τ widens where the view runs along a surface that curves little across
+    // it (τ²/2κ_r on the screen: a cylinder seen obliquely), and its strokes beside the pen's line drew a second,
+    // heavier outline there: filled wedges up to 9 pixels thick along CGAL's dragknob.
+    s.tau = contours ? 0.0f : look.tau;
     s.toneGamma = look.toneGamma;
     s.inkDensity = look.inkDensity;
     s.hiddenLines = look.hiddenLines;

@@ -62,7 +62,9 @@ namespace api {
 Eigen::Vector3d toEigen(const Vec3& v);
 Vec3 toVec3(const Eigen::Vector3d& v);
 ink::Camera toCamera(const Camera& c);
-ink::RenderStyle toStyle(const Look& look);
+// The renderer's style for a Look. With the contour drawn by the pen (`contours`: DrawingOptions::contours), the
+// pen is the outline and the dots have no silhouette class (τ 0; Look::tau).
+ink::RenderStyle toStyle(const Look& look, bool contours);
 ink::RefineOptions toRefine(const DrawingOptions& o);
 ink::LineOptions toLines(const DrawingOptions& o);
 ink::DrawStyle toDrawStyle(Style s);

@@ -164,7 +164,7 @@ struct Renderer::Impl {
 
 Renderer::Renderer(const Drawing& drawing, uint32_t width, uint32_t height, const Look& look) {
     ink::Scene& scene = drawing.impl_->scene;
-    ink::RenderStyle style = api::toStyle(look);
+    ink::RenderStyle style = api::toStyle(look, scene.lines.contours);
     ink::checkOffscreenSize(scene.ctx, width, height, style.supersample);
     impl_ = std::make_unique<Impl>(*drawing.impl_, width, height, style);
 }
@@ -174,7 +174,7 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
 void Renderer::setLook(const Look& look) {
-    ink::RenderStyle style = api::toStyle(look);
+    ink::RenderStyle style = api::toStyle(look, impl_->drawing.scene.lines.contours);
     if (style.supersample != impl_->style.supersample)
         throw Error("setLook cannot change supersample (" + std::to_string(impl_->style.supersample) + " to " +
                     std::to_string(style.supersample) + "): make a new Renderer");
@@ -267,7 +267,8 @@ struct FrameRecorder::Impl {
 
 FrameRecorder::FrameRecorder(const Drawing& drawing, VkFormat colorFormat, uint32_t framesInFlight, const Look& look) {
     if (framesInFlight < 1 || framesInFlight > 16) throw Error("framesInFlight must be 1 to 16");
-    impl_ = std::make_unique<Impl>(*drawing.impl_, colorFormat, framesInFlight, api::toStyle(look));
+    impl_ = std::make_unique<Impl>(*drawing.impl_, colorFormat, framesInFlight,
+                                   api::toStyle(look, drawing.impl_->scene.lines.contours));
 }
 
 FrameRecorder::~FrameRecorder() = default;
@@ -275,7 +276,7 @@ FrameRecorder::FrameRecorder(FrameRecorder&&) noexcept = default;
 FrameRecorder& FrameRecorder::operator=(FrameRecorder&&) noexcept = default;
 
 void FrameRecorder::setLook(const Look& look) {
-    impl_->style = api::toStyle(look);
+    impl_->style = api::toStyle(look, impl_->drawing.scene.lines.contours);
     impl_->restyle = true;
 }
 

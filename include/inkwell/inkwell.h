@@ -465,11 +465,11 @@ struct Look {
     Color paper{1, 1, 1, 1};
     float dotSize = 2.0f;         // diameter in output pixels, (0, 64]
     float silhouetteSize = 2.4f;  // silhouette dots (|n·v| < tau), (0, 64]
-    float tau = 0.1f;             // [0, 1)
-    float toneGamma = 1.5f;       // tone curve exponent, [0, 16]; 0 draws every front dot
-    float inkDensity = 1.0f;      // scales how many dots the tone draws, [0, 100]
-    bool hiddenLines = false;     // occluded silhouettes and contours drawn faint
-    bool dots = true;             // off: only pen lines are drawn (the dots still hide what is behind the surface)
+    float tau = 0.1f;          // [0, 1); none with the contour drawn (DrawingOptions::contours: the pen is the outline)
+    float toneGamma = 1.5f;    // tone curve exponent, [0, 16]; 0 draws every front dot
+    float inkDensity = 1.0f;   // scales how many dots the tone draws, [0, 100]
+    bool hiddenLines = false;  // occluded silhouettes and contours drawn faint
+    bool dots = true;          // off: only pen lines are drawn (the dots still hide what is behind the surface)
     // The tone's stipples spaced evenly on the page, larger where the points cannot supply the tone's count (docs/
     // algorithm.md §4); off: the surface's ranked prefix, which crowds where the surface turns away.
     bool screenSpacing = true;

@@ -320,6 +320,7 @@ ink::RgbaImage renderScene(ink::Context& ctx, const GoldenScene& scene, const Sc
         // Stamped on every device, as lavapipe draws them, so that a GPU's picture compares with lavapipe's
         // (the quads are tested in test_lines.cpp).
         style.lineRaster = ink::RenderStyle::LineRaster::Stamps;
+        style.tau = 0;  // the command line's: with the contour drawn by the pen, no silhouette dots (usage.md)
         ink::LineOptions lines;
         lines.contours = lines.hatching = true;
         ink::Scene drawing(ctx, std::move(model), ink::DrawStyle::Stipple, options, lines);
