@@ -446,3 +446,27 @@ TEST_CASE("cli: render refines a level more for an image of 2^21 pixels or more,
     CHECK(levels("--size 2048 1024 --levels 2") == 2);
     CHECK(levels("--size 2048 1024 --style contours") == 3);
 }
+
+TEST_CASE("cli: with the contour drawn by the pen the dots have no outline of their own; without it they do" *
+          doctest::test_suite("cli")) {
+    // The stats' outline_dots: the silhouette class's dots (|n·v| < τ) drawn. Beside the pen's contour they drew a
+    // second outline, a heavy wedge where the band is wide on the screen (lines.md); --tau applies to dots alone.
+    TempDir dir;
+    const auto outlineDots = [&](const std::string& options) {
+        const std::string stats = dir / "stats.json";
+        const Run r = run("render " INKWELL_SOURCE_DIR "/assets/bunny.obj --control-points 300 --size 256 256 -q -o " +
+                          (dir / "out.png") + " --stats " + stats + " " + options);
+        CAPTURE(options);
+        CAPTURE(r.output);
+        REQUIRE(r.status == 0);
+        std::ifstream in(stats);
+        const nlohmann::json sets = nlohmann::json::parse(in)["stipples"];
+        REQUIRE(sets.size() == 1);
+        CHECK(sets[0]["front_dots"].get<size_t>() > 500);
+        return sets[0]["outline_dots"].get<size_t>();
+    };
+    CHECK(outlineDots("--style stipple") > 200);
+    CHECK(outlineDots("--style contours+stipple") == 0);
+    CHECK(outlineDots("--style contours+hatching+stipple --tau 0.3") == 0);
+    CHECK(outlineDots("--style hatching+stipple") > 200);
+}
