@@ -189,10 +189,12 @@ DeviceContours::DeviceContours(Context& ctx, const GpuRefinement& r, uint32_t sa
         nodeCapacity_ = uint32_t(std::min<uint64_t>(nodeCapacity_, (mostGroups - 1) * groupItems_ / 2));
         gridSlots_ = std::bit_ceil(2 * nodeCapacity_);
         // Each march takes room for CONTOUR_MARCH_VERTICES and uses a few on average (the bunny: 8); every seed
-        // marches both ways in round 0. Four times the CPU's budget of vertices: room for the first marches of
-        // 12,500 seeds (the bunny's default view has 372, the armadillo's 1,242).
+        // marches both ways in round 0. Room for 1,200,000 vertices (38 MB): the first marches of 12,500 seeds (the
+        // bunny's default view has 372, the armadillo's 1,242); assimp's 2CylinderEngine.glb, 322,000 vertices
+        // traced, fits. Not the CPU's limit times four (128 MB on the device and as much to read back, for every
+        // contour traced).
         vertexCapacity_ = uint32_t(
-            std::min<uint64_t>({4 * uint64_t(options.maxTotalVertices), 1u << 24,
+            std::min<uint64_t>({1200000, 2 * uint64_t(options.maxTotalVertices),
                                 uint64_t(ctx.properties.limits.maxStorageBufferRange) / sizeof(gpu::ContourVertex)}));
         const auto dst = VK_BUFFER_USAGE_TRANSFER_DST_BIT, src = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
         seedTable_ =
@@ -333,7 +335,8 @@ std::vector<PenStroke> DeviceContours::trace(const Surface& surface, const Vecto
                      ": the surface is too rough to draw lines on (a noisy fit?); draw dots instead, or fit fewer "
                      "points (--control-points)");
     };
-    if (counters.vertices > vertexCapacity_) throw tooRough(std::to_string(options_.maxTotalVertices) + " vertices");
+    if (counters.vertices > vertexCapacity_)
+        throw tooRough("the device's room for " + std::to_string(vertexCapacity_) + " vertices");
     if (counters.nodes > nodeCapacity_) throw tooRough(std::to_string(nodeCapacity_) + " nodes");
 
     // The marches, read back: the nodes' links and the vertices they wrote.
