@@ -134,23 +134,39 @@ std::string Plot::statsJson() const { return api::plotJson(impl_->plot).dump(); 
 
 bool Plot::isVectorPath(const std::string& path) { return ink::isVectorPath(path); }
 
+// Whether `style` (made from `look`) is restyled for the drawing's contour as it is now (`contours`): Drawing::refine
+// may turn it on or off, and with it the dots' silhouette class (api::toStyle). The up axis stays.
+static bool restyled(const Look& look, bool contours, ink::RenderStyle& style) {
+    const ink::RenderStyle now = api::toStyle(look, contours);
+    if (now.tau == style.tau) return false;
+    style.tau = now.tau;
+    return true;
+}
+
 // A renderer's descriptors name the drawing's sets. Drawing::refine replaces those (after waiting for the
 // device), so a renderer made before it is made again, for the new sets, before it next draws
 // (VUID-vkCmdDispatch-None-02699 otherwise: descriptors of destroyed buffers).
 struct Renderer::Impl {
     Drawing::Impl& drawing;
     uint32_t width, height;
+    Look look;  // the style's source: with the drawing's contour on or off, its τ changes (api::toStyle)
     ink::RenderStyle style;
     uint64_t generation;
     std::unique_ptr<ink::OffscreenRenderer> renderer;
     bool rendered = false;  // a frame since the renderer was made for the drawing's sets
-    Impl(Drawing::Impl& d, uint32_t w, uint32_t h, const ink::RenderStyle& s)
-        : drawing(d), width(w), height(h), style(s), generation(d.generation), renderer(make()) {}
+    Impl(Drawing::Impl& d, uint32_t w, uint32_t h, const Look& l)
+        : drawing(d),
+          width(w),
+          height(h),
+          look(l),
+          style(api::toStyle(l, d.scene.lines.contours)),
+          generation(d.generation),
+          renderer(make()) {}
     std::unique_ptr<ink::OffscreenRenderer> make() const {
         return std::make_unique<ink::OffscreenRenderer>(drawing.scene.ctx, width, height, style,
                                                         drawing.scene.pointers(), drawing.scene.strokes.get());
     }
-    // The renderer for the drawing's current sets.
+    // The renderer for the drawing's current sets and lines.
     ink::OffscreenRenderer& current() {
         if (generation != drawing.generation) {
             renderer.reset();
@@ -158,15 +174,15 @@ struct Renderer::Impl {
             generation = drawing.generation;
             rendered = false;
         }
+        if (restyled(look, drawing.scene.lines.contours, style)) renderer->setStyle(style);
         return *renderer;
     }
 };
 
 Renderer::Renderer(const Drawing& drawing, uint32_t width, uint32_t height, const Look& look) {
     ink::Scene& scene = drawing.impl_->scene;
-    ink::RenderStyle style = api::toStyle(look, scene.lines.contours);
-    ink::checkOffscreenSize(scene.ctx, width, height, style.supersample);
-    impl_ = std::make_unique<Impl>(*drawing.impl_, width, height, style);
+    ink::checkOffscreenSize(scene.ctx, width, height, api::toStyle(look, scene.lines.contours).supersample);
+    impl_ = std::make_unique<Impl>(*drawing.impl_, width, height, look);
 }
 
 Renderer::~Renderer() = default;
@@ -179,6 +195,7 @@ void Renderer::setLook(const Look& look) {
         throw Error("setLook cannot change supersample (" + std::to_string(impl_->style.supersample) + " to " +
                     std::to_string(style.supersample) + "): make a new Renderer");
     style.up = impl_->style.up;
+    impl_->look = look;
     impl_->style = style;
     impl_->current().setStyle(impl_->style);
 }
@@ -228,19 +245,21 @@ struct FrameRecorder::Impl {
     uint32_t frames;
     uint64_t generation;
     std::unique_ptr<ink::PointRenderer> renderer;
+    Look look;  // the style's source (Renderer::Impl)
     ink::RenderStyle style;
     bool restyle = true;
     std::vector<bool> recorded;  // a slot's frame recorded since the renderer was made for the drawing's sets
     // FrameTarget::capture: a slot's copy of its drawing (host-visible), and the extent it holds.
     std::vector<ink::Buffer> captures;
     std::vector<VkExtent2D> captured;
-    Impl(Drawing::Impl& d, VkFormat f, uint32_t n, const ink::RenderStyle& s)
+    Impl(Drawing::Impl& d, VkFormat f, uint32_t n, const Look& l)
         : drawing(d),
           format(f),
           frames(n),
           generation(d.generation),
           renderer(make()),
-          style(s),
+          look(l),
+          style(api::toStyle(l, d.scene.lines.contours)),
           recorded(n),
           captures(n),
           captured(n) {}
@@ -261,14 +280,14 @@ struct FrameRecorder::Impl {
             restyle = true;
             recorded.assign(frames, false);
         }
+        if (restyled(look, drawing.scene.lines.contours, style)) restyle = true;
         return *renderer;
     }
 };
 
 FrameRecorder::FrameRecorder(const Drawing& drawing, VkFormat colorFormat, uint32_t framesInFlight, const Look& look) {
     if (framesInFlight < 1 || framesInFlight > 16) throw Error("framesInFlight must be 1 to 16");
-    impl_ = std::make_unique<Impl>(*drawing.impl_, colorFormat, framesInFlight,
-                                   api::toStyle(look, drawing.impl_->scene.lines.contours));
+    impl_ = std::make_unique<Impl>(*drawing.impl_, colorFormat, framesInFlight, look);
 }
 
 FrameRecorder::~FrameRecorder() = default;
@@ -276,6 +295,7 @@ FrameRecorder::FrameRecorder(FrameRecorder&&) noexcept = default;
 FrameRecorder& FrameRecorder::operator=(FrameRecorder&&) noexcept = default;
 
 void FrameRecorder::setLook(const Look& look) {
+    impl_->look = look;
     impl_->style = api::toStyle(look, impl_->drawing.scene.lines.contours);
     impl_->restyle = true;
 }

@@ -59,7 +59,7 @@ struct ContourOptions {
     uint32_t maxVertices = 100000;  // per curve
     // All curves together: past this the tracing stops with an ink::Error (a smooth model's contour at 1024² has a
     // few thousand, a detailed CAD assembly a few hundred thousand: assimp's 2CylinderEngine.glb 380,000 in 3.6 s,
-    // refused at 300,000 before; millions mean a surface too rough to draw lines on). 32 MB of vertices at most.
+    // refused at 300,000 before; millions mean a surface too rough to draw lines on).
     size_t maxTotalVertices = 1000000;
     double maxSeconds = 30;  // likewise past this much tracing time
     // Closed curves shorter than this (normalized units; about 10 pixels at the default view) are dropped: the

@@ -11,6 +11,7 @@
 #include "temp_dir.h"
 
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstring>
@@ -47,6 +48,30 @@ size_t inked(const inkwell::Image& image) {
     size_t n = 0;
     for (size_t i = 0; i < image.rgba.size(); i += 4) n += image.rgba[i] < 128;
     return n;
+}
+
+// Of 64 directions from the centre of the inked pixels' box, those where the outline of a round shape is inked: a
+// pixel within 2 of the box's half-width from the centre.
+int outlinedDirections(const inkwell::Image& image) {
+    int x0 = int(image.width), y0 = int(image.height), x1 = -1, y1 = -1;
+    for (int y = 0; y < int(image.height); ++y)
+        for (int x = 0; x < int(image.width); ++x)
+            if (image.rgba[(size_t(y) * image.width + x) * 4] < 128)
+                x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+    if (x1 < x0) return 0;
+    const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1), r = 0.25 * (x1 - x0 + y1 - y0);
+    int found = 0;
+    for (int k = 0; k < 64; ++k) {
+        const double a = 2 * M_PI * k / 64;
+        bool ink = false;
+        for (double d = r - 2; d <= r + 0.5 && !ink; d += 0.5) {
+            const int x = int(cx + d * std::cos(a) + 0.5), y = int(cy + d * std::sin(a) + 0.5);
+            ink = x >= 0 && y >= 0 && x < int(image.width) && y < int(image.height) &&
+                  image.rgba[(size_t(y) * image.width + x) * 4] < 128;
+        }
+        found += ink;
+    }
+    return found;
 }
 
 // The application's colour image and a host-visible copy of it, for frames a FrameRecorder records.
@@ -474,6 +499,7 @@ TEST_CASE("api: prepare and apply refine in two halves under a live FrameRecorde
     look.supersample = 1;
     inkwell::Camera camera;
     inkwell::FrameRecorder recorder(drawing, VK_FORMAT_R8G8B8A8_UNORM, 2, look);
+    inkwell::Renderer renderer(drawing, size, size, look);  // made before the contour is turned on (below)
     AppTarget app(gpu.ctx, size);
     CHECK_THROWS_WITH_AS(recorder.captured(1),
                          doctest::Contains("last recording was not made with FrameTarget::capture"), inkwell::Error);
@@ -513,7 +539,15 @@ TEST_CASE("api: prepare and apply refine in two halves under a live FrameRecorde
     CHECK_THROWS_WITH_AS(inkwell::FrameRecorder(drawing, VK_FORMAT_R8G8B8A8_UNORM, 0, look),
                          "framesInFlight must be 1 to 16", inkwell::Error);
 
-    // Contours on: traced over the current sets (no new sets); then off: nothing to make or trace at all.
+    // Contours on: traced over the current sets (no new sets); then off: nothing to make or trace at all. With the
+    // contour the pen draws the outline, and the renderer made before draws no silhouette dots (api::toStyle).
+    const auto outlineDots = [&] {
+        renderer.render(camera);
+        size_t dots = 0;
+        for (const auto& set : nlohmann::json::parse(renderer.statsJson())) dots += set["outline_dots"].get<size_t>();
+        return dots;
+    };
+    CHECK(outlineDots() > 10);
     options.contours = true;
     CHECK(drawing.work(options) == inkwell::Drawing::Work::Lines);
     pending = drawing.prepare(options);
@@ -521,9 +555,12 @@ TEST_CASE("api: prepare and apply refine in two halves under a live FrameRecorde
     CHECK(pending.traced());
     drawing.apply(std::move(pending));
     CHECK(drawing.pointCount() > 3 * points);
+    CHECK(outlineDots() == 0);
     const inkwell::Image outlined = app.record(recorder, camera, 1);
     CHECK_THROWS_AS(recorder.captured(1), inkwell::Error);  // recorded without capture since: its buffer is gone
-    CHECK(inked(outlined) > inked(after));                  // the contour's pen
+    CHECK(outlined.rgba != after.rgba);
+    CHECK(outlinedDirections(outlined) >= 60);  // the contour's pen, without the silhouette dots
+    CHECK(outlinedDirections(after) >= 60);     // the silhouette dots, without the pen
     CHECK(drawing.contourSeconds() > 0);
     options.contours = false;
     CHECK(drawing.work(options) == inkwell::Drawing::Work::None);
@@ -532,6 +569,7 @@ TEST_CASE("api: prepare and apply refine in two halves under a live FrameRecorde
     CHECK_FALSE(pending.traced());
     drawing.apply(std::move(pending));
     CHECK(app.record(recorder, camera, 1).rgba == after.rgba);
+    CHECK(outlineDots() > 10);
     gpu.requireNoValidationErrors();
 }
 
