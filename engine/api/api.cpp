@@ -66,6 +66,13 @@ void checkLook(const Look& look) {
     if (!ranges::supersample.contains(look.supersample)) throw Error("supersample must be 1 to 4");
 }
 
+float dotsTau(const Look& look, bool contours) {
+    // The silhouette class's band |n·v| < τ widens where the view runs along a surface that curves little across
+    // it (τ²/2κ_r on the screen: a cylinder seen obliquely), and its strokes beside the pen's line drew a second,
+    // heavier outline there: filled wedges along CGAL's dragknob, 13 pixels thick at the widest.
+    return contours ? 0.0f : look.tau;
+}
+
 ink::RenderStyle toStyle(const Look& look, bool contours) {
     checkLook(look);
     ink::RenderStyle s;
@@ -75,10 +82,7 @@ ink::RenderStyle toStyle(const Look& look, bool contours) {
     s.hiddenSize = look.hiddenDotSize;
     s.frontSize = look.dotSize;
     s.silhouetteSize = look.silhouetteSize;
-    // The silhouette class's band |n·v| < τ widens where the view runs along a surface that curves little across
-    // it (τ²/2κ_r on the screen: a cylinder seen obliquely), and its strokes beside the pen's line drew a second,
-    // heavier outline there: filled wedges up to 9 pixels thick along CGAL's dragknob.
-    s.tau = contours ? 0.0f : look.tau;
+    s.tau = dotsTau(look, contours);
     s.toneGamma = look.toneGamma;
     s.inkDensity = look.inkDensity;
     s.hiddenLines = look.hiddenLines;

@@ -62,8 +62,10 @@ namespace api {
 Eigen::Vector3d toEigen(const Vec3& v);
 Vec3 toVec3(const Eigen::Vector3d& v);
 ink::Camera toCamera(const Camera& c);
-// The renderer's style for a Look. With the contour drawn by the pen (`contours`: DrawingOptions::contours), the
-// pen is the outline and the dots have no silhouette class (τ 0; Look::tau).
+// The dots' silhouette threshold τ: with the contour drawn by the pen (`contours`: DrawingOptions::contours), the
+// pen is the outline and the dots have no silhouette class (0); else Look::tau.
+float dotsTau(const Look& look, bool contours);
+// The renderer's style for a Look, its τ dotsTau's.
 ink::RenderStyle toStyle(const Look& look, bool contours);
 ink::RefineOptions toRefine(const DrawingOptions& o);
 ink::LineOptions toLines(const DrawingOptions& o);

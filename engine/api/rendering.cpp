@@ -135,11 +135,11 @@ std::string Plot::statsJson() const { return api::plotJson(impl_->plot).dump(); 
 bool Plot::isVectorPath(const std::string& path) { return ink::isVectorPath(path); }
 
 // Whether `style` (made from `look`) is restyled for the drawing's contour as it is now (`contours`): Drawing::refine
-// may turn it on or off, and with it the dots' silhouette class (api::toStyle). The up axis stays.
+// may turn it on or off, and with it the dots' silhouette class (api::dotsTau).
 static bool restyled(const Look& look, bool contours, ink::RenderStyle& style) {
-    const ink::RenderStyle now = api::toStyle(look, contours);
-    if (now.tau == style.tau) return false;
-    style.tau = now.tau;
+    const float tau = api::dotsTau(look, contours);
+    if (tau == style.tau) return false;
+    style.tau = tau;
     return true;
 }
 

@@ -374,7 +374,7 @@ private:
             for (uint32_t k = node.begin; k < node.end; ++k) {
                 Item& item = items_[k];
                 if (item.distance < 0) continue;
-                if (normals_.empty() || normals_[k].dot(towards) >= float(kOtherSide))
+                if (normals_.empty() || facesWay(normals_[k], towards))
                     item.distance = std::min(item.distance, (item.p - at).squaredNorm());
                 if (farther(item.distance, item.index, best, bestIndex)) best = item.distance, bestIndex = item.index;
             }

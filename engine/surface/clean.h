@@ -127,8 +127,9 @@ std::vector<size_t> farthestPointSample(const std::vector<Eigen::Vector3d>& posi
 constexpr double kOtherSide = -0.8;
 // Whether two normals face the same way (not turned past kOtherSide), in float as farthestPointSample's tree keeps
 // them: the seeds' spacing (refine_plan.cpp) asks as the sampling does.
+inline bool facesWay(const Eigen::Vector3f& a, const Eigen::Vector3f& b) { return a.dot(b) >= float(kOtherSide); }
 inline bool facesWay(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    return a.cast<float>().dot(b.cast<float>()) >= float(kOtherSide);
+    return facesWay(Eigen::Vector3f(a.cast<float>()), Eigen::Vector3f(b.cast<float>()));
 }
 
 }  // namespace ink
