@@ -551,6 +551,126 @@ FeatureLines meshFeatures(const OrientedPoints& mesh, const Surface& surface, co
     return lines;
 }
 
+std::vector<Eigen::Vector3f> cloudRims(const OrientedPoints& cloud, const Surface& surface, const Support& support,
+                                       const std::function<bool(const Eigen::Vector3d&)>& holds) {
+    const size_t m = cloud.positions.size();
+    std::vector<Eigen::Vector3f> outward(m, Eigen::Vector3f::Zero());
+    if (!cloud.triangles.empty() || support.empty()) return outward;
+    parallelChunks(m, 256, [&](size_t begin, size_t end, size_t) {
+        for (size_t i = begin; i < end; ++i) {
+            const Eigen::Vector3f across = support.across(i);
+            const double reach = support.reach(i);
+            if (across.squaredNorm() == 0 || !(reach > 0)) continue;
+            // Across the gap, 1.6 reaches on along the surface (in four steps, each projected onto f = 0 and
+            // turning with it: round a crease, round a thin part to its other side): a rim where the surface ends
+            // or where the input does not hold it there.
+            Eigen::Vector3d x = cloud.positions[i], way = across.cast<double>(), normal;
+            bool ends = false;
+            for (int step = 0; step < 4 && !ends; ++step) {
+                Eigen::Vector3d y = x + 0.4 * reach * way;
+                ends = !projectToSurface(surface, y, normal, 0.4 * reach);
+                way = (y - x) - (y - x).dot(normal) * normal;
+                if (!ends && !(way.norm() > 0)) break;
+                way.normalize();
+                x = y;
+            }
+            if (ends || !holds(x)) outward[i] = across;
+        }
+    });
+    return outward;
+}
+
+std::vector<PenStroke> rimLines(const OrientedPoints& cloud, const std::vector<Eigen::Vector3f>& outward,
+                                const Surface& surface, const Support& support, const FeatureOptions& options,
+                                std::vector<Support::RimSample>* samples) {
+    std::vector<PenStroke> lines;
+    std::vector<uint32_t> rim;  // the rim points' indices
+    std::vector<double> spacings;
+    for (uint32_t i = 0; i < outward.size(); ++i)
+        if (outward[i].squaredNorm() > 0) rim.push_back(i), spacings.push_back(support.reach(i) / kSupportReach);
+    if (rim.size() < 2) return lines;
+    std::nth_element(spacings.begin(), spacings.begin() + long(spacings.size() / 2), spacings.end());
+    const double spacing = std::max(spacings[spacings.size() / 2], 1e-6);
+    // One sample a cell of the rim points' spacing, their average: a ragged rim has its rim points in two rows
+    // (chained point by point, it drew two lines side by side).
+    std::vector<Eigen::Vector3d> x, out, normal;
+    std::vector<double> reach;
+    {
+        std::unordered_map<uint64_t, uint32_t> cell;
+        std::vector<int> count;
+        for (uint32_t i : rim) {
+            const Eigen::Array3i c = (cloud.positions[i].array() / spacing).floor().cast<int>();
+            auto [it, added] = cell.emplace(cellKey(c.x(), c.y(), c.z()), uint32_t(x.size()));
+            if (added) {
+                x.push_back(Eigen::Vector3d::Zero()), out.push_back(Eigen::Vector3d::Zero()),
+                    normal.push_back(Eigen::Vector3d::Zero()), reach.push_back(0), count.push_back(0);
+            }
+            const uint32_t k = it->second;
+            x[k] += cloud.positions[i], out[k] += outward[i].cast<double>(), normal[k] += cloud.normals[i];
+            reach[k] = std::max(reach[k], double(support.reach(i)));
+            ++count[k];
+        }
+        for (size_t k = 0; k < x.size(); ++k) x[k] /= count[k];
+    }
+    const size_t m = x.size();
+    std::vector<Eigen::Vector3d> e(m);  // the rim's direction at each sample
+    std::vector<bool> valid(m);
+    for (size_t k = 0; k < m; ++k) {
+        e[k] = normal[k].cross(out[k]);
+        valid[k] = e[k].norm() > 1e-6 * normal[k].norm() * out[k].norm();
+        e[k].normalize();
+        out[k].normalize();
+    }
+    // Each sample's nearest ahead and behind along the rim (within three spacings, the rim's direction within 60°),
+    // linked where the two choose each other.
+    const PointCloud rimCloud{x};
+    const PointTree tree(3, rimCloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    const double link = 3 * spacing;
+    std::vector<std::array<int64_t, 2>> pick(m, {-1, -1});  // ahead (+e), behind (−e)
+    std::vector<std::pair<uint32_t, double>> hits;
+    for (size_t a = 0; a < m; ++a) {
+        if (!valid[a]) continue;
+        hits.clear();
+        tree.radiusSearch(x[a].data(), link * link, hits, nanoflann::SearchParams());
+        double best[2] = {INFINITY, INFINITY};
+        for (const auto& [b, d2] : hits) {
+            if (b == a || !valid[b] || e[a].dot(e[b]) < 0.5) continue;
+            const Eigen::Vector3d d = x[b] - x[a];
+            const double t = d.dot(e[a]), distance = d.norm();
+            if (!(std::abs(t) >= 0.5 * distance)) continue;  // beside the rim, not along it
+            const int side = t > 0 ? 0 : 1;
+            if (distance < best[side]) best[side] = distance, pick[a][side] = int64_t(b);
+        }
+    }
+    auto chooses = [&](size_t b, size_t a) { return pick[b][0] == int64_t(a) || pick[b][1] == int64_t(a); };
+    std::vector<Edge> links;
+    for (size_t a = 0; a < m; ++a)
+        for (int side = 0; side < 2; ++side) {
+            const int64_t b = pick[a][side];
+            if (b > int64_t(a) && chooses(size_t(b), a)) links.push_back({uint32_t(a), uint32_t(b)});
+        }
+    for (const Chain& c : chainEdges(links)) layOnSurface(c, x, surface, options, {}, false, lines);
+    if (samples) {
+        // Along each line, the way out of the surface: across it in the tangent plane, to the side its nearest rim
+        // sample faces; each governs its nearest sample's reach.
+        for (const PenStroke& stroke : lines) {
+            const size_t n = stroke.points.size();
+            for (size_t k = 0; k < n; ++k) {
+                const Eigen::Vector3f& p = stroke.points[k];
+                const Eigen::Vector3f t = stroke.points[std::min(k + 1, n - 1)] - stroke.points[k > 0 ? k - 1 : 0];
+                Eigen::Vector3f way = stroke.normals[k].cross(t).normalized();
+                const Eigen::Vector3d q = p.cast<double>();
+                uint32_t index = 0;
+                double d2 = 0;
+                tree.knnSearch(q.data(), 1, &index, &d2);
+                if (way.cast<double>().dot(out[index]) < 0) way = -way;
+                if (way.allFinite()) samples->push_back({p, way, float(reach[index])});
+            }
+        }
+    }
+    return lines;
+}
+
 FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, const FeatureOptions& options) {
     FeatureLines lines;
     const size_t m = cloud.positions.size();

@@ -7,10 +7,12 @@
 
 #include "io/oriented_points.h"
 #include "lines/lines.h"
+#include "surface/support.h"
 #include "surface/surface.h"
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -70,8 +72,28 @@ MeshParts meshParts(const OrientedPoints& mesh);
 // groups' planes meet. The points nearest it, one a cell of the point spacing, are chained along it (each links to the
 // nearest ahead and behind, within three spacings and 30°, where the two choose each other), then smoothed and
 // kept near the surface as a mesh's creases are; chains under minLength go. A smooth shape's normals turn by a
-// few degrees between neighbours: no creases. Boundaries are a mesh's only.
+// few degrees between neighbours: no creases. Its boundaries: rimLines.
 FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, const FeatureOptions& options = {});
+
+// The open rims of a point cloud (normalized coordinates, oriented points without faces; docs/lines.md, Open
+// surfaces), as boundaries are a mesh's edges of one face: per point, the unit direction across its rim, out of the
+// surface, in its tangent plane (zero where it is not on one). A point may stand on a rim where its neighbours
+// within 1.5 of its reach leave a gap of over 90° (Support::across, as PCL's boundary estimation; the direction is the
+// gap's bisector); it does where the surface does not go on that way: walked 1.6 of its reach across the gap along
+// the surface (four steps, each projected onto f = 0, turning with it), the walk finds no surface or ends where the
+// input does not hold it (`holds`: the support, and the far field's trim). Round a crease, round a thin part (a
+// horn's tip, where its normals turn) and across a closed scan's sparse rows, the surface goes on, and holds.
+std::vector<Eigen::Vector3f> cloudRims(const OrientedPoints& cloud, const Surface& surface, const Support& support,
+                                       const std::function<bool(const Eigen::Vector3d&)>& holds);
+
+// A point cloud's boundary lines: its rim points (cloudRims) averaged one a cell of their spacing (a ragged rim has
+// them in two rows), chained along the rim as a crease's samples are (pointFeatures: the nearest ahead and behind
+// within three spacings, the rim's direction within 60°, where the two choose each other), then smoothed and kept
+// near the surface as a mesh's boundaries are; chains under minLength go.
+// `samples` (when given) gets the lines' points with their way out of the surface, for Support::setRims.
+std::vector<PenStroke> rimLines(const OrientedPoints& cloud, const std::vector<Eigen::Vector3f>& outward,
+                                const Surface& surface, const Support& support, const FeatureOptions& options = {},
+                                std::vector<Support::RimSample>* samples = nullptr);
 
 // The contour laid onto the feature lines drawn beside it: a contour point within `radius` of a point of `lines`,
 // on the same side (normals less than 90° apart) and running the same way (tangents within 30°), moves onto the

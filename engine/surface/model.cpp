@@ -499,10 +499,22 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
                       "%.1f%% of the diagonal (more control points follow it closer)",
                       100 * model.inputMaxDistance);
         note(text);
-    } else if (options.trim)
-        model.support = mesh.triangles.empty() ? Support(inputs.positions) : Support(mesh, 2 * model.inputMaxDistance);
+    } else if (options.trim) {
+        model.support = mesh.triangles.empty() ? Support(inputs.positions, inputs.normals)
+                                               : Support(mesh, 2 * model.inputMaxDistance);
+    }
     model.trimFarField = options.trim && !global;
     phases.lap("support");
+    // A point cloud's open rims, as a mesh's edges of one face: drawn as its boundaries, and the support ends there.
+    if (options.trim && mesh.triangles.empty() && !model.support.empty()) {
+        const std::vector<Eigen::Vector3f> outward =
+            cloudRims(inputs, surface, model.support, [&](const Eigen::Vector3d& x) { return model.holds(x); });
+        std::vector<Support::RimSample> samples;
+        model.features.boundaries =
+            rimLines(inputs, outward, surface, model.support, {options.creaseAngleDeg}, &samples);
+        model.support.setRims(std::move(samples));
+        phases.lap("rims");
+    }
     model.fit.seconds = secondsSince(start);
     return model;
 }

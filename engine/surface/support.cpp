@@ -14,7 +14,55 @@ Support::Cell Support::cellOf(const Eigen::Vector3d& x) const {
     return {int(std::floor(x.x() / cell_)), int(std::floor(x.y() / cell_)), int(std::floor(x.z() / cell_))};
 }
 
-Support::Support(const std::vector<Eigen::Vector3d>& points) {
+namespace {
+
+// The way across a gap of over kRimGap in point i's neighbours within 1.5 of its reach (cloudRims, feature_lines.h;
+// within one, CGAL's hippo1 range scan's rim lines came out 13% shorter, missing stretches), unit and in its tangent
+// plane; zero where they surround it, or where an input point lies across the gap from ¾ to 1.6
+// reaches away (a closed scan's uneven sampling: the surface goes on there). Copies of the point, and the back of
+// a thin part (normals over 120° apart), are not neighbours. A neighbour more across the plane than along it (past
+// a crease: the other face) is seen the way the surface turns towards it, its normal's tangential part (ahead past
+// a convex edge, behind past a concave one).
+Eigen::Vector3f acrossGap(uint32_t i, const std::vector<uint32_t>& around, const std::vector<Eigen::Vector3f>& points,
+                          const std::vector<Eigen::Vector3f>& normals, float reach2, float copy2) {
+    const Eigen::Vector3f &p = points[i], &n = normals[i];
+    const Eigen::Vector3f u = n.unitOrthogonal(), v = n.cross(u);
+    std::array<float, 64> angles;
+    size_t count = 0;
+    for (uint32_t j : around) {
+        const Eigen::Vector3f d = points[j] - p;
+        const float d2 = d.squaredNorm();
+        if (j == i || d2 <= copy2 || d2 > 2.25f * reach2 || normals[j].dot(n) < -0.5f) continue;
+        const float h = d.dot(n);
+        Eigen::Vector3f t = d - h * n;
+        if (t.norm() < std::abs(h)) {
+            t = (normals[j] - normals[j].dot(n) * n) * (h > 0 ? -1.0f : 1.0f);
+            if (t.norm() < 0.3f) continue;
+        }
+        angles[count++] = std::atan2(t.dot(v), t.dot(u));
+        if (count == angles.size()) break;
+    }
+    if (count < 3) return Eigen::Vector3f::Zero();
+    std::sort(angles.begin(), angles.begin() + long(count));
+    float gap = angles[0] + float(2 * M_PI) - angles[count - 1], middle = angles[count - 1] + 0.5f * gap;
+    for (size_t k = 1; k < count; ++k)
+        if (angles[k] - angles[k - 1] > gap) gap = angles[k] - angles[k - 1], middle = angles[k - 1] + 0.5f * gap;
+    if (!(gap > float(kRimGap))) return Eigen::Vector3f::Zero();
+    const Eigen::Vector3f out = std::cos(middle) * u + std::sin(middle) * v;
+    const float cosHalf = std::cos(0.3f * gap), near2 = 0.5625f * reach2, far2 = 2.56f * reach2;
+    for (uint32_t j : around) {
+        const Eigen::Vector3f d = points[j] - p;
+        const float d2 = d.squaredNorm();
+        if (d2 < near2 || d2 > far2 || normals[j].dot(n) < -0.5f) continue;
+        const Eigen::Vector3f t = d - d.dot(n) * n;
+        if (t.dot(out) > cosHalf * t.norm() && t.norm() > std::abs(d.dot(n))) return Eigen::Vector3f::Zero();
+    }
+    return out;
+}
+
+}  // namespace
+
+Support::Support(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals) {
     if (points.size() < 2) return;
     // The typical spacing, as if the points covered about half the faces of their box (model.cpp's estimate);
     // a point's local spacing is capped at twice that (a mesh's dense vertices beside its big faces' sparser
@@ -37,6 +85,13 @@ Support::Support(const std::vector<Eigen::Vector3d>& points) {
         grid_[cellOf(points[i])].push_back(i);
     }
     reach2_.resize(points.size());
+    const bool gaps = normals.size() == points.size();
+    std::vector<Eigen::Vector3f> unit;
+    if (gaps) {
+        across_.assign(points.size(), Eigen::Vector3f::Zero());
+        unit.reserve(normals.size());
+        for (const Eigen::Vector3d& n : normals) unit.push_back(n.normalized().cast<float>());
+    }
     // Cell by cell on all threads (a scan of 10⁶ points took 6 s on one of 16 cores, 27 look-ups a point): the
     // points of the 27 cells around are gathered once for every point of the cell; each point writes its reach.
     std::vector<const std::pair<const Cell, std::vector<uint32_t>>*> cells;
@@ -67,6 +122,8 @@ Support::Support(const std::vector<Eigen::Vector3d>& points) {
                     std::sort(nearest.begin(), nearest.end());
                 }
                 reach2_[i] = float(kSupportReach * kSupportReach) * nearest.back();
+                if (gaps && unit[i].allFinite())
+                    across_[i] = acrossGap(i, around, points_, unit, reach2_[i], nearCopy2);
             }
         }
     });
@@ -179,15 +236,50 @@ bool Support::supports(const Eigen::Vector3d& x) const {
         }
         return true;
     }
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
+    bool held = false;
+    for (int dz = -1; dz <= 1 && !held; ++dz)
+        for (int dy = -1; dy <= 1 && !held; ++dy)
+            for (int dx = -1; dx <= 1 && !held; ++dx) {
                 auto it = grid_.find({c.x + dx, c.y + dy, c.z + dz});
                 if (it == grid_.end()) continue;
                 for (uint32_t j : it->second)
-                    if ((points_[j] - xf).squaredNorm() <= reach2_[j]) return true;
+                    if ((points_[j] - xf).squaredNorm() <= reach2_[j]) {
+                        held = true;
+                        break;
+                    }
             }
-    return false;
+    if (!held || !rimCells_.count(c)) return held;
+    // Near a rim line: the nearest of its samples in reach decides.
+    float best = INFINITY;
+    const RimSample* nearest = nullptr;
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                auto it = rimGrid_.find({c.x + dx, c.y + dy, c.z + dz});
+                if (it == rimGrid_.end()) continue;
+                for (uint32_t j : it->second) {
+                    const RimSample& r = rimSamples_[j];
+                    const float d2 = (r.p - xf).squaredNorm();
+                    if (d2 <= r.reach * r.reach && d2 < best) best = d2, nearest = &r;
+                }
+            }
+    return !nearest || !((xf - nearest->p).dot(nearest->out) > float(kRimSlack));
+}
+
+void Support::setRims(std::vector<RimSample> samples) {
+    if (!triangles_.empty() || points_.empty()) return;
+    rimSamples_ = std::move(samples);
+    rimGrid_.clear();
+    rimCells_.clear();
+    for (uint32_t j = 0; j < rimSamples_.size(); ++j) {
+        RimSample& r = rimSamples_[j];
+        r.reach = std::min(1.5f * r.reach, float(cell_));  // within the 27 cells around
+        const Cell c = cellOf(r.p.cast<double>());
+        rimGrid_[c].push_back(j);
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) rimCells_[{c.x + dx, c.y + dy, c.z + dz}] = 1;
+    }
 }
 
 std::vector<PenStroke> trimStrokes(const std::vector<PenStroke>& strokes, const Support& support, size_t* dropped) {

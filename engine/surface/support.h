@@ -9,6 +9,7 @@
 #include "lines/lines.h"
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -21,6 +22,9 @@ namespace ink {
 // across a hole it ends the surface about this far past the rim.
 constexpr double kSupportReach = 2.0;
 constexpr int kSupportNeighbours = 4;
+// A gap of over this (radians) in a point cloud's point's neighbours, seen in its tangent plane, may be a rim (as
+// PCL's boundary estimation): a point on a straight rim has one of 180°.
+constexpr double kRimGap = 0.5 * M_PI;
 // Neighbours nearer than this many typical spacings are copies of the point, not its neighbours (Support, and the
 // fit's merging spacing, model.cpp's typicalSpacing).
 constexpr double kNearCopy = 0.05;
@@ -42,14 +46,29 @@ constexpr double kRimSlack = 0.001;
 class Support {
 public:
     Support() = default;  // supports everything
-    // From the input's points (normalized coordinates): a mesh's vertices and face samples, or a point cloud.
-    explicit Support(const std::vector<Eigen::Vector3d>& points);
+    // From the input's points (normalized coordinates): a mesh's vertices and face samples, or a point cloud; with
+    // a point cloud's normals, the gaps in its points' neighbourhoods too (across).
+    explicit Support(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals = {});
     // From a mesh (normalized coordinates); its triangles without area support nothing. `slack` widens every
     // triangle's reach: a fit of fewer control points than the mesh has (--control-points) leaves it by more.
     explicit Support(const OrientedPoints& mesh, double slack = 0);
 
     bool empty() const { return points_.empty(); }
     bool supports(const Eigen::Vector3d& x) const;
+    // A point cloud's open rim, drawn as its boundary lines (rimLines, feature_lines.h): samples along the lines,
+    // each with the unit direction out of the surface across it (in its tangent plane) and its rim points' reach.
+    // A point whose nearest sample within 1.5 of that reach (an input point inside the rim reaches past it) has it
+    // behind, by more than kRimSlack, is not supported: the surface ends at the line drawn for its rim.
+    struct RimSample {
+        Eigen::Vector3f p, out;
+        float reach;
+    };
+    void setRims(std::vector<RimSample> samples);
+    // The reach of input point i (a point cloud's): the distance within which it supports the surface.
+    float reach(size_t i) const { return std::sqrt(reach2_[i]); }
+    // The way across a gap of over kRimGap in input point i's neighbours within 1.5 of its reach, unit, in its tangent
+    // plane: where it may stand on a rim (cloudRims); zero where its neighbours surround it, or without normals.
+    Eigen::Vector3f across(size_t i) const { return i < across_.size() ? across_[i] : Eigen::Vector3f::Zero(); }
 
 private:
     struct Cell {
@@ -68,7 +87,11 @@ private:
     std::vector<uint8_t> rims_;        // per triangle, its edges (k: t[k] to t[k + 1]) that no other face shares
     std::vector<float> reach2_;        // squared reach of each point, or of each triangle of a mesh
     std::unordered_map<Cell, std::vector<uint32_t>, CellHash> grid_;
-    std::unordered_map<Cell, char, CellHash> rimCells_;  // the cells holding a triangle with a rim edge
+    std::unordered_map<Cell, char, CellHash>
+        rimCells_;                         // the cells holding a triangle with a rim edge, or near a rim sample
+    std::vector<Eigen::Vector3f> across_;  // a point cloud's, per point (across)
+    std::vector<RimSample> rimSamples_;    // a point cloud's (setRims), in grid_'s cells:
+    std::unordered_map<Cell, std::vector<uint32_t>, CellHash> rimGrid_;
     double cell_ = 1;
 };
 

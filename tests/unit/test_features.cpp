@@ -723,6 +723,87 @@ TEST_CASE("features: a point cloud's support holds near its points, not across a
     CHECK_FALSE(registered.supports(Vector3d(0, 0, 0.5)));
 }
 
+// Points on the faces of the box [-a, a] × [-b, b] × [-c, c], about `n` a unit of length, with the faces' normals.
+ink::OrientedPoints boxPoints(double a, double b, double c, double n) {
+    ink::OrientedPoints box;
+    const double half[3] = {a, b, c};
+    for (int axis = 0; axis < 3; ++axis)
+        for (double sign : {-1.0, 1.0}) {
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            const int nu = std::max(2, int(2 * half[u] * n)), nv = std::max(2, int(2 * half[v] * n));
+            for (int i = 0; i < nu; ++i)
+                for (int j = 0; j < nv; ++j) {
+                    Vector3d p, normal = Vector3d::Zero();
+                    p[axis] = sign * half[axis];
+                    p[u] = half[u] * (2 * (i + 0.5) / nu - 1);
+                    p[v] = half[v] * (2 * (j + 0.5) / nv - 1);
+                    normal[axis] = sign;
+                    box.positions.push_back(p);
+                    box.normals.push_back(normal);
+                }
+        }
+    return box;
+}
+
+TEST_CASE("features: an open point cloud's rim is a boundary line, the fit past it trimmed; closed clouds have none" *
+          doctest::test_suite("unit")) {
+    // A sphere's points below z = 0.15 (radius 0.5): its rim, a circle of radius 0.477 at z = 0.15.
+    const ink::OrientedPoints sphere = ink::spherePoints(4000);
+    ink::OrientedPoints open;
+    for (size_t i = 0; i < sphere.positions.size(); ++i)
+        if (sphere.positions[i].z() < 0.15)
+            open.positions.push_back(sphere.positions[i]), open.normals.push_back(sphere.normals[i]);
+    const ink::Model model = ink::fitModel(open, {});
+    const ink::Frame& frame = model.surface.frame;
+    const double rimRadius = std::sqrt(0.25 - 0.15 * 0.15);
+    double length = 0;
+    for (const ink::PenStroke& s : model.features.boundaries) {
+        const size_t n = s.points.size();
+        for (size_t i = 0; i + (s.closed ? 0 : 1) < n; ++i)
+            length += (frame.toInput(s.points[i].cast<double>()) - frame.toInput(s.points[(i + 1) % n].cast<double>()))
+                          .norm();
+        for (const Eigen::Vector3f& p : s.points) {
+            const Vector3d x = frame.toInput(p.cast<double>());
+            CHECK(x.z() == doctest::Approx(0.15).epsilon(0.1));  // within 0.015: about a third of the spacing
+            CHECK(std::hypot(x.x(), x.y()) == doctest::Approx(rimRadius).epsilon(0.03));
+        }
+    }
+    MESSAGE("open sphere cloud: " << model.features.boundaries.size() << " boundary strokes, "
+                                  << length / (2 * M_PI * rimRadius) << " of the rim");
+    CHECK(model.features.boundaries.size() <= 2);
+    CHECK(length > 0.9 * 2 * M_PI * rimRadius);
+    CHECK(length < 1.05 * 2 * M_PI * rimRadius);
+    CHECK(model.features.creases.empty());
+    // The fitted surface beyond the rim is trimmed up to the line, not a reach (two spacings) past it.
+    size_t inside = 0, past = 0;
+    for (int i = 0; i < 400; ++i) {
+        const double z = 1 - 2 * (i + 0.5) / 400, a = i * 2.399963, r = std::sqrt(1 - z * z);
+        Vector3d x = frame.toNormalized(Vector3d(0.45 * r * std::cos(a), 0.45 * r * std::sin(a), 0.45 * z)), normal;
+        if (!ink::projectToSurface(model.surface, x, normal, 0.5)) continue;
+        const double height = frame.toInput(x).z();
+        if (height < 0.12) {
+            ++inside;
+            CHECK(model.holds(x));
+        } else if (height > 0.17) {
+            ++past;
+            CHECK_FALSE(model.holds(x));
+        }
+    }
+    CHECK(inside > 200);
+    CHECK(past > 0);  // the fit does reach past the rim: there is something to trim
+    // Closed clouds, smooth (a sphere, a torus), with sharp edges (a cube) or thin (a plate 1/25 as thick as it
+    // is wide: its edges' gaps, seen in each point's tangent plane, go on round to the other face): no rims.
+    for (const ink::OrientedPoints& closed :
+         {sphere, ink::torusPoints(96, 32), boxPoints(0.5, 0.5, 0.5, 40), boxPoints(0.5, 0.5, 0.02, 60)}) {
+        const ink::Model m = ink::fitModel(closed, {});
+        CHECK(m.features.boundaries.empty());
+    }
+    // Without the trimming, no rims either: the surface goes on.
+    ink::ModelOptions keep;
+    keep.trim = false;
+    CHECK(ink::fitModel(open, keep).features.boundaries.empty());
+}
+
 TEST_CASE("cli: crease and boundary options refuse bad values with one line, writing nothing" *
           doctest::test_suite("cli")) {
     TempDir dir;
@@ -861,6 +942,37 @@ TEST_CASE("cli: an open mesh's rim is drawn with dots alone, unless --boundaries
     // The rim, a circle of radius 1 in a box of 2 × 2 × 1 (diagonal 3): 2π / 3 diagonals.
     CHECK(std::abs(on["length"].get<double>() - 2 * M_PI / 3) < 0.05 * 2 * M_PI / 3);  // 2.11 of 2.09
     CHECK(off == nlohmann::json{{"drawn", false}});
+}
+
+TEST_CASE("cli: an open point cloud's rim is drawn too, unless --boundaries off or --no-trim" * doctest::test_suite("cli")) {
+    TempDir dir;
+    // A sphere's points below z = 0.15 (radius 0.5), with their normals: its rim, a circle of radius 0.477.
+    const ink::OrientedPoints sphere = ink::spherePoints(3000);
+    const std::string cloud = dir / "open.xyz";
+    {
+        std::ofstream out(cloud);
+        for (size_t i = 0; i < sphere.positions.size(); ++i)
+            if (sphere.positions[i].z() < 0.15)
+                out << sphere.positions[i].transpose() << ' ' << sphere.normals[i].transpose() << '\n';
+    }
+    auto render = [&](const std::string& name, const std::string& extra) {
+        const std::string stats = dir / (name + ".json");
+        Run r = runInkwell("render " + cloud + " --size 256 256 --stats " + stats + " -o " + dir / (name + ".png") +
+                           extra);
+        REQUIRE_MESSAGE(r.status == 0, r.output);
+        std::ifstream in(stats);
+        return nlohmann::json::parse(in)["lines"]["boundaries"];
+    };
+    const nlohmann::json on = render("on", ""), off = render("off", " --boundaries off"),
+                         untrimmed = render("untrimmed", " --no-trim");
+    CHECK(on["drawn"] == true);
+    CHECK(on["strokes"].get<size_t>() <= 2);
+    // In diagonals of the cloud's box (1 × 1 × 0.65: 1.55): 2π · 0.477 / 1.55 = 1.93.
+    const double rim = 2 * M_PI * std::sqrt(0.25 - 0.15 * 0.15) / std::sqrt(2 + 0.65 * 0.65);
+    CHECK(on["length"].get<double>() > 0.9 * rim);
+    CHECK(on["length"].get<double>() < 1.05 * rim);
+    CHECK(off == nlohmann::json{{"drawn", false}});
+    CHECK(untrimmed == nlohmann::json{{"drawn", false}});
 }
 
 // A fit of few control points misses its mesh by far more than a triangle's reach: it is not trimmed (its
