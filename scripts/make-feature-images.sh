@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The crease and boundary pictures of docs/lines.md and the README (issue 25): three of CGAL's test meshes
+# The crease and boundary pictures of docs/lines.md and the README (issue 25): three of CGAL's test meshes and a scan
 # (Debian's libcgal-dev data, unpacked to a temporary folder; skipped with a note when it is not installed), as
 # rsvg-convert draws the SVGs render writes, with the time and line counts render's --stats gives.
 set -euo pipefail
@@ -18,10 +18,12 @@ draw() {  # draw MODEL NAME STYLE [options...]
 }
 data=/usr/share/doc/libcgal-dev/data.tar.gz
 if [ -f "$data" ]; then
-  tar -xzf "$data" -C "$work" data/meshes/fandisk.off data/meshes/elephant-with-holes.off data/meshes/mech-holes-shark.off
+  tar -xzf "$data" -C "$work" data/meshes/fandisk.off data/meshes/elephant-with-holes.off data/meshes/mech-holes-shark.off \
+    data/points_3/hippo1.ply
   draw "$work/data/meshes/fandisk.off" fandisk-creases contours --camera 30,25,1.6
   draw "$work/data/meshes/elephant-with-holes.off" elephant-holes contours+stipple
   draw "$work/data/meshes/mech-holes-shark.off" shark-creases contours
+  draw "$work/data/points_3/hippo1.ply" hippo1-rims contours+stipple
 else
-  echo "make-feature-images: libcgal-dev's data is not installed: the fandisk, elephant and shark are not redrawn" >&2
+  echo "make-feature-images: libcgal-dev's data is not installed: the fandisk, elephant, shark and hippo are not redrawn" >&2
 fi

@@ -136,8 +136,8 @@ void addRenderOptions(CLI::App* cmd, Options& o) {
         ->check(CLI::IsMember({"auto", "on", "off"}))
         ->capture_default_str();
     cmd->add_option("--boundaries", o.boundaries,
-                    "A mesh's boundary lines (open edges, holes' rims), on their own pen: auto draws them in every "
-                    "style")
+                    "A mesh's boundary lines (open edges, holes' rims) and a point cloud's open rims, on their own "
+                    "pen: auto draws them in every style")
         ->check(CLI::IsMember({"auto", "on", "off"}))
         ->capture_default_str();
     cmd->add_option("--crease-width", s.creaseWidth, "Crease pen width in pixels")->capture_default_str();

@@ -245,9 +245,10 @@ struct DrawingOptions {
     // hatching strokes once, along the surface (their cross field solved on the device where it is a GPU).
     bool contours = false;
     bool hatching = false;
-    // A model's crease lines (sharp edges: a mesh's, or a point cloud's where its normals turn sharply) and a mesh's
-    // boundary lines (open edges, holes' rims), on pens of their own; a .hrbf model has none. The command line
-    // draws a mesh's in every style, a point cloud's creases with contours or hatching.
+    // A model's crease lines (sharp edges: a mesh's, or a point cloud's where its normals turn sharply) and boundary
+    // lines (a mesh's open edges and holes' rims, a point cloud's open rims), on pens of their own; a .hrbf model has
+    // none. The command line draws boundaries and a mesh's creases in every style, a point cloud's creases with
+    // contours or hatching.
     bool creases = false;
     bool boundaries = false;
     double hatchSpacing = 0.007;  // of the bounding-box diagonal, the finest level (the coarse one is twice this)
