@@ -944,7 +944,8 @@ TEST_CASE("cli: an open mesh's rim is drawn with dots alone, unless --boundaries
     CHECK(off == nlohmann::json{{"drawn", false}});
 }
 
-TEST_CASE("cli: an open point cloud's rim is drawn too, unless --boundaries off or --no-trim" * doctest::test_suite("cli")) {
+TEST_CASE("cli: an open point cloud's rim is drawn too, unless --boundaries off or --no-trim" *
+          doctest::test_suite("cli")) {
     TempDir dir;
     // A sphere's points below z = 0.15 (radius 0.5), with their normals: its rim, a circle of radius 0.477.
     const ink::OrientedPoints sphere = ink::spherePoints(3000);
@@ -957,8 +958,8 @@ TEST_CASE("cli: an open point cloud's rim is drawn too, unless --boundaries off 
     }
     auto render = [&](const std::string& name, const std::string& extra) {
         const std::string stats = dir / (name + ".json");
-        Run r = runInkwell("render " + cloud + " --size 256 256 --stats " + stats + " -o " + dir / (name + ".png") +
-                           extra);
+        Run r =
+            runInkwell("render " + cloud + " --size 256 256 --stats " + stats + " -o " + dir / (name + ".png") + extra);
         REQUIRE_MESSAGE(r.status == 0, r.output);
         std::ifstream in(stats);
         return nlohmann::json::parse(in)["lines"]["boundaries"];
