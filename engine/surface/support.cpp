@@ -23,16 +23,17 @@ namespace {
 // a thin part (normals over 120° apart), are not neighbours. A neighbour more across the plane than along it (past
 // a crease: the other face) is seen the way the surface turns towards it, its normal's tangential part (ahead past
 // a convex edge, behind past a concave one).
-Eigen::Vector3f acrossGap(uint32_t i, const std::vector<uint32_t>& around, const std::vector<Eigen::Vector3f>& points,
-                          const std::vector<Eigen::Vector3f>& normals, float reach2, float copy2) {
-    const Eigen::Vector3f &p = points[i], &n = normals[i];
+// `around`: the positions and unit normals of the points around i (i's among them), gathered once a cell.
+Eigen::Vector3f acrossGap(const Eigen::Vector3f& p, const Eigen::Vector3f& n,
+                          const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3f>& normals,
+                          float reach2, float copy2) {
     const Eigen::Vector3f u = n.unitOrthogonal(), v = n.cross(u);
     std::array<float, 64> angles;
     size_t count = 0;
-    for (uint32_t j : around) {
+    for (size_t j = 0; j < points.size(); ++j) {
         const Eigen::Vector3f d = points[j] - p;
         const float d2 = d.squaredNorm();
-        if (j == i || d2 <= copy2 || d2 > 2.25f * reach2 || normals[j].dot(n) < -0.5f) continue;
+        if (d2 <= copy2 || d2 > 2.25f * reach2 || normals[j].dot(n) < -0.5f) continue;  // (i itself: d2 = 0)
         const float h = d.dot(n);
         Eigen::Vector3f t = d - h * n;
         if (t.norm() < std::abs(h)) {
@@ -50,7 +51,7 @@ Eigen::Vector3f acrossGap(uint32_t i, const std::vector<uint32_t>& around, const
     if (!(gap > float(kRimGap))) return Eigen::Vector3f::Zero();
     const Eigen::Vector3f out = std::cos(middle) * u + std::sin(middle) * v;
     const float cosHalf = std::cos(0.3f * gap), near2 = 0.5625f * reach2, far2 = 2.56f * reach2;
-    for (uint32_t j : around) {
+    for (size_t j = 0; j < points.size(); ++j) {
         const Eigen::Vector3f d = points[j] - p;
         const float d2 = d.squaredNorm();
         if (d2 < near2 || d2 > far2 || normals[j].dot(n) < -0.5f) continue;
@@ -98,15 +99,20 @@ Support::Support(const std::vector<Eigen::Vector3d>& points, const std::vector<E
     cells.reserve(grid_.size());
     for (const auto& cell : grid_) cells.push_back(&cell);
     parallelChunks(cells.size(), 256, [&](size_t begin, size_t end, size_t) {
-        std::vector<uint32_t> around;
+        std::vector<Eigen::Vector3f> around, aroundNormals;  // the positions (and unit normals) of the 27 cells' points
         for (size_t k = begin; k < end; ++k) {
             const Cell c = cells[k]->first;
             around.clear();
+            aroundNormals.clear();
             for (int dz = -1; dz <= 1; ++dz)
                 for (int dy = -1; dy <= 1; ++dy)
                     for (int dx = -1; dx <= 1; ++dx) {
                         auto it = grid_.find({c.x + dx, c.y + dy, c.z + dz});
-                        if (it != grid_.end()) around.insert(around.end(), it->second.begin(), it->second.end());
+                        if (it == grid_.end()) continue;
+                        for (uint32_t j : it->second) {
+                            around.push_back(points_[j]);
+                            if (gaps) aroundNormals.push_back(unit[j]);
+                        }
                     }
             for (uint32_t i : cells[k]->second) {
                 // The kSupportNeighbours nearest others around (farther ones are past the cap anyway), not counting
@@ -115,15 +121,15 @@ Support::Support(const std::vector<Eigen::Vector3d>& points, const std::vector<E
                 // of its 100,848 stipple points were trimmed.
                 std::array<float, kSupportNeighbours> nearest;
                 nearest.fill(float(cap * cap));
-                for (uint32_t j : around) {
-                    const float d2 = (points_[j] - points_[i]).squaredNorm();
+                for (const Eigen::Vector3f& q : around) {
+                    const float d2 = (q - points_[i]).squaredNorm();
                     if (d2 <= nearCopy2 || d2 >= nearest.back()) continue;
                     nearest.back() = d2;
                     std::sort(nearest.begin(), nearest.end());
                 }
                 reach2_[i] = float(kSupportReach * kSupportReach) * nearest.back();
                 if (gaps && unit[i].allFinite())
-                    across_[i] = acrossGap(i, around, points_, unit, reach2_[i], nearCopy2);
+                    across_[i] = acrossGap(points_[i], unit[i], around, aroundNormals, reach2_[i], nearCopy2);
             }
         }
     });
