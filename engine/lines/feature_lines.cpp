@@ -562,19 +562,21 @@ std::vector<Eigen::Vector3f> cloudRims(const OrientedPoints& cloud, const Surfac
             const double reach = support.reach(i);
             if (across.squaredNorm() == 0 || !(reach > 0)) continue;
             // Across the gap, 1.6 reaches on along the surface (in four steps, each projected onto f = 0 and
-            // turning with it: round a crease, round a thin part to its other side): a rim where the surface ends
-            // or where the input does not hold it there.
+            // turning with it: round a crease, round a thin part to its other side): a rim where the walk ends
+            // where the input does not hold the surface. A step that finds no surface within three times its
+            // length ends the walk with no rim: off a closed scan's edge whose normals are rough (CGAL's cube.pwn,
+            // its normals unoriented in the file), counted as rims, they drew 55 strokes along its edges, now 23.
             Eigen::Vector3d x = cloud.positions[i], way = across.cast<double>(), normal;
-            bool ends = false;
-            for (int step = 0; step < 4 && !ends; ++step) {
+            bool lost = false;
+            for (int step = 0; step < 4 && !lost; ++step) {
                 Eigen::Vector3d y = x + 0.4 * reach * way;
-                ends = !projectToSurface(surface, y, normal, 0.4 * reach);
+                lost = !projectToSurface(surface, y, normal, 1.2 * reach);
                 way = (y - x) - (y - x).dot(normal) * normal;
-                if (!ends && !(way.norm() > 0)) break;
+                if (lost || !(way.norm() > 0)) break;
                 way.normalize();
                 x = y;
             }
-            if (ends || !holds(x)) outward[i] = across;
+            if (!lost && !holds(x)) outward[i] = across;
         }
     });
     return outward;

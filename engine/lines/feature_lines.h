@@ -80,9 +80,10 @@ FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, 
 // surface, in its tangent plane (zero where it is not on one). A point may stand on a rim where its neighbours
 // within 1.5 of its reach leave a gap of over 90° (Support::across, as PCL's boundary estimation; the direction is the
 // gap's bisector); it does where the surface does not go on that way: walked 1.6 of its reach across the gap along
-// the surface (four steps, each projected onto f = 0, turning with it), the walk finds no surface or ends where the
-// input does not hold it (`holds`: the support, and the far field's trim). Round a crease, round a thin part (a
-// horn's tip, where its normals turn) and across a closed scan's sparse rows, the surface goes on, and holds.
+// the surface (four steps, each projected onto f = 0, turning with it), the walk ends where the input does not hold
+// it (`holds`: the support, and the far field's trim). A walk that loses the surface finds no rim. Round a crease,
+// round a thin part (a horn's tip, where its normals turn) and across a closed scan's sparse rows, the surface goes on,
+// and holds.
 std::vector<Eigen::Vector3f> cloudRims(const OrientedPoints& cloud, const Surface& surface, const Support& support,
                                        const std::function<bool(const Eigen::Vector3d&)>& holds);
 

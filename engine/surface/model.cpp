@@ -509,10 +509,28 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
     if (options.trim && mesh.triangles.empty() && !model.support.empty()) {
         const std::vector<Eigen::Vector3f> outward =
             cloudRims(inputs, surface, model.support, [&](const Eigen::Vector3d& x) { return model.holds(x); });
-        std::vector<Support::RimSample> samples;
-        model.features.boundaries =
+        std::vector<Support::RimSample> samples, kept;
+        const std::vector<PenStroke> lines =
             rimLines(inputs, outward, surface, model.support, {options.creaseAngleDeg}, &samples);
-        model.support.setRims(std::move(samples));
+        // A rim has no input beyond it: a line with input points past a third of its samples (a chain that cut
+        // across a hole's ragged corner, through data: radar.xyz lost a band of its dots) is no rim; the rest cut
+        // the support where no input lies beyond them.
+        size_t at = 0;
+        for (const PenStroke& line : lines) {
+            std::vector<bool> clear(line.points.size());
+            size_t beyond = 0;
+            for (size_t k = 0; k < clear.size(); ++k) {
+                clear[k] = !model.support.inputBeyond(samples[at + k]);
+                beyond += clear[k] ? 0 : 1;
+            }
+            if (3 * beyond <= clear.size()) {
+                model.features.boundaries.push_back(line);
+                for (size_t k = 0; k < clear.size(); ++k)
+                    if (clear[k]) kept.push_back(samples[at + k]);
+            }
+            at += clear.size();
+        }
+        model.support.setRims(std::move(kept));
         phases.lap("rims");
     }
     model.fit.seconds = secondsSince(start);

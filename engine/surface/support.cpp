@@ -272,6 +272,23 @@ bool Support::supports(const Eigen::Vector3d& x) const {
     return !nearest || !((xf - nearest->p).dot(nearest->out) > float(kRimSlack));
 }
 
+bool Support::inputBeyond(const RimSample& r) const {
+    if (!triangles_.empty() || points_.empty()) return false;
+    const Cell c = cellOf(r.p.cast<double>());
+    const float reach2 = r.reach * r.reach, past = 0.5f * r.reach;
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                auto it = grid_.find({c.x + dx, c.y + dy, c.z + dz});
+                if (it == grid_.end()) continue;
+                for (uint32_t j : it->second) {
+                    const Eigen::Vector3f d = points_[j] - r.p;
+                    if (d.squaredNorm() <= reach2 && d.dot(r.out) > past) return true;
+                }
+            }
+    return false;
+}
+
 void Support::setRims(std::vector<RimSample> samples) {
     if (!triangles_.empty() || points_.empty()) return;
     rimSamples_ = std::move(samples);

@@ -64,6 +64,9 @@ public:
         float reach;
     };
     void setRims(std::vector<RimSample> samples);
+    // Whether an input point lies beyond a rim sample: within its reach and past it, the way out, by over half of
+    // that (about a spacing: the line runs through the rim's outermost points, smoothed).
+    bool inputBeyond(const RimSample& sample) const;
     // The reach of input point i (a point cloud's): the distance within which it supports the surface.
     float reach(size_t i) const { return std::sqrt(reach2_[i]); }
     // The way across a gap of over kRimGap in input point i's neighbours within 1.5 of its reach, unit, in its tangent
