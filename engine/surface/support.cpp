@@ -104,16 +104,11 @@ Support::Support(const std::vector<Eigen::Vector3d>& points, const std::vector<E
             const Cell c = cells[k]->first;
             around.clear();
             aroundNormals.clear();
-            for (int dz = -1; dz <= 1; ++dz)
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        auto it = grid_.find({c.x + dx, c.y + dy, c.z + dz});
-                        if (it == grid_.end()) continue;
-                        for (uint32_t j : it->second) {
-                            around.push_back(points_[j]);
-                            if (gaps) aroundNormals.push_back(unit[j]);
-                        }
-                    }
+            anyAround(grid_, c, [&](uint32_t j) {
+                around.push_back(points_[j]);
+                if (gaps) aroundNormals.push_back(unit[j]);
+                return false;
+            });
             for (uint32_t i : cells[k]->second) {
                 // The kSupportNeighbours nearest others around (farther ones are past the cap anyway), not counting
                 // near copies of the point (within kNearCopy typical spacings: a duplicate, a scan registered over
@@ -242,33 +237,17 @@ bool Support::supports(const Eigen::Vector3d& x) const {
         }
         return true;
     }
-    bool held = false;
-    for (int dz = -1; dz <= 1 && !held; ++dz)
-        for (int dy = -1; dy <= 1 && !held; ++dy)
-            for (int dx = -1; dx <= 1 && !held; ++dx) {
-                auto it = grid_.find({c.x + dx, c.y + dy, c.z + dz});
-                if (it == grid_.end()) continue;
-                for (uint32_t j : it->second)
-                    if ((points_[j] - xf).squaredNorm() <= reach2_[j]) {
-                        held = true;
-                        break;
-                    }
-            }
+    const bool held = anyAround(grid_, c, [&](uint32_t j) { return (points_[j] - xf).squaredNorm() <= reach2_[j]; });
     if (!held || !rimCells_.count(c)) return held;
     // Near a rim line: the nearest of its samples in reach decides.
     float best = INFINITY;
     const RimSample* nearest = nullptr;
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                auto it = rimGrid_.find({c.x + dx, c.y + dy, c.z + dz});
-                if (it == rimGrid_.end()) continue;
-                for (uint32_t j : it->second) {
-                    const RimSample& r = rimSamples_[j];
-                    const float d2 = (r.p - xf).squaredNorm();
-                    if (d2 <= r.reach * r.reach && d2 < best) best = d2, nearest = &r;
-                }
-            }
+    anyAround(rimGrid_, c, [&](uint32_t j) {
+        const RimSample& r = rimSamples_[j];
+        const float d2 = (r.p - xf).squaredNorm();
+        if (d2 <= r.reach * r.reach && d2 < best) best = d2, nearest = &r;
+        return false;
+    });
     return !nearest || !((xf - nearest->p).dot(nearest->out) > float(kRimSlack));
 }
 
@@ -276,17 +255,10 @@ bool Support::inputBeyond(const RimSample& r) const {
     if (!triangles_.empty() || points_.empty()) return false;
     const Cell c = cellOf(r.p.cast<double>());
     const float reach2 = r.reach * r.reach, past = 0.5f * r.reach;
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                auto it = grid_.find({c.x + dx, c.y + dy, c.z + dz});
-                if (it == grid_.end()) continue;
-                for (uint32_t j : it->second) {
-                    const Eigen::Vector3f d = points_[j] - r.p;
-                    if (d.squaredNorm() <= reach2 && d.dot(r.out) > past) return true;
-                }
-            }
-    return false;
+    return anyAround(grid_, c, [&](uint32_t j) {
+        const Eigen::Vector3f d = points_[j] - r.p;
+        return d.squaredNorm() <= reach2 && d.dot(r.out) > past;
+    });
 }
 
 void Support::setRims(std::vector<RimSample> samples) {

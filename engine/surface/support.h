@@ -84,6 +84,19 @@ private:
         }
     };
     Cell cellOf(const Eigen::Vector3d& x) const;
+    // Calls visit(j) for the entries of `grid`'s 27 cells around c until it returns true; whether one did.
+    template <class Grid, class Visit>
+    static bool anyAround(const Grid& grid, const Cell& c, Visit&& visit) {
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
+                    if (it == grid.end()) continue;
+                    for (uint32_t j : it->second)
+                        if (visit(j)) return true;
+                }
+        return false;
+    }
 
     std::vector<Eigen::Vector3f> points_;
     std::vector<Triangle> triangles_;  // a mesh's: points_ are its vertices, the grid holds triangles
