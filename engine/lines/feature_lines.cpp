@@ -200,6 +200,41 @@ void smoothLaid(const Surface& surface, PenStroke& stroke, const std::vector<boo
     }
 }
 
+// Links between samples along the lines through them: each sample's nearest ahead (+e) and behind (−e) within
+// `radius`, whose direction lies within acos(minCos) of its own (`oriented`: e's sign matters, else either way)
+// and which lies along it (|d·e| ≥ along·|d|), linked where the two choose each other. A sample with e zero links
+// to none.
+std::vector<Edge> mutualLinks(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& e,
+                              double radius, double minCos, double along, bool oriented) {
+    const PointCloud cloud{x};
+    const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    std::vector<std::array<int64_t, 2>> pick(x.size(), {-1, -1});  // ahead (+e), behind (−e)
+    std::vector<std::pair<uint32_t, double>> hits;
+    for (size_t a = 0; a < x.size(); ++a) {
+        if (e[a].squaredNorm() == 0) continue;
+        hits.clear();
+        tree.radiusSearch(x[a].data(), radius * radius, hits, nanoflann::SearchParams());
+        double best[2] = {INFINITY, INFINITY};
+        for (const auto& [b, d2] : hits) {
+            const double turn = e[a].dot(e[b]);
+            if (b == a || e[b].squaredNorm() == 0 || (oriented ? turn : std::abs(turn)) < minCos) continue;
+            const Eigen::Vector3d d = x[b] - x[a];
+            const double t = d.dot(e[a]), distance = d.norm();
+            if (!(std::abs(t) >= along * distance)) continue;  // beside the line, not along it
+            const int side = t > 0 ? 0 : 1;
+            if (distance < best[side]) best[side] = distance, pick[a][side] = int64_t(b);
+        }
+    }
+    auto chooses = [&](size_t b, size_t a) { return pick[b][0] == int64_t(a) || pick[b][1] == int64_t(a); };
+    std::vector<Edge> links;
+    for (size_t a = 0; a < x.size(); ++a)
+        for (int side = 0; side < 2; ++side) {
+            const int64_t b = pick[a][side];
+            if (b > int64_t(a) && chooses(size_t(b), a)) links.push_back({uint32_t(a), uint32_t(b)});
+        }
+    return links;
+}
+
 // The chain resampled at `step` along its edges, each point kept within kLineOffset of the surface; pieces
 // between points that do not reach it, shorter than minLength, are dropped. `faces` (a crease's; empty for a
 // boundary): per segment of the chain, the mean of the unit normals of the two faces it divides, which a crease's
@@ -565,7 +600,7 @@ std::vector<Eigen::Vector3f> cloudRims(const OrientedPoints& cloud, const Surfac
             // turning with it: round a crease, round a thin part to its other side): a rim where the walk ends
             // where the input does not hold the surface. A step that finds no surface within three times its
             // length ends the walk with no rim: off a closed scan's edge whose normals are rough (CGAL's cube.pwn,
-            // its normals unoriented in the file), counted as rims, they drew 55 strokes along its edges, now 23.
+            // its normals unoriented in the file), counted as rims, they drew 55 strokes along its edges, now 20.
             Eigen::Vector3d x = cloud.positions[i], way = across.cast<double>(), normal;
             bool lost = false;
             for (int step = 0; step < 4 && !lost; ++step) {
@@ -615,42 +650,17 @@ std::vector<PenStroke> rimLines(const OrientedPoints& cloud, const std::vector<E
         for (size_t k = 0; k < x.size(); ++k) x[k] /= count[k];
     }
     const size_t m = x.size();
-    std::vector<Eigen::Vector3d> e(m);  // the rim's direction at each sample
-    std::vector<bool> valid(m);
+    std::vector<Eigen::Vector3d> e(m);  // the rim's direction at each sample (zero where the two are parallel)
     for (size_t k = 0; k < m; ++k) {
         e[k] = normal[k].cross(out[k]);
-        valid[k] = e[k].norm() > 1e-6 * normal[k].norm() * out[k].norm();
-        e[k].normalize();
+        e[k] = e[k].norm() > 1e-6 * normal[k].norm() * out[k].norm() ? e[k].normalized() : Eigen::Vector3d::Zero();
         out[k].normalize();
     }
     // Each sample's nearest ahead and behind along the rim (within three spacings, the rim's direction within 60°),
     // linked where the two choose each other.
+    const std::vector<Edge> links = mutualLinks(x, e, 3 * spacing, 0.5, 0.5, true);
     const PointCloud rimCloud{x};
     const PointTree tree(3, rimCloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-    const double link = 3 * spacing;
-    std::vector<std::array<int64_t, 2>> pick(m, {-1, -1});  // ahead (+e), behind (−e)
-    std::vector<std::pair<uint32_t, double>> hits;
-    for (size_t a = 0; a < m; ++a) {
-        if (!valid[a]) continue;
-        hits.clear();
-        tree.radiusSearch(x[a].data(), link * link, hits, nanoflann::SearchParams());
-        double best[2] = {INFINITY, INFINITY};
-        for (const auto& [b, d2] : hits) {
-            if (b == a || !valid[b] || e[a].dot(e[b]) < 0.5) continue;
-            const Eigen::Vector3d d = x[b] - x[a];
-            const double t = d.dot(e[a]), distance = d.norm();
-            if (!(std::abs(t) >= 0.5 * distance)) continue;  // beside the rim, not along it
-            const int side = t > 0 ? 0 : 1;
-            if (distance < best[side]) best[side] = distance, pick[a][side] = int64_t(b);
-        }
-    }
-    auto chooses = [&](size_t b, size_t a) { return pick[b][0] == int64_t(a) || pick[b][1] == int64_t(a); };
-    std::vector<Edge> links;
-    for (size_t a = 0; a < m; ++a)
-        for (int side = 0; side < 2; ++side) {
-            const int64_t b = pick[a][side];
-            if (b > int64_t(a) && chooses(size_t(b), a)) links.push_back({uint32_t(a), uint32_t(b)});
-        }
     for (const Chain& c : chainEdges(links)) layOnSurface(c, x, surface, options, {}, false, lines);
     if (samples) {
         // Along each line, the way out of the surface: across it in the tangent plane, to the side its nearest rim
@@ -666,7 +676,9 @@ std::vector<PenStroke> rimLines(const OrientedPoints& cloud, const std::vector<E
                 double d2 = 0;
                 tree.knnSearch(q.data(), 1, &index, &d2);
                 if (way.cast<double>().dot(out[index]) < 0) way = -way;
-                if (way.allFinite()) samples->push_back({p, way, float(reach[index])});
+                // One a point, in order (fitModel checks them against the input by stroke); a degenerate way cuts
+                // nothing.
+                samples->push_back({p, way.allFinite() ? way : Eigen::Vector3f::Zero(), float(reach[index])});
             }
         }
     }
@@ -755,32 +767,8 @@ FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, 
     }
     if (x.size() < 2) return lines;
     // Chains: each sample's nearest sample ahead and behind along its line (within three spacings, the line's
-    // direction within 30°), linked where the two choose each other.
-    const PointCloud samples{x};
-    const PointTree sampleTree(3, samples, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-    const double reach = 3 * spacing;
-    std::vector<std::array<int64_t, 2>> pick(x.size(), {-1, -1});  // ahead (+e), behind (−e)
-    for (size_t a = 0; a < x.size(); ++a) {
-        std::vector<std::pair<uint32_t, double>> hits;
-        sampleTree.radiusSearch(x[a].data(), reach * reach, hits, nanoflann::SearchParams());
-        double best[2] = {INFINITY, INFINITY};
-        for (const auto& hit : hits) {
-            const size_t b = hit.first;
-            if (b == a || std::abs(e[a].dot(e[b])) < std::cos(30 * M_PI / 180)) continue;
-            const Eigen::Vector3d d = x[b] - x[a];
-            const double t = d.dot(e[a]), distance = d.norm();
-            if (std::abs(t) < 0.8 * distance) continue;  // beside the line, not along it
-            const int side = t > 0 ? 0 : 1;
-            if (distance < best[side]) best[side] = distance, pick[a][side] = int64_t(b);
-        }
-    }
-    auto chooses = [&](size_t b, size_t a) { return pick[b][0] == int64_t(a) || pick[b][1] == int64_t(a); };
-    std::vector<Edge> links;
-    for (size_t a = 0; a < x.size(); ++a)
-        for (int side = 0; side < 2; ++side) {
-            const int64_t b = pick[a][side];
-            if (b > int64_t(a) && chooses(size_t(b), a)) links.push_back({uint32_t(a), uint32_t(b)});
-        }
+    // direction within 30°, either way), linked where the two choose each other.
+    const std::vector<Edge> links = mutualLinks(x, e, 3 * spacing, std::cos(30 * M_PI / 180), 0.8, false);
     for (const Chain& c : chainEdges(links)) {
         const size_t n = c.vertices.size();
         std::vector<Eigen::Vector3d> faces(c.closed ? n : n - 1);
