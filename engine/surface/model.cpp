@@ -512,9 +512,9 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
         std::vector<Support::RimSample> samples, kept;
         const std::vector<PenStroke> lines =
             rimLines(inputs, outward, surface, model.support, {options.creaseAngleDeg}, &samples);
-        // A rim has no input beyond it: a line with input points past a third of its samples (a chain that cut
-        // across a hole's ragged corner, through data: radar.xyz lost a band of its dots) is no rim; the rest cut
-        // the support where no input lies beyond them.
+        // A rim has no input beyond it: a line with input points past a third of its samples (a chain across data,
+        // along a closed scan's rough edge: cube.pwn's 23 lines became 20) is no rim; the rest cut the support where
+        // no input lies beyond them.
         size_t at = 0;
         for (const PenStroke& line : lines) {
             std::vector<bool> clear(line.points.size());

@@ -16,14 +16,14 @@ Support::Cell Support::cellOf(const Eigen::Vector3d& x) const {
 
 namespace {
 
-// The way across a gap of over kRimGap in point i's neighbours within 1.5 of its reach (cloudRims, feature_lines.h;
+// The way across a gap of over kRimGap in point p's neighbours within 1.5 of its reach (cloudRims, feature_lines.h;
 // within one, CGAL's hippo1 range scan's rim lines came out 13% shorter, missing stretches), unit and in its tangent
 // plane; zero where they surround it, or where an input point lies across the gap from ¾ to 1.6
 // reaches away (a closed scan's uneven sampling: the surface goes on there). Copies of the point, and the back of
 // a thin part (normals over 120° apart), are not neighbours. A neighbour more across the plane than along it (past
 // a crease: the other face) is seen the way the surface turns towards it, its normal's tangential part (ahead past
-// a convex edge, behind past a concave one).
-// `around`: the positions and unit normals of the points around i (i's among them), gathered once a cell.
+// a convex edge, behind past a concave one). `points`, `normals`: the positions and unit normals of the points
+// around p (p's own among them), gathered once a cell.
 Eigen::Vector3f acrossGap(const Eigen::Vector3f& p, const Eigen::Vector3f& n,
                           const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3f>& normals,
                           float reach2, float copy2) {
@@ -33,7 +33,7 @@ Eigen::Vector3f acrossGap(const Eigen::Vector3f& p, const Eigen::Vector3f& n,
     for (size_t j = 0; j < points.size(); ++j) {
         const Eigen::Vector3f d = points[j] - p;
         const float d2 = d.squaredNorm();
-        if (d2 <= copy2 || d2 > 2.25f * reach2 || normals[j].dot(n) < -0.5f) continue;  // (i itself: d2 = 0)
+        if (d2 <= copy2 || d2 > 2.25f * reach2 || normals[j].dot(n) < -0.5f) continue;  // (p itself: d2 = 0)
         const float h = d.dot(n);
         Eigen::Vector3f t = d - h * n;
         if (t.norm() < std::abs(h)) {
