@@ -63,7 +63,7 @@ struct PageOptions {
     // Pen lines before they are written, as fractions of the pen width: simplified (Ramer–Douglas–Peucker) to
     // `simplify`, stretches retraced within `retrace` of one already drawn dropped, ends within `merge` joined
     // (with `order` only). Dots are left as they are.
-    double simplify = 0.2, retrace = 0.25, merge = 0.5;
+    double simplify = 0.05, retrace = 0.25, merge = 0.5;
     // The plot-time model: pen-down and pen-up (travel) speeds, mm/s, and the time of one lift (up and down).
     double drawSpeed = 25, travelSpeed = 75, liftSeconds = 0.15;
 };

@@ -535,7 +535,7 @@ struct Page {
     bool orderPaths = true;  // order each pen's paths for short pen-up travel (else the points' order)
     // Pen lines before they are written, as fractions of the pen width: simplified to `simplify`, stretches
     // within `retrace` of one already drawn dropped, ends within `merge` joined (with orderPaths only).
-    double simplify = 0.2, retrace = 0.25, merge = 0.5;
+    double simplify = 0.05, retrace = 0.25, merge = 0.5;
     // The plot-time estimate: pen-down and pen-up speeds, mm/s, and the time of one lift.
     double drawSpeed = 25, travelSpeed = 75, liftSeconds = 0.15;
     // "A3", "A4", "A5", "letter" or "WxHmm"; throws naming the text.
