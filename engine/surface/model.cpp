@@ -504,7 +504,7 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
                                                : Support(mesh, 2 * model.inputMaxDistance);
     }
     model.trimFarField = options.trim && !global;
-    phases.lap("support");
+    if (options.trim) phases.lap("support");
     // A point cloud's open rims, as a mesh's edges of one face: drawn as its boundaries, and the support ends there.
     if (options.trim && mesh.triangles.empty() && !model.support.empty()) {
         const std::vector<Eigen::Vector3f> outward =

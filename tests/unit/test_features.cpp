@@ -944,7 +944,7 @@ TEST_CASE("cli: an open mesh's rim is drawn with dots alone, unless --boundaries
     CHECK(off == nlohmann::json{{"drawn", false}});
 }
 
-TEST_CASE("cli: an open point cloud's rim is drawn too, unless --boundaries off or --no-trim" *
+TEST_CASE("cli: an open point cloud's rim is drawn too, unless --boundaries off or --no-trim; fit skips it" *
           doctest::test_suite("cli")) {
     TempDir dir;
     // A sphere's points below z = 0.15 (radius 0.5), with their normals: its rim, a circle of radius 0.477.
@@ -974,6 +974,19 @@ TEST_CASE("cli: an open point cloud's rim is drawn too, unless --boundaries off 
     CHECK(on["length"].get<double>() < 1.05 * rim);
     CHECK(off == nlohmann::json{{"drawn", false}});
     CHECK(untrimmed == nlohmann::json{{"drawn", false}});
+
+    // An .hrbf keeps the surface alone (no support, no rims): fit skips them, render built them.
+    auto phases = [&](const std::string& stats) {
+        std::ifstream in(stats);
+        return nlohmann::json::parse(in)["fit"]["phases_ms"];
+    };
+    const std::string fitStats = dir / "fit.json";
+    Run fit = runInkwell("fit " + cloud + " -o " + dir / "open.hrbf" + " --stats " + fitStats);
+    REQUIRE_MESSAGE(fit.status == 0, fit.output);
+    CHECK(phases(dir / "on.json").contains("rims"));
+    CHECK(phases(dir / "on.json").contains("support"));
+    CHECK_FALSE(phases(fitStats).contains("rims"));
+    CHECK_FALSE(phases(fitStats).contains("support"));
 }
 
 // A fit of few control points misses its mesh by far more than a triangle's reach: it is not trimmed (its
