@@ -200,12 +200,12 @@ void smoothLaid(const Surface& surface, PenStroke& stroke, const std::vector<boo
     }
 }
 
-// Links between samples along the lines through them: each sample's nearest ahead (+e) and behind (−e) within
-// `radius`, whose direction lies within acos(minCos) of its own (`oriented`: e's sign matters, else either way)
-// and which lies along it (|d·e| ≥ along·|d|), linked where the two choose each other. A sample with e zero links
+// Links between samples along the lines through them (a crease's: e unoriented): each sample's nearest ahead (+e)
+// and behind (−e) within `radius`, whose direction lies within acos(minCos) of its own either way, and which lies
+// along it (|d·e| ≥ along·|d|), linked where the two choose each other. A sample with e zero links
 // to none.
 std::vector<Edge> mutualLinks(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& e,
-                              double radius, double minCos, double along, bool oriented) {
+                              double radius, double minCos, double along) {
     const PointCloud cloud{x};
     const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     std::vector<std::array<int64_t, 2>> pick(x.size(), {-1, -1});  // ahead (+e), behind (−e)
@@ -217,7 +217,7 @@ std::vector<Edge> mutualLinks(const std::vector<Eigen::Vector3d>& x, const std::
         double best[2] = {INFINITY, INFINITY};
         for (const auto& [b, d2] : hits) {
             const double turn = e[a].dot(e[b]);
-            if (b == a || e[b].squaredNorm() == 0 || (oriented ? turn : std::abs(turn)) < minCos) continue;
+            if (b == a || e[b].squaredNorm() == 0 || std::abs(turn) < minCos) continue;
             const Eigen::Vector3d d = x[b] - x[a];
             const double t = d.dot(e[a]), distance = d.norm();
             if (!(std::abs(t) >= along * distance)) continue;  // beside the line, not along it
@@ -232,6 +232,50 @@ std::vector<Edge> mutualLinks(const std::vector<Eigen::Vector3d>& x, const std::
             const int64_t b = pick[a][side];
             if (b > int64_t(a) && chooses(size_t(b), a)) links.push_back({uint32_t(a), uint32_t(b)});
         }
+    return links;
+}
+
+// Links between samples along an oriented line (a rim's e: its points' normal × their way out): each pair within
+// `radius` whose directions lie within acos(minCos) and which lie along both (|d·e| ≥ along·|d| at either end) is a
+// candidate, and the candidates are taken shortest first where both ends still have that side (ahead, +e; behind,
+// −e) free: a sample keeps at most one link each way, so chains never branch. Mutual nearest choices
+// (mutualLinks) broke a ragged rim wherever a third sample stood nearer to one of the two than they were to each
+// other, though it was beside the line.
+std::vector<Edge> greedyLinks(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& e,
+                              double radius, double minCos, double along) {
+    const PointCloud cloud{x};
+    const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    struct Candidate {
+        double distance;
+        uint32_t a, b;
+        int sideA, sideB;  // 0: the other lies ahead (+e), 1: behind
+    };
+    std::vector<Candidate> candidates;
+    std::vector<std::pair<uint32_t, double>> hits;
+    for (uint32_t a = 0; a < x.size(); ++a) {
+        if (e[a].squaredNorm() == 0) continue;
+        hits.clear();
+        tree.radiusSearch(x[a].data(), radius * radius, hits, nanoflann::SearchParams());
+        for (const auto& [b, d2] : hits) {
+            if (b <= a || e[b].squaredNorm() == 0 || e[a].dot(e[b]) < minCos) continue;
+            const Eigen::Vector3d d = x[b] - x[a];
+            const double distance = d.norm(), ta = d.dot(e[a]), tb = -d.dot(e[b]);
+            if (!(std::abs(ta) >= along * distance && std::abs(tb) >= along * distance)) continue;
+            const int sideA = ta > 0 ? 0 : 1, sideB = tb > 0 ? 0 : 1;
+            if (sideA == sideB) continue;  // each ahead of the other: the two lines cross, not one line
+            candidates.push_back({distance, a, uint32_t(b), sideA, sideB});
+        }
+    }
+    std::sort(candidates.begin(), candidates.end(), [](const Candidate& p, const Candidate& q) {
+        return std::tie(p.distance, p.a, p.b) < std::tie(q.distance, q.a, q.b);
+    });
+    std::vector<std::array<bool, 2>> taken(x.size(), {false, false});
+    std::vector<Edge> links;
+    for (const Candidate& c : candidates) {
+        if (taken[c.a][c.sideA] || taken[c.b][c.sideB]) continue;
+        taken[c.a][c.sideA] = taken[c.b][c.sideB] = true;
+        links.push_back({c.a, c.b});
+    }
     return links;
 }
 
@@ -656,9 +700,12 @@ std::vector<PenStroke> rimLines(const OrientedPoints& cloud, const std::vector<E
         e[k] = e[k].norm() > 1e-6 * normal[k].norm() * out[k].norm() ? e[k].normalized() : Eigen::Vector3d::Zero();
         out[k].normalize();
     }
-    // Each sample's nearest ahead and behind along the rim (within three spacings, the rim's direction within 60°),
-    // linked where the two choose each other.
-    const std::vector<Edge> links = mutualLinks(x, e, 3 * spacing, 0.5, 0.5, true);
+    // Samples within three spacings whose directions lie within 60° and which lie within 70° of both, linked shortest
+    // first, one link ahead and one behind a sample (greedyLinks). Linked as a crease's samples are (mutual nearest
+    // choices, within 60°), a ragged rim broke where a sample stood beside the line or the line stepped sideways:
+    // the test's 3,000-point plate in 7 pieces, now 2; hippo2.ply's 27 strokes now 22, b9_training.ply's 59 now 55,
+    // building.ply's 105 now 98, each rim's line a little longer.
+    const std::vector<Edge> links = greedyLinks(x, e, 3 * spacing, 0.5, 0.35);
     const PointCloud rimCloud{x};
     const PointTree tree(3, rimCloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     for (const Chain& c : chainEdges(links)) layOnSurface(c, x, surface, options, {}, false, lines);
@@ -768,7 +815,7 @@ FeatureLines pointFeatures(const OrientedPoints& cloud, const Surface& surface, 
     if (x.size() < 2) return lines;
     // Chains: each sample's nearest sample ahead and behind along its line (within three spacings, the line's
     // direction within 30°, either way), linked where the two choose each other.
-    const std::vector<Edge> links = mutualLinks(x, e, 3 * spacing, std::cos(30 * M_PI / 180), 0.8, false);
+    const std::vector<Edge> links = mutualLinks(x, e, 3 * spacing, std::cos(30 * M_PI / 180), 0.8);
     for (const Chain& c : chainEdges(links)) {
         const size_t n = c.vertices.size();
         std::vector<Eigen::Vector3d> faces(c.closed ? n : n - 1);

@@ -88,9 +88,9 @@ std::vector<Eigen::Vector3f> cloudRims(const OrientedPoints& cloud, const Surfac
                                        const std::function<bool(const Eigen::Vector3d&)>& holds);
 
 // A point cloud's boundary lines: its rim points (cloudRims) averaged one a cell of their spacing (a ragged rim has
-// them in two rows), chained along the rim as a crease's samples are (pointFeatures: the nearest ahead and behind
-// within three spacings, the rim's direction within 60°, where the two choose each other), then smoothed and kept
-// near the surface as a mesh's boundaries are; chains under minLength go.
+// them in two rows), chained along the rim (within three spacings, the rim's direction within 60°, each along the
+// other's within 70°: the shortest such links first, one ahead and one behind a sample), then smoothed and kept near
+// the surface as a mesh's boundaries are; chains under minLength go.
 // `samples` (when given) gets the lines' points with their way out of the surface, for Support::setRims.
 std::vector<PenStroke> rimLines(const OrientedPoints& cloud, const std::vector<Eigen::Vector3f>& outward,
                                 const Surface& surface, const Support& support, const FeatureOptions& options = {},

@@ -1,6 +1,7 @@
 // Crease and boundary lines of a mesh (engine/lines/feature_lines.h), the trimming of what the input does not support
 // (engine/surface/support.h), and their options, pens and layers (docs/lines.md, Creases and boundaries).
 #include "base/image.h"
+#include "base/random.h"
 #include "draw/renderer.h"
 #include "draw/scene.h"
 #include "gpu_fixture.h"
@@ -802,6 +803,34 @@ TEST_CASE("features: an open point cloud's rim is a boundary line, the fit past 
     ink::ModelOptions keep;
     keep.trim = false;
     CHECK(ink::fitModel(open, keep).features.boundaries.empty());
+}
+
+TEST_CASE("features: a ragged rim (a plate of random points) is drawn whole, not in pieces" *
+          doctest::test_suite("unit")) {
+    // 3,000 points uniformly at random on a unit square with a hole of radius 0.2: both rims ragged, their points
+    // one or two rows deep. Linked by mutual nearest choices, the rims came in 7 pieces, the dots leaking out
+    // through the gaps.
+    ink::OrientedPoints plate;
+    for (uint32_t i = 0; plate.positions.size() < 3000; ++i) {
+        const std::array<float, 4> u = ink::unitFloats(ink::pcg4d({i, 7u, 11u, 13u}));
+        const Vector3d x(u[0] - 0.5, u[1] - 0.5, 0);
+        if (std::hypot(x.x(), x.y()) > 0.2) plate.positions.push_back(x), plate.normals.push_back(Vector3d::UnitZ());
+    }
+    const ink::Model model = ink::fitModel(plate, {});
+    const ink::Frame& frame = model.surface.frame;
+    double length = 0;
+    for (const ink::PenStroke& s : model.features.boundaries) {
+        const size_t n = s.points.size();
+        for (size_t i = 0; i + (s.closed ? 0 : 1) < n; ++i)
+            length += (frame.toInput(s.points[i].cast<double>()) - frame.toInput(s.points[(i + 1) % n].cast<double>()))
+                          .norm();
+    }
+    const double rims = 4 + 2 * M_PI * 0.2;
+    MESSAGE("random plate: " << model.features.boundaries.size() << " boundary strokes, " << length / rims
+                             << " of its rims");
+    CHECK(model.features.boundaries.size() <= 4);
+    CHECK(length > 0.9 * rims);
+    CHECK(length < 1.15 * rims);  // a ragged rim's line wanders a little
 }
 
 TEST_CASE("cli: crease and boundary options refuse bad values with one line, writing nothing" *
