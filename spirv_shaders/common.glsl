@@ -17,4 +17,13 @@ uvec4 pcg4d(uvec4 v) {
 // Uniform in [0,1) from the top 24 bits, exactly representable in float.
 vec4 unitFloats(uvec4 u) { return vec4(u >> 8u) * (1.0 / 16777216.0); }
 
+// An orthonormal tangent frame of the unit normal n, continuous except where n.z changes sign (Duff et al. 2017,
+// "Building an orthonormal basis, revisited"): shape.comp stores a point's shape operator in it, splat.comp reads
+// it back in the same frame.
+void tangentFrame(vec3 n, out vec3 t1, out vec3 t2) {
+    float s = n.z >= 0.0 ? 1.0 : -1.0, a = -1.0 / (s + n.z), b = n.x * n.y * a;
+    t1 = vec3(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+    t2 = vec3(b, s + n.y * n.y * a, -n.y);
+}
+
 #endif

@@ -6,9 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <span>
 
 #include "ink.frag.h"
 #include "ink.vert.h"
+#include "shape.comp.h"
+#include "shape_large.comp.h"
 #include "spacing.comp.h"
 #include "splat.comp.h"
 #include "stamp.comp.h"
@@ -80,6 +83,49 @@ VkDeviceSize depthGridBytes(VkExtent2D extent) {
     return VkDeviceSize((extent.width + 1) / 2) * ((extent.height + 1) / 2) * 4;
 }
 
+// Each drawn point's shape operator in its tangent frame (shape.comp, shared/render.h's SILHOUETTE_BAND), once
+// after the refinement: `shape` gets a vec4 a point of the draw (first + points). A global fit's are 0 (unknown:
+// the style's τ), as its surface is evaluated in double only.
+void computeShapes(Context& ctx, const GpuRefinement& r, uint32_t first, uint32_t points, const Buffer& shape) {
+    const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+    if (!r.partitionOfUnity() || points == 0) {
+        submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+            vkCmdFillBuffer(cmd, shape.buffer, 0, VK_WHOLE_SIZE, 0);
+            stageBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, compute,
+                         VK_ACCESS_2_SHADER_READ_BIT);
+        });
+        return;
+    }
+    std::vector<DescriptorBinding> bindings = puSurfaceBindings(r);
+    bindings.push_back({gpu::SHAPE_POINTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, r.drawnPoints().buffer});
+    bindings.push_back({gpu::SHAPE_OUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shape.buffer});
+    DescriptorSet set = createDescriptorSet(ctx, bindings, VK_SHADER_STAGE_COMPUTE_BIT);
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    try {
+        layout = createPipelineLayout(ctx, set.layout, sizeof(gpu::uvec4), VK_SHADER_STAGE_COMPUTE_BIT);
+        pipeline = createComputePipeline(ctx, layout,
+                                         r.nodesByAddress ? std::span<const uint32_t>(spv_shape_large_comp)
+                                                          : std::span<const uint32_t>(spv_shape_comp));
+        const gpu::uvec4 range(first, points, 0, 0);
+        submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set.set, 0, nullptr);
+            vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(range), &range);
+            vkCmdDispatch(cmd, (points + gpu::SHAPE_GROUP_SIZE - 1) / gpu::SHAPE_GROUP_SIZE, 1, 1);
+            stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, compute, VK_ACCESS_2_SHADER_READ_BIT);
+        });
+    } catch (...) {
+        vkDestroyPipeline(ctx.device, pipeline, nullptr);
+        vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+        destroyDescriptorSet(ctx, set);
+        throw;
+    }
+    vkDestroyPipeline(ctx.device, pipeline, nullptr);
+    vkDestroyPipelineLayout(ctx.device, layout, nullptr);
+    destroyDescriptorSet(ctx, set);
+}
+
 // gpu::DrawnCounts at the start of a frame: no dots, empty bounds.
 const gpu::DrawnCounts kNothingDrawn{gpu::uvec4(0), gpu::uvec4(UINT32_MAX, UINT32_MAX, 0, 0)};
 
@@ -107,6 +153,14 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
                              r->selection != nullptr && !direction});
             twoSided = twoSided || r->twoSided;
             VK_CHECK(vkCreateBufferView(ctx.device, &viewInfo, nullptr, &sets_.back().texels));
+            Set& set = sets_.back();
+            set.shape = createBuffer(ctx, VkDeviceSize(std::max(1u, set.first + set.points)) * sizeof(gpu::vec4),
+                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                                         VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                     MemoryUse::Device);
+            viewInfo.buffer = set.shape.buffer;
+            VK_CHECK(vkCreateBufferView(ctx.device, &viewInfo, nullptr, &set.shapeTexels));
+            computeShapes(ctx, *r, set.first, set.points, set.shape);
         }
         const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
         VkQueryPoolCreateInfo query{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
@@ -157,7 +211,11 @@ void PointRenderer::release() {
         for (Buffer& b : f.dots) destroyBuffer(ctx_, b);
         for (Buffer* b : {&f.coverage, &f.depth, &f.drawn, &f.spaceGrid, &f.spaceOpen}) destroyBuffer(ctx_, *b);
     }
-    for (Set& s : sets_) vkDestroyBufferView(ctx_.device, s.texels, nullptr);
+    for (Set& s : sets_) {
+        vkDestroyBufferView(ctx_.device, s.texels, nullptr);
+        vkDestroyBufferView(ctx_.device, s.shapeTexels, nullptr);
+        if (s.shape.buffer) destroyBuffer(ctx_, s.shape);
+    }
     destroyBuffer(ctx_, styleBuffer_);
     frames_.clear();
     sets_.clear();
@@ -177,6 +235,8 @@ void PointRenderer::bindDescriptors(Frame& f) {
                                  {gpu::RENDER_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.depth.buffer},
                                  {gpu::RENDER_POINT_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1,
                                   0, 0, sets_[k].texels},
+                                 {gpu::RENDER_SHAPE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_NULL_HANDLE, 1,
+                                  0, 0, sets_[k].shapeTexels},
                                  {gpu::RENDER_COVERAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.coverage.buffer},
                                  {gpu::RENDER_SPACE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.spaceGrid.buffer},
                                  {gpu::RENDER_SPACE_OPEN, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.spaceOpen.buffer}},
@@ -494,6 +554,16 @@ std::vector<gpu::Dot> PointRenderer::dotList(size_t set, uint32_t frame) const {
     std::vector<gpu::Dot> dots(header[3]);
     if (!dots.empty()) downloadBuffer(ctx_, list, gpu::DOT_LIST_HEADER, dots.data(), dots.size() * sizeof(gpu::Dot));
     return dots;
+}
+
+std::vector<gpu::vec4> PointRenderer::shapes(size_t set) const {
+    vkDeviceWaitIdle(ctx_.device);
+    const Set& s = sets_.at(set);
+    std::vector<gpu::vec4> out(s.points);
+    if (!out.empty())
+        downloadBuffer(ctx_, s.shape, VkDeviceSize(s.first) * sizeof(gpu::vec4), out.data(),
+                       out.size() * sizeof(gpu::vec4));
+    return out;
 }
 
 std::vector<uint32_t> PointRenderer::drawnPoints(size_t set, uint32_t frame) const {

@@ -74,6 +74,8 @@ public:
     // Set `set`'s dot list of frame `frame` as stamp.comp left it (reads it back; waits for the device): every dot
     // that passed class, tone and frustum, its visible class, and its screen spacing state (shared/render.h).
     std::vector<gpu::Dot> dotList(size_t set, uint32_t frame = 0) const;
+    // Set `set`'s shape operators (shape.comp), one a drawn point in the order of its points (reads them back).
+    std::vector<gpu::vec4> shapes(size_t set) const;
     // The screen spacing's radius at darkness 1 and 1 / its grid's cell, target pixels; (0, 0) when off.
     glm::vec2 spacing() const { return spacing_; }
     // The marks frame `frame` drew, as vectors in its target's pixels (reads the dot lists back; waits for the
@@ -97,6 +99,8 @@ private:
         bool spaced = false;           // blue-noise stipples, spaced on the page with the style's screen spacing
                                        // (gpu::CAMERA_SPACED); not direction sampling's lines, nor the report's
                                        // random tone values
+        Buffer shape;                  // each point's shape operator (shape.comp), a vec4 a point
+        VkBufferView shapeTexels = VK_NULL_HANDLE;  // the same as RGBA32F texels
     };
     // What one frame in flight writes.
     struct Frame {
@@ -148,6 +152,7 @@ public:
     std::vector<uint32_t> drawnPoints(size_t set) const { return renderer_.drawnPoints(set); }
     // The dot list and the spacing, in the supersampled target's pixels (PointRenderer).
     std::vector<gpu::Dot> dotList(size_t set) const { return renderer_.dotList(set); }
+    std::vector<gpu::vec4> shapes(size_t set) const { return renderer_.shapes(set); }
     glm::vec2 spacing() const { return renderer_.spacing(); }
     // The last frame's marks as vectors, in pixels of the requested width × height (renderer.vectorDrawing).
     VectorDrawing vectorDrawing() const;

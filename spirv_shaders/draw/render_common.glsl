@@ -40,6 +40,10 @@ Point fetchPoint(uint i) {
     return Point(a.xyz, floatBitsToUint(a.w), b.xyz, b.w);
 }
 
+// Each point's shape operator in its tangent frame (shape.comp): (S11, S12, S22, 1), or 0 where unknown (a global
+// fit's points, the report's dense HRBF in double: its τ stays the style's).
+layout(binding = RENDER_SHAPE_TEXELS) uniform samplerBuffer shapeTexels;
+
 layout(push_constant) uniform CameraBlock { Camera cam; };
 
 vec4 project(vec3 v) {
@@ -47,8 +51,8 @@ vec4 project(vec3 v) {
 }
 
 // Report §5 (the classes are shared/render.h's): silhouette |n·v| < τ, front n·v > τ, back n·v < −τ; v from
-// the point towards the camera.
-uint classify(float nv) { return abs(nv) < style.size.w ? SILHOUETTE : (nv > 0.0 ? FRONT : BACK); }
+// the point towards the camera. τ: the style's, or less where the band would be wider than SILHOUETTE_BAND.
+uint classify(float nv, float tau) { return abs(nv) < tau ? SILHOUETTE : (nv > 0.0 ? FRONT : BACK); }
 
 
 #endif

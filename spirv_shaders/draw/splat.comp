@@ -102,10 +102,29 @@ vec2 silhouetteReach(vec3 c, vec3 n) {
     return vec2(-across.y, across.x) * (inversesqrt(length2) * reach);
 }
 
+// The silhouette test's τ at a point c (view space) of unit normal `stored` (model space, as shape.comp's frame)
+// whose shape operator is `shape`: the style's, or √(2 κ_r w) where that is less, κ_r the radial curvature (along
+// the view direction's tangential part r̂) and w SILHOUETTE_BAND dot diameters at the point's depth, so that the
+// band |n·v| < τ, τ² / (2 κ_r) wide on the screen, is at most w wide (shared/render.h).
+float silhouetteTau(vec3 c, vec3 stored, vec4 shape) {
+    float tau = style.size.w;
+    if (shape.w == 0.0 || tau == 0.0) return tau;
+    vec3 v = transpose(mat3(cam.view)) * -normalize(c);  // towards the eye, in the model's frame
+    vec3 r = v - dot(v, stored) * stored;
+    float r2 = dot(r, r);
+    if (!(r2 > 1e-12)) return tau;  // the eye along the normal: no outline near
+    vec3 t1, t2;
+    tangentFrame(stored, t1, t2);
+    float x = dot(r, t1), y = dot(r, t2);
+    float kr = abs(x * x * shape.x + 2.0 * x * y * shape.y + y * y * shape.z) / r2;
+    float w = SILHOUETTE_BAND * style.size.x * -c.z / (abs(cam.projection.x) * 0.5 * cam.viewport.x);
+    return min(tau, sqrt(2.0 * kr * w));
+}
+
 // Whether the point's dot may show — its class is not BACK, its tone keeps it, it is in the frustum — and
 // that dot.
-bool selectDot(Point p, uint index, vec3 c, vec3 n, float nv, bool back, out Dot d) {
-    uint cls = classify(nv);
+bool selectDot(Point p, uint index, vec3 c, vec3 n, float nv, bool back, float tau, out Dot d) {
+    uint cls = classify(nv, tau);
     d.cls = cls | (back ? DOT_BACK_SIDE : 0u) | (index << 3u);
     d.radius = 0.0;
     d.key = floatBitsToUint(p.tone);
@@ -153,7 +172,9 @@ bool selectDot(Point p, uint index, vec3 c, vec3 n, float nv, bool back, out Dot
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
-    Point p = fetchPoint(cam.counts.z + min(i, cam.counts.x - 1u));
+    uint at = cam.counts.z + min(i, cam.counts.x - 1u);
+    Point p = fetchPoint(at);
+    vec3 stored = p.normal;
     vec3 c = (cam.view * vec4(p.position, 1.0)).xyz;
     vec3 n = mat3(cam.view) * p.normal;
     float nv = dot(n, -normalize(c));
@@ -171,7 +192,8 @@ void main() {
     if (inFront && cam.splat.y > 0.0 && nv >= -0.2) splat(c, n, back);
 
     Dot d;
-    bool selected = inFront && style.options.y == 0.0 && selectDot(p, i, c, n, nv, back, d);
+    bool selected = inFront && style.options.y == 0.0 &&
+                    selectDot(p, i, c, n, nv, back, silhouetteTau(c, stored, texelFetch(shapeTexels, int(at))), d);
     // Appended a subgroup at a time: one atomic for the slots, one for the dispatch size.
     uvec4 ballot = subgroupBallot(selected);
     uint count = subgroupBallotBitCount(ballot), first = 0u;

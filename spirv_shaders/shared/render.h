@@ -64,6 +64,19 @@ INK_CONST int SPLAT_HOLE_CELLS = 16;
 INK_CONST float SILHOUETTE_REACH = 6.0;
 INK_CONST float SILHOUETTE_REACH_MAX = 6.0;
 
+// The silhouette band's width on the screen, in silhouette dot diameters. The band |n·v| < τ lies within
+// τ² / (2 κ_r) of the outline (κ_r the radial curvature: across the outline, n·v grows as κ_r times the distance
+// along the surface, which the screen sees foreshortened to κ_r d² / 2), so where the surface turns away slowly
+// (κ_r small: a cylinder seen along its axis, a face seen edge on) it was a wide band of silhouette dots, their
+// strokes a black wedge (CGAL's dragknob.off, ball.ply's faces). splat.comp takes τ down to √(2 κ_r w) there, w
+// this width at the point's depth; elsewhere τ stays.
+INK_CONST float SILHOUETTE_BAND = 1.0;
+
+// shape.comp: the shape operator of every drawn point, once after the refinement (engine/draw/renderer.cpp).
+INK_CONST uint SHAPE_GROUP_SIZE = 64u;
+INK_CONST uint SHAPE_POINTS = 12u;  // Point[]: the drawn points (storage)
+INK_CONST uint SHAPE_OUT = 13u;     // vec4[]: per point (S11, S12, S22, 1) in tangentFrame(normal); 0: unknown
+
 // A dot's state in the screen spacing (spacing.comp, engine/draw/screen_spacing.h): FIXED dots take no part
 // (silhouettes, hidden ones, dots drawn without tone), the others start OPEN and end ACCEPTED (drawn) or REJECTED; a
 // dot still OPEN after the last round is not drawn.
@@ -174,6 +187,7 @@ INK_CONST uint RENDER_POINT_TEXELS = 4u;  // the points as RGBA32F texels, two a
 INK_CONST uint RENDER_COVERAGE = 5u;      // uint[]: the coverage bits (limits.h)
 INK_CONST uint RENDER_SPACE_GRID = 6u;    // uint[4 · cells]: the screen spacing's grid (spacing.comp)
 INK_CONST uint RENDER_SPACE_OPEN = 7u;    // uint[2 · (4 + points)]: its two lists of open dots (spacing.comp)
+INK_CONST uint RENDER_SHAPE_TEXELS = 8u;  // a point's shape operator as an RGBA32F texel (shape.comp), one a point
 
 INK_END
 
