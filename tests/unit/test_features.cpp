@@ -725,6 +725,19 @@ TEST_CASE("features: a point cloud's support holds near its points, not across a
 }
 
 // Points on the faces of the box [-a, a] × [-b, b] × [-c, c], about `n` a unit of length, with the faces' normals.
+// The length of a model's boundary lines, in input units.
+double boundaryLength(const ink::Model& model) {
+    const ink::Frame& frame = model.surface.frame;
+    double length = 0;
+    for (const ink::PenStroke& s : model.features.boundaries) {
+        const size_t n = s.points.size();
+        for (size_t i = 0; i + (s.closed ? 0 : 1) < n; ++i)
+            length += (frame.toInput(s.points[i].cast<double>()) - frame.toInput(s.points[(i + 1) % n].cast<double>()))
+                          .norm();
+    }
+    return length;
+}
+
 ink::OrientedPoints boxPoints(double a, double b, double c, double n) {
     ink::OrientedPoints box;
     const double half[3] = {a, b, c};
@@ -757,12 +770,8 @@ TEST_CASE("features: an open point cloud's rim is a boundary line, the fit past 
     const ink::Model model = ink::fitModel(open, {});
     const ink::Frame& frame = model.surface.frame;
     const double rimRadius = std::sqrt(0.25 - 0.15 * 0.15);
-    double length = 0;
+    const double length = boundaryLength(model);
     for (const ink::PenStroke& s : model.features.boundaries) {
-        const size_t n = s.points.size();
-        for (size_t i = 0; i + (s.closed ? 0 : 1) < n; ++i)
-            length += (frame.toInput(s.points[i].cast<double>()) - frame.toInput(s.points[(i + 1) % n].cast<double>()))
-                          .norm();
         for (const Eigen::Vector3f& p : s.points) {
             const Vector3d x = frame.toInput(p.cast<double>());
             CHECK(x.z() == doctest::Approx(0.15).epsilon(0.1));  // within 0.015: about half the spacing (0.028)
@@ -817,14 +826,7 @@ TEST_CASE("features: a ragged rim (a plate of random points) is drawn whole, not
         if (std::hypot(x.x(), x.y()) > 0.2) plate.positions.push_back(x), plate.normals.push_back(Vector3d::UnitZ());
     }
     const ink::Model model = ink::fitModel(plate, {});
-    const ink::Frame& frame = model.surface.frame;
-    double length = 0;
-    for (const ink::PenStroke& s : model.features.boundaries) {
-        const size_t n = s.points.size();
-        for (size_t i = 0; i + (s.closed ? 0 : 1) < n; ++i)
-            length += (frame.toInput(s.points[i].cast<double>()) - frame.toInput(s.points[(i + 1) % n].cast<double>()))
-                          .norm();
-    }
+    const double length = boundaryLength(model);
     const double rims = 4 + 2 * M_PI * 0.2;
     MESSAGE("random plate: " << model.features.boundaries.size() << " boundary strokes, " << length / rims
                              << " of its rims");
