@@ -156,7 +156,7 @@ ink::ModelOptions api::toInk(const ModelOptions& o) {
     return {o.controlPoints,  o.method == FitMethod::Global ? ink::FitMethod::Global : ink::FitMethod::PartitionOfUnity,
             o.creaseAngleDeg, o.trim,
             o.removeOutliers, o.smoothNoise,
-            o.features};
+            o.features,       o.support};
 }
 
 void checkModelOptions(const ModelOptions& options) { ink::checkModelOptions(api::toInk(options)); }

@@ -499,12 +499,12 @@ Model fitModel(OrientedPoints points, const ModelOptions& options) {
                       "%.1f%% of the diagonal (more control points follow it closer)",
                       100 * model.inputMaxDistance);
         note(text);
-    } else if (options.trim) {
+    } else if (options.trim && options.support) {
         model.support = mesh.triangles.empty() ? Support(inputs.positions, inputs.normals)
                                                : Support(mesh, 2 * model.inputMaxDistance);
     }
     model.trimFarField = options.trim && !global;
-    if (options.trim) phases.lap("support");
+    if (options.trim && options.support) phases.lap("support");
     // A point cloud's open rims, as a mesh's edges of one face: drawn as its boundaries, and the support ends there.
     if (options.trim && mesh.triangles.empty() && !model.support.empty()) {
         const std::vector<Eigen::Vector3f> outward =

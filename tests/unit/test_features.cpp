@@ -25,6 +25,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
 
@@ -724,7 +725,6 @@ TEST_CASE("features: a point cloud's support holds near its points, not across a
     CHECK_FALSE(registered.supports(Vector3d(0, 0, 0.5)));
 }
 
-// Points on the faces of the box [-a, a] × [-b, b] × [-c, c], about `n` a unit of length, with the faces' normals.
 // The length of a model's boundary lines, in input units.
 double boundaryLength(const ink::Model& model) {
     const ink::Frame& frame = model.surface.frame;
@@ -738,6 +738,7 @@ double boundaryLength(const ink::Model& model) {
     return length;
 }
 
+// Points on the faces of the box [-a, a] × [-b, b] × [-c, c], about `n` a unit of length, with the faces' normals.
 ink::OrientedPoints boxPoints(double a, double b, double c, double n) {
     ink::OrientedPoints box;
     const double half[3] = {a, b, c};
@@ -1018,6 +1019,18 @@ TEST_CASE("cli: an open point cloud's rim is drawn too, unless --boundaries off 
     CHECK(phases(dir / "on.json").contains("support"));
     CHECK_FALSE(phases(fitStats).contains("rims"));
     CHECK_FALSE(phases(fitStats).contains("support"));
+    // The surface is the one a drawing fits: for a mesh too, whose face samples are chosen where the far field's
+    // trim would not cover them (an open hemisphere's, near its rim), byte for byte.
+    const std::string mesh = kModels + "hemisphere.obj", drawn = dir / "drawn.hrbf", saved = dir / "saved.hrbf";
+    ink::saveHrbf(drawn, ink::loadModel(mesh, {}).surface, ink::HrbfFormat::Binary);
+    Run saving = runInkwell("fit " + mesh + " -o " + saved);
+    REQUIRE_MESSAGE(saving.status == 0, saving.output);
+    auto bytes = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    CHECK(bytes(saved).size() > 1000);
+    CHECK(bytes(saved) == bytes(drawn));
 }
 
 // The silhouette band (shared/render.h, SILHOUETTE_BAND): shape.comp's shape operators against the fit's Hessian in
