@@ -84,8 +84,8 @@ VkDeviceSize depthGridBytes(VkExtent2D extent) {
 }
 
 // Each drawn point's shape operator in its tangent frame (shape.comp, shared/render.h's SILHOUETTE_BAND), once
-// after the refinement: `shape` gets a vec4 a point of the draw (first + points). A global fit's are 0 (unknown:
-// the style's τ), as its surface is evaluated in double only.
+// after the refinement: `shape` gets a vec4 a point of the draw, in its order. A global fit's are 0 (unknown: the
+// style's τ), as its surface is evaluated in double only.
 void computeShapes(Context& ctx, const GpuRefinement& r, uint32_t first, uint32_t points, const Buffer& shape) {
     const auto compute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
     if (!r.partitionOfUnity() || points == 0) {
@@ -107,12 +107,17 @@ void computeShapes(Context& ctx, const GpuRefinement& r, uint32_t first, uint32_
         pipeline = createComputePipeline(ctx, layout,
                                          r.nodesByAddress ? std::span<const uint32_t>(spv_shape_large_comp)
                                                           : std::span<const uint32_t>(spv_shape_comp));
-        const gpu::uvec4 range(first, points, 0, 0);
+        // A dispatch at most the device's workgroups (lavapipe's 65,535 hold 4.2M points), as many as it takes.
+        const uint64_t most = uint64_t(ctx.properties.limits.maxComputeWorkGroupCount[0]) * gpu::SHAPE_GROUP_SIZE;
         submitAndWait(ctx, [&](VkCommandBuffer cmd) {
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set.set, 0, nullptr);
-            vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(range), &range);
-            vkCmdDispatch(cmd, (points + gpu::SHAPE_GROUP_SIZE - 1) / gpu::SHAPE_GROUP_SIZE, 1, 1);
+            for (uint64_t start = 0; start < points; start += most) {
+                const uint32_t count = uint32_t(std::min<uint64_t>(most, points - start));
+                const gpu::uvec4 range(first, points, uint32_t(start), 0);
+                vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(range), &range);
+                vkCmdDispatch(cmd, (count + gpu::SHAPE_GROUP_SIZE - 1) / gpu::SHAPE_GROUP_SIZE, 1, 1);
+            }
             stageBarrier(cmd, compute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, compute, VK_ACCESS_2_SHADER_READ_BIT);
         });
     } catch (...) {
@@ -154,7 +159,7 @@ PointRenderer::PointRenderer(Context& ctx, std::vector<const GpuRefinement*> set
             twoSided = twoSided || r->twoSided;
             VK_CHECK(vkCreateBufferView(ctx.device, &viewInfo, nullptr, &sets_.back().texels));
             Set& set = sets_.back();
-            set.shape = createBuffer(ctx, VkDeviceSize(std::max(1u, set.first + set.points)) * sizeof(gpu::vec4),
+            set.shape = createBuffer(ctx, VkDeviceSize(std::max(1u, set.points)) * sizeof(gpu::vec4),
                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
                                          VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                      MemoryUse::Device);
@@ -560,9 +565,7 @@ std::vector<gpu::vec4> PointRenderer::shapes(size_t set) const {
     vkDeviceWaitIdle(ctx_.device);
     const Set& s = sets_.at(set);
     std::vector<gpu::vec4> out(s.points);
-    if (!out.empty())
-        downloadBuffer(ctx_, s.shape, VkDeviceSize(s.first) * sizeof(gpu::vec4), out.data(),
-                       out.size() * sizeof(gpu::vec4));
+    if (!out.empty()) downloadBuffer(ctx_, s.shape, 0, out.data(), out.size() * sizeof(gpu::vec4));
     return out;
 }
 

@@ -14,12 +14,13 @@ layout(local_size_x = SHAPE_GROUP_SIZE) in;
 
 layout(std430, binding = SHAPE_POINTS) readonly buffer Points { Point points[]; };
 layout(std430, binding = SHAPE_OUT) writeonly buffer Shapes { vec4 shapes[]; };
-layout(push_constant) uniform Range { uvec4 range; };  // x: the first point, y: the points
+// x: the draw's first point, y: its points, z: this dispatch's first (a dispatch at most the device's groups)
+layout(push_constant) uniform Range { uvec4 range; };
 
 void main() {
-    if (gl_GlobalInvocationID.x >= range.y) return;
-    uint i = range.x + gl_GlobalInvocationID.x;
-    Point p = points[i];
+    uint i = range.z + gl_GlobalInvocationID.x;  // the shape of the draw's i-th point
+    if (i >= range.y) return;
+    Point p = points[range.x + i];
     vec3 grad;
     mat3 H;
     puEvalHessian(p.position, grad, H);

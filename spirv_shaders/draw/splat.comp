@@ -172,28 +172,27 @@ bool selectDot(Point p, uint index, vec3 c, vec3 n, float nv, bool back, float t
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
-    uint at = cam.counts.z + min(i, cam.counts.x - 1u);
-    Point p = fetchPoint(at);
-    vec3 stored = p.normal;
+    uint k = min(i, cam.counts.x - 1u);  // the draw's k-th point
+    Point p = fetchPoint(cam.counts.z + k);
     vec3 c = (cam.view * vec4(p.position, 1.0)).xyz;
     vec3 n = mat3(cam.view) * p.normal;
     float nv = dot(n, -normalize(c));
+    bool inFront = i < cam.counts.x && -c.z > 1e-6;
+    float tau = inFront ? silhouetteTau(c, p.normal, texelFetch(shapeTexels, int(k))) : style.size.w;
     // Disks facing away lie behind the front surface of a closed shape; keep a margin for edge-on ones. An open
     // surface's (CAMERA_TWO_SIDED) are its back, seen through its openings: splatted, and its points drawn as the
     // other side, facing the eye (lit and classified so); those that would be BACK are tested as such (stamp.comp).
     bool twoSided = (cam.counts.y & CAMERA_TWO_SIDED) != 0u;
-    bool back = twoSided && nv <= -style.size.w;  // what one-sided drawing classifies BACK
+    bool back = twoSided && nv <= -tau;  // what one-sided drawing classifies BACK
     if (twoSided && nv < 0.0) {
         n = -n;
         nv = -nv;
         p.normal = -p.normal;
     }
-    bool inFront = i < cam.counts.x && -c.z > 1e-6;
     if (inFront && cam.splat.y > 0.0 && nv >= -0.2) splat(c, n, back);
 
     Dot d;
-    bool selected = inFront && style.options.y == 0.0 &&
-                    selectDot(p, i, c, n, nv, back, silhouetteTau(c, stored, texelFetch(shapeTexels, int(at))), d);
+    bool selected = inFront && style.options.y == 0.0 && selectDot(p, i, c, n, nv, back, tau, d);
     // Appended a subgroup at a time: one atomic for the slots, one for the dispatch size.
     uvec4 ballot = subgroupBallot(selected);
     uint count = subgroupBallotBitCount(ballot), first = 0u;
